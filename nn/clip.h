@@ -1,0 +1,48 @@
+/* clip.h: CLIP's image tower (ViT, SPEC section 4), forward and backward.
+ *
+ * The weights are frozen: only the gradient with respect to the input image
+ * is ever computed. A clip_run holds every activation of one batch size and
+ * stops the forward after the last block anything reads. */
+#ifndef WS_CLIP_H
+#define WS_CLIP_H
+#include <stdint.h>
+#include "status.h"
+#include "weightfile.h"
+
+typedef struct clip_model clip_model;
+
+/* Loads a weight file (weightfile.h); the architecture comes from the file. */
+int clip_model_load(clip_model **m, const char *path, ws_status *st);
+/* A model of the given architecture with seeded random weights (tests and
+ * benchmarks), scaled like a trained model so activations stay O(1). */
+int clip_model_random(clip_model **m, const wf_arch *arch, uint64_t seed, ws_status *st);
+void clip_model_free(clip_model *m);
+const wf_arch *clip_model_arch(const clip_model *m);
+
+typedef struct {
+    int batch;          /* images per forward pass */
+    int last_block;     /* the forward stops after this block (0-based) */
+    int need_embedding; /* run ln_post and the projection (needs all blocks) */
+    int need_grad;      /* keep what the backward pass needs */
+} clip_run_options;
+
+typedef struct clip_run clip_run;
+
+int clip_run_create(clip_run **r, const clip_model *m, const clip_run_options *opt, ws_status *st);
+void clip_run_free(clip_run *r);
+
+/* images: batch x 3 x R x R, RGB in [0, 1] (CLIP's per-channel
+ * normalisation is applied inside). */
+int clip_forward(clip_run *r, const float *images, ws_status *st);
+/* h_l, block l's output: batch x tokens x width (tokens = 1 + (R/patch)^2). */
+const float *clip_hidden(const clip_run *r, int layer);
+/* e: batch x output_dim (when need_embedding). */
+const float *clip_embedding(const clip_run *r);
+
+/* d_hidden[l]: dL/dh_l (batch x tokens x width) or NULL for blocks the loss
+ * does not read (array of last_block + 1 entries, or NULL for none);
+ * d_embedding: dL/de or NULL. d_images: batch x 3 x R x R, overwritten. */
+int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embedding,
+                  float *d_images, ws_status *st);
+
+#endif

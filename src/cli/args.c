@@ -1,0 +1,132 @@
+/* args.c: the command-line option parser (see args.h). */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "args.h"
+
+/* Option names compare with '_' and '-' treated alike. */
+static int same_name(const char *a, const char *b) {
+    for (; *a && *b; a++, b++) {
+        char ca = *a == '_' ? '-' : *a, cb = *b == '_' ? '-' : *b;
+        if (ca != cb) return 0;
+    }
+    return *a == *b;
+}
+
+static int parse_double(const char *opt, const char *text, double *out, ws_status *st) {
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end || errno == ERANGE || !isfinite(v))
+        return ws_fail(st, WS_EUSAGE, "%s: '%s' is not a finite number", opt, text);
+    *out = v;
+    return WS_OK;
+}
+
+/* A list ends at the next option or after `count` numbers. */
+static int parse_list(const ws_arg *a, char **argv, int argc, int *i, ws_status *st) {
+    ws_arg_list *list = a->dest;
+    list->n = 0;
+    while (*i + 1 < argc && list->n < a->count && strncmp(argv[*i + 1], "--", 2) != 0) {
+        if (parse_double(a->name, argv[*i + 1], &list->v[list->n], st)) return st->code;
+        list->n++;
+        (*i)++;
+    }
+    if (list->n == 0) return ws_fail(st, WS_EUSAGE, "%s: needs 1 to %d numbers", a->name, a->count);
+    return WS_OK;
+}
+
+static int parse_value(const ws_arg *a, char **argv, int argc, int *i, ws_status *st) {
+    if (a->kind == WS_ARG_DOUBLES) return parse_list(a, argv, argc, i, st);
+    if (*i + 1 >= argc) return ws_fail(st, WS_EUSAGE, "%s: needs a value", a->name);
+    const char *text = argv[*i + 1];
+    switch (a->kind) {
+    case WS_ARG_INT: {
+        char *end;
+        errno = 0;
+        long v = strtol(text, &end, 10);
+        if (end == text || *end || errno == ERANGE || v < -2147483647L || v > 2147483647L)
+            return ws_fail(st, WS_EUSAGE, "%s: '%s' is not an integer", a->name, text);
+        *(int *)a->dest = (int)v;
+        break;
+    }
+    case WS_ARG_DOUBLE:
+        if (parse_double(a->name, text, (double *)a->dest, st)) return st->code;
+        break;
+    case WS_ARG_CUTOFF:
+        if (!strcmp(text, "inf")) {
+            *(double *)a->dest = INFINITY;
+        } else {
+            double v;
+            if (parse_double(a->name, text, &v, st)) return st->code;
+            if (!(v > 0))
+                return ws_fail(st, WS_EUSAGE, "%s: '%s' must be positive or 'inf'", a->name, text);
+            *(double *)a->dest = v;
+        }
+        break;
+    case WS_ARG_STRING:
+        *(const char **)a->dest = text;
+        break;
+    case WS_ARG_DOUBLES:
+    case WS_ARG_FLAG:
+        break;
+    }
+    (*i)++;
+    return WS_OK;
+}
+
+int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
+                  int *npositional, int *help, ws_status *st) {
+    *npositional = 0;
+    *help = 0;
+    for (int i = 0; i < argc; i++) {
+        const char *word = argv[i];
+        if (!strcmp(word, "--help") || !strcmp(word, "-h")) {
+            ws_args_usage(spec);
+            *help = 1;
+            return WS_OK;
+        }
+        if (word[0] == '-' && word[1] == '-') {
+            const ws_arg *a = NULL;
+            for (int k = 0; k < spec->nargs && !a; k++)
+                if (same_name(spec->args[k].name, word)) a = &spec->args[k];
+            if (!a) return ws_fail(st, WS_EUSAGE, "%s: unknown option (see --help)", word);
+            if (a->kind == WS_ARG_FLAG)
+                *(int *)a->dest = 1;
+            else if (parse_value(a, argv, argc, &i, st))
+                return st->code;
+            continue;
+        }
+        if (*npositional >= spec->max_positional)
+            return ws_fail(st, WS_EUSAGE, "%s: unexpected argument (usage: wiresketch %s)", word,
+                           spec->usage);
+        positional[(*npositional)++] = word;
+    }
+    if (*npositional < spec->min_positional)
+        return ws_fail(st, WS_EUSAGE, "missing argument (usage: wiresketch %s)", spec->usage);
+    return WS_OK;
+}
+
+void ws_args_usage(const ws_command_spec *spec) {
+    printf("usage: wiresketch %s\n%s\n", spec->usage, spec->summary);
+    if (spec->nargs) printf("\noptions:\n");
+    for (int k = 0; k < spec->nargs; k++) {
+        const ws_arg *a = &spec->args[k];
+        const char *value = a->kind == WS_ARG_FLAG     ? ""
+                            : a->kind == WS_ARG_INT    ? " N"
+                            : a->kind == WS_ARG_STRING ? " VALUE"
+                            : a->kind == WS_ARG_CUTOFF ? " K|inf"
+                            : a->kind == WS_ARG_DOUBLES ? " X..."
+                                                        : " X";
+        char head[64];
+        snprintf(head, sizeof head, "%s%s", a->name, value);
+        printf("  %-26s %s\n", head, a->help);
+    }
+}
+
+int ws_cli_fail(const ws_status *st) {
+    fprintf(stderr, "wiresketch: %s\n", st->msg);
+    return ws_exit_code(st);
+}

@@ -1,0 +1,54 @@
+/* args.h: the command-line option parser every command uses.
+ *
+ * A command describes its options in a table; ws_args_parse fills the
+ * destinations, collects positional arguments, and fails with WS_EUSAGE on
+ * an unknown option, a missing or malformed value, or a wrong number of
+ * positionals. Underscores in option names are accepted for dashes
+ * (--learning_rate = --learning-rate), so the original's spellings work.
+ * `--help` prints the usage built from the table and sets *help. */
+#ifndef WS_ARGS_H
+#define WS_ARGS_H
+#include "status.h"
+
+typedef enum {
+    WS_ARG_FLAG,      /* int, set to 1 when present */
+    WS_ARG_INT,       /* int */
+    WS_ARG_DOUBLE,    /* double, must be finite */
+    WS_ARG_CUTOFF,    /* double > 0, or "inf" for INFINITY */
+    WS_ARG_STRING,    /* const char * */
+    WS_ARG_DOUBLES    /* ws_arg_list: 1 to count numbers that follow */
+} ws_arg_kind;
+
+#define WS_ARG_LIST_MAX 64
+typedef struct {
+    int n;
+    double v[WS_ARG_LIST_MAX];
+} ws_arg_list;
+
+typedef struct {
+    const char *name;  /* "--cutoff" */
+    ws_arg_kind kind;
+    void *dest;
+    int count;         /* WS_ARG_DOUBLES only: at most this many (<= WS_ARG_LIST_MAX) */
+    const char *help;  /* one line; the default in brackets */
+} ws_arg;
+
+typedef struct {
+    const char *usage;    /* "render CURVES.json --scene DIR --out DIR [options]" */
+    const char *summary;  /* one line saying what the command does */
+    const ws_arg *args;
+    int nargs;
+    int min_positional, max_positional;
+} ws_command_spec;
+
+/* On success positional[0..*npositional) point into argv. */
+int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
+                  int *npositional, int *help, ws_status *st);
+
+/* Prints the usage and every option of spec to stdout. */
+void ws_args_usage(const ws_command_spec *spec);
+
+/* Reports a failed command: "wiresketch: MSG" on stderr; returns the exit code. */
+int ws_cli_fail(const ws_status *st);
+
+#endif

@@ -1,0 +1,15 @@
+/* commands.h: the commands of the wiresketch program, one file each. Each
+ * takes the arguments after its name and returns the process exit code. */
+#ifndef WS_COMMANDS_H
+#define WS_COMMANDS_H
+
+typedef struct {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} ws_command;
+
+extern const ws_command ws_commands[];
+extern const int ws_ncommands;
+
+#endif

@@ -1,0 +1,26 @@
+/* main.c: dispatches `wiresketch COMMAND ...` to its command. */
+#include <stdio.h>
+#include <string.h>
+#include "commands.h"
+
+static void usage(FILE *out) {
+    fprintf(out, "usage: wiresketch COMMAND [options]   (wiresketch COMMAND --help for details)\n\n"
+                 "commands:\n");
+    for (int i = 0; i < ws_ncommands; i++)
+        fprintf(out, "  %-8s %s\n", ws_commands[i].name, ws_commands[i].summary);
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        usage(stdout);
+        return 0;
+    }
+    for (int i = 0; i < ws_ncommands; i++)
+        if (!strcmp(argv[1], ws_commands[i].name)) return ws_commands[i].run(argc - 2, argv + 2);
+    fprintf(stderr, "wiresketch: %s: unknown command (see wiresketch --help)\n", argv[1]);
+    return 2;
+}
