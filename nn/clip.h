@@ -5,6 +5,7 @@
  * stops the forward after the last block anything reads. */
 #ifndef WS_CLIP_H
 #define WS_CLIP_H
+#include <stddef.h>
 #include <stdint.h>
 #include "status.h"
 #include "weightfile.h"
@@ -44,5 +45,13 @@ const float *clip_embedding(const clip_run *r);
  * d_embedding: dL/de or NULL. d_images: batch x 3 x R x R, overwritten. */
 int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embedding,
                   float *d_images, ws_status *st);
+
+/* Bytes of the run's activation arena (values, saved state, gradients). */
+size_t clip_run_bytes(const clip_run *r);
+/* Runs only the GEMMs of the forward pass (backward: the input-gradient
+ * GEMMs of the backward pass) on the run's own buffers and weights: the
+ * time no implementation of the same products can beat (clip_bench.h).
+ * The backward needs a run made with need_grad. Clobbers activations. */
+void clip_gemm_floor(clip_run *r, int backward);
 
 #endif

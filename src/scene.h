@@ -39,6 +39,13 @@ typedef struct {
 } ws_scene;
 
 void ws_scene_options_default(ws_scene_options *opt);
+/* Loads every split (images decoded in parallel). A malformed input fails
+ * with one line naming the file and, for a frame, its index in frames[]
+ * from 0: "SCENE/transforms_train.json: frame 3: transform_matrix is not
+ * 4x4"; image errors name the PNG. The centre uses the cameras of all
+ * splits; when their axes are (nearly) parallel, the least-squares problem
+ * has no single answer and the centroid of each axis' point nearest the
+ * mean camera position is used instead. */
 int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt, ws_status *st);
 void ws_scene_free(ws_scene *scene);
 

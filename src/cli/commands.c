@@ -2,5 +2,10 @@
 #include "commands.h"
 
 const ws_command ws_commands[] = {
+    {"fit", cmd_fit, "fit 3D curves to a multi-view scene: the main job"},
+    {"render", cmd_render, "splat a sketch into every view of a split as PNGs"},
+    {"grad", cmd_grad, "loss of one view and its gradient per control point (JSON)"},
+    {"export", cmd_export, "write a sketch as OBJ, PLY or SVG"},
+    {"scene", cmd_scene, "write a synthetic test scene (NeRF layout) with its ground-truth curves"},
 };
 const int ws_ncommands = sizeof ws_commands / sizeof ws_commands[0];

@@ -12,4 +12,10 @@ typedef struct {
 extern const ws_command ws_commands[];
 extern const int ws_ncommands;
 
+int cmd_render(int argc, char **argv);
+int cmd_grad(int argc, char **argv);
+int cmd_export(int argc, char **argv);
+int cmd_scene(int argc, char **argv);
+int cmd_fit(int argc, char **argv);
+
 #endif

@@ -1,0 +1,43 @@
+/* activation.c: quick_gelu (activation.h). The sigmoid is the stable
+ * two-sided one of fastmath.h, so z = +-100 gives z and -0, and the
+ * derivative 1 and 0, without overflow. */
+#include "activation.h"
+#include "fastmath.h"
+
+#define QUICK_GELU_K 1.702f
+
+void quick_gelu_forward(float *out, const float *z, size_t n) {
+#pragma omp parallel for simd schedule(static)
+    for (size_t i = 0; i < n; i++) {
+        float s, sc;
+        nn_sigmoid2(QUICK_GELU_K * z[i], &s, &sc);
+        out[i] = z[i] * s;
+    }
+}
+
+void quick_gelu_backward(float *dz, const float *dout, const float *z, size_t n, int acc) {
+#pragma omp parallel for simd schedule(static)
+    for (size_t i = 0; i < n; i++) {
+        float s, sc;
+        nn_sigmoid2(QUICK_GELU_K * z[i], &s, &sc);
+        float d = dout[i] * (s + QUICK_GELU_K * z[i] * s * sc);
+        dz[i] = (acc ? dz[i] : 0.0f) + d;
+    }
+}
+
+static void forward(const nn_op *op) {
+    quick_gelu_forward(op->out->data, op->in[0]->data, op->out->numel);
+}
+
+static void backward(const nn_op *op) {
+    nn_tensor *z = op->in[0];
+    if (!z->grad) return;
+    int acc = nn_grad_begin(z);
+    quick_gelu_backward(z->grad, op->out->grad, z->data, z->numel, acc);
+}
+
+nn_tensor *nn_quick_gelu(nn_tape *t, nn_tensor *z) {
+    nn_op *op = nn_tape_append(t, "quick_gelu", forward, backward);
+    nn_tape_read(t, op, 0, z, 1);
+    return nn_tape_output(t, op, z->ndim, z->shape);
+}

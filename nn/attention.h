@@ -1,0 +1,20 @@
+/* attention.h: multi-head self-attention without masking (the ViT's).
+ *
+ * qkv is the in-projection's output [B,T,3C]: columns [0,C) the queries,
+ * [C,2C) the keys, [2C,3C) the values; head h owns columns h*D..h*D+D-1
+ * of each (D = C / H). Logits are scaled by D^-1/2; the softmax subtracts
+ * the row maximum, so logits of 1e4 stay finite. */
+#ifndef NN_ATTENTION_H
+#define NN_ATTENTION_H
+#include "tape.h"
+
+/* out [B,T,C] (heads side by side), probs [B,H,T,T] kept for backward. */
+void attention_forward(float *out, float *probs, const float *qkv, int B, int T, int C, int H);
+/* dqkv [B,T,3C] from dout [B,T,C]; added to dqkv when acc. */
+void attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
+                        int B, int T, int C, int H, int acc);
+
+/* qkv [B,T,3C] -> [B,T,C]. */
+nn_tensor *nn_attention(nn_tape *t, nn_tensor *qkv, int heads);
+
+#endif

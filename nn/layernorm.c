@@ -1,0 +1,74 @@
+/* layernorm.c: LayerNorm forward and input gradient (layernorm.h). */
+#include <math.h>
+#include "layernorm.h"
+
+void layernorm_forward(float *out, float *stats, const float *x, const float *gamma,
+                       const float *beta, int M, int C) {
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < M; i++) {
+        const float *xi = x + (size_t)i * C;
+        float *oi = out + (size_t)i * C;
+        float sum = 0.0f;
+#pragma omp simd reduction(+ : sum)
+        for (int j = 0; j < C; j++) sum += xi[j];
+        float mean = sum / (float)C;
+        /* Two passes: the variance of deviations does not cancel. */
+        float ss = 0.0f;
+#pragma omp simd reduction(+ : ss)
+        for (int j = 0; j < C; j++) ss += (xi[j] - mean) * (xi[j] - mean);
+        float rstd = 1.0f / sqrtf(ss / (float)C + NN_LAYERNORM_EPS);
+#pragma omp simd
+        for (int j = 0; j < C; j++) oi[j] = (xi[j] - mean) * rstd * gamma[j] + beta[j];
+        stats[2 * i] = mean;
+        stats[2 * i + 1] = rstd;
+    }
+}
+
+void layernorm_backward(float *dx, const float *dout, const float *x, const float *stats,
+                        const float *gamma, int M, int C, int acc) {
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < M; i++) {
+        const float *xi = x + (size_t)i * C, *gi = dout + (size_t)i * C;
+        float *di = dx + (size_t)i * C;
+        float mean = stats[2 * i], rstd = stats[2 * i + 1];
+        /* dx = rstd * (g - mean(g) - xhat * mean(g * xhat)), g = dout * gamma */
+        float sum_g = 0.0f, sum_gx = 0.0f;
+#pragma omp simd reduction(+ : sum_g, sum_gx)
+        for (int j = 0; j < C; j++) {
+            float g = gi[j] * gamma[j];
+            sum_g += g;
+            sum_gx += g * (xi[j] - mean) * rstd;
+        }
+        float mg = sum_g / (float)C, mgx = sum_gx / (float)C;
+#pragma omp simd
+        for (int j = 0; j < C; j++) {
+            float g = gi[j] * gamma[j], xhat = (xi[j] - mean) * rstd;
+            di[j] = (acc ? di[j] : 0.0f) + rstd * (g - mg - xhat * mgx);
+        }
+    }
+}
+
+/* n[0] = M, n[1] = C; w[0] gamma, w[1] beta; saved: stats [M,2]. */
+static void forward(const nn_op *op) {
+    layernorm_forward(op->out->data, op->saved->data, op->in[0]->data, op->w[0], op->w[1],
+                      op->n[0], op->n[1]);
+}
+
+static void backward(const nn_op *op) {
+    nn_tensor *x = op->in[0];
+    if (!x->grad) return;
+    int acc = nn_grad_begin(x);
+    layernorm_backward(x->grad, op->out->grad, x->data, op->saved->data, op->w[0], op->n[0],
+                       op->n[1], acc);
+}
+
+nn_tensor *nn_layernorm(nn_tape *t, nn_tensor *x, const float *gamma, const float *beta) {
+    nn_op *op = nn_tape_append(t, "layernorm", forward, backward);
+    nn_tape_read(t, op, 0, x, 1);
+    op->w[0] = gamma;
+    op->w[1] = beta;
+    op->n[0] = nn_rows(x);
+    op->n[1] = nn_dim(x, 0);
+    nn_tape_saved(t, op, 2 * (size_t)op->n[0]);
+    return nn_tape_output(t, op, x->ndim, x->shape);
+}

@@ -1,0 +1,248 @@
+/* tape.c: recording, memory planning and replay of the op tape (tape.h). */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include "tape.h"
+
+int nn_tape_init(nn_tape *t, int max_ops, int with_grad, ws_status *st) {
+    memset(t, 0, sizeof *t);
+    t->max_ops = max_ops;
+    /* Every op makes at most an output and a saved tensor; a few inputs. */
+    t->max_tensors = 2 * max_ops + 8;
+    t->with_grad = with_grad;
+    /* One spare slot each: what an overflowing constructor writes into, so
+     * that recording never fails midway; nn_tape_plan reports it. */
+    t->ops = ws_calloc((size_t)max_ops + 1, sizeof *t->ops, "tape ops", st);
+    t->tensors = ws_calloc((size_t)t->max_tensors + 1, sizeof *t->tensors, "tape tensors", st);
+    if (!t->ops || !t->tensors) {
+        nn_tape_free(t);
+        return st->code;
+    }
+    return WS_OK;
+}
+
+void nn_tape_free(nn_tape *t) {
+    free(t->ops);
+    free(t->tensors);
+    free(t->block);
+    memset(t, 0, sizeof *t);
+}
+
+static nn_tensor *new_tensor(nn_tape *t, int ndim, const int *shape) {
+    nn_tensor *x;
+    if (t->ntensors < t->max_tensors) {
+        x = &t->tensors[t->ntensors++];
+    } else {
+        t->overflow = 1;
+        x = &t->tensors[t->max_tensors];
+    }
+    memset(x, 0, sizeof *x);
+    x->ndim = ndim;
+    x->numel = 1;
+    for (int i = 0; i < ndim; i++) {
+        x->shape[i] = shape[i];
+        x->numel *= (size_t)shape[i];
+    }
+    x->producer = -1;
+    x->last_read = -1;
+    x->last_grad_use = -1;
+    return x;
+}
+
+static int op_index(const nn_tape *t, const nn_op *op) { return (int)(op - t->ops); }
+
+nn_tensor *nn_tape_input(nn_tape *t, int ndim, const int *shape) {
+    nn_tensor *x = new_tensor(t, ndim, shape);
+    x->external = 1;
+    x->needs_grad = t->with_grad;
+    return x;
+}
+
+void nn_tape_keep(nn_tape *t, nn_tensor *x) { x->keep = 1; }
+
+nn_op *nn_tape_append(nn_tape *t, const char *name, nn_op_fn forward, nn_op_fn backward) {
+    nn_op *op;
+    if (t->nops < t->max_ops) {
+        op = &t->ops[t->nops++];
+    } else {
+        t->overflow = 1;
+        op = &t->ops[t->max_ops];
+    }
+    memset(op, 0, sizeof *op);
+    op->name = name;
+    op->forward = forward;
+    op->backward = backward;
+    return op;
+}
+
+void nn_tape_read(nn_tape *t, nn_op *op, int slot, nn_tensor *x, int needed_by_backward) {
+    int i = op_index(t, op);
+    op->in[slot] = x;
+    if (i > x->last_read) x->last_read = i;
+    if (x->needs_grad && i > x->last_grad_use) x->last_grad_use = i;
+    if (needed_by_backward && t->with_grad) x->keep = 1;
+}
+
+nn_tensor *nn_tape_output(nn_tape *t, nn_op *op, int ndim, const int *shape) {
+    nn_tensor *x = new_tensor(t, ndim, shape);
+    x->producer = op_index(t, op);
+    for (int k = 0; k < 2; k++)
+        if (op->in[k] && op->in[k]->needs_grad) x->needs_grad = 1;
+    op->out = x;
+    return x;
+}
+
+nn_tensor *nn_tape_saved(nn_tape *t, nn_op *op, size_t numel) {
+    int n = (int)numel;
+    nn_tensor *x = new_tensor(t, 1, &n);
+    x->numel = numel;
+    x->producer = op_index(t, op);
+    x->keep = t->with_grad;
+    op->saved = x;
+    return x;
+}
+
+static void seed_backward(const nn_op *op) {
+    const float *g = *op->seed;
+    nn_tensor *x = op->in[0];
+    if (!g || !x->grad) return;
+    float *dx = x->grad;
+    long n = (long)x->numel;
+    if (nn_grad_begin(x)) {
+#pragma omp parallel for simd schedule(static)
+        for (long i = 0; i < n; i++) dx[i] += g[i];
+    } else {
+        memcpy(dx, g, (size_t)n * sizeof *dx);
+    }
+}
+
+void nn_tape_seed(nn_tape *t, nn_tensor *x, const float *const *slot) {
+    nn_op *op = nn_tape_append(t, "seed", NULL, seed_backward);
+    op->in[0] = x;
+    op->seed = slot;
+    int i = op_index(t, op);
+    if (x->needs_grad && i > x->last_grad_use) x->last_grad_use = i;
+}
+
+/* ---- planning ----------------------------------------------------------
+ * Each buffer lives over an interval of op indices: a value from the op
+ * that writes it to the last op whose forward reads it; a gradient from
+ * its producer (whose backward reads it last) to the last op whose
+ * backward writes it. The overlap test is the same in both directions of
+ * time, so one greedy first-fit (largest first) packs both kinds. */
+
+enum { ALIGN_FLOATS = 16 }; /* 64 bytes */
+
+typedef struct {
+    int start, end;
+    size_t size, offset;
+    int id;
+} interval;
+
+static size_t round_up(size_t n) { return (n + ALIGN_FLOATS - 1) / ALIGN_FLOATS * ALIGN_FLOATS; }
+
+static int by_size_desc(const void *a, const void *b) {
+    const interval *x = a, *y = b;
+    if (x->size != y->size) return x->size < y->size ? 1 : -1;
+    return x->id - y->id;
+}
+
+static int by_offset(const void *a, const void *b) {
+    const interval *x = *(interval *const *)a, *y = *(interval *const *)b;
+    if (x->offset != y->offset) return x->offset < y->offset ? -1 : 1;
+    return 0;
+}
+
+/* Assigns offsets so that intervals overlapping in time never overlap in
+ * memory; returns the floats needed. `busy` has room for n pointers. */
+static size_t first_fit(interval *v, int n, interval **busy) {
+    qsort(v, (size_t)n, sizeof *v, by_size_desc);
+    size_t peak = 0;
+    for (int i = 0; i < n; i++) {
+        int nb = 0;
+        for (int j = 0; j < i; j++)
+            if (v[j].start <= v[i].end && v[i].start <= v[j].end) busy[nb++] = &v[j];
+        qsort(busy, (size_t)nb, sizeof *busy, by_offset);
+        size_t off = 0;
+        for (int j = 0; j < nb; j++) {
+            if (off + v[i].size <= busy[j]->offset) break;
+            if (busy[j]->offset + busy[j]->size > off) off = busy[j]->offset + busy[j]->size;
+        }
+        v[i].offset = off;
+        if (off + v[i].size > peak) peak = off + v[i].size;
+    }
+    return peak;
+}
+
+static int max_int(int a, int b) { return a > b ? a : b; }
+
+int nn_tape_plan(nn_tape *t, ws_status *st) {
+    if (t->overflow)
+        return ws_fail(st, WS_EINTERNAL, "tape: more than %d ops recorded", t->max_ops);
+    int rc = WS_OK, n = t->ntensors;
+    interval *scratch = ws_malloc((size_t)n * sizeof *scratch, "tape plan", st);
+    interval *grads = ws_malloc((size_t)n * sizeof *grads, "tape plan", st);
+    interval **busy = ws_malloc((size_t)n * sizeof *busy, "tape plan", st);
+    size_t *keep_offset = ws_malloc((size_t)n * sizeof *keep_offset, "tape plan", st);
+    if (!scratch || !grads || !busy || !keep_offset) {
+        rc = st->code;
+        goto done;
+    }
+
+    int ns = 0, ng = 0;
+    size_t keep = 0;
+    for (int i = 0; i < n; i++) {
+        nn_tensor *x = &t->tensors[i];
+        if (x->external) continue;
+        size_t size = round_up(x->numel);
+        if (x->keep) {
+            keep_offset[i] = keep;
+            keep += size;
+        } else {
+            scratch[ns++] = (interval){x->producer, max_int(x->producer, x->last_read), size, 0, i};
+        }
+        if (t->with_grad && x->needs_grad)
+            grads[ng++] = (interval){x->producer, max_int(x->producer, x->last_grad_use), size, 0, i};
+    }
+    t->keep_floats = keep;
+    t->scratch_floats = first_fit(scratch, ns, busy);
+    t->grad_floats = first_fit(grads, ng, busy);
+
+    size_t total = t->keep_floats + t->scratch_floats + t->grad_floats;
+    free(t->block);
+    t->block = ws_malloc(total * sizeof(float) + 64, "activation arena", st);
+    if (!t->block) {
+        rc = st->code;
+        goto done;
+    }
+    float *base = (float *)(((uintptr_t)t->block + 63) & ~(uintptr_t)63);
+    float *scratch_base = base + t->keep_floats, *grad_base = scratch_base + t->scratch_floats;
+    for (int i = 0; i < n; i++)
+        if (t->tensors[i].keep && !t->tensors[i].external) t->tensors[i].data = base + keep_offset[i];
+    for (int k = 0; k < ns; k++) t->tensors[scratch[k].id].data = scratch_base + scratch[k].offset;
+    for (int k = 0; k < ng; k++) t->tensors[grads[k].id].grad = grad_base + grads[k].offset;
+done:
+    free(scratch);
+    free(grads);
+    free(busy);
+    free(keep_offset);
+    return rc;
+}
+
+void nn_tape_forward(nn_tape *t) {
+    for (int i = 0; i < t->nops; i++)
+        if (t->ops[i].forward) t->ops[i].forward(&t->ops[i]);
+}
+
+void nn_tape_backward(nn_tape *t) {
+    for (int i = 0; i < t->ntensors; i++) t->tensors[i].grad_ready = 0;
+    for (int i = t->nops - 1; i >= 0; i--) {
+        const nn_op *op = &t->ops[i];
+        if (op->out && !(op->out->grad && op->out->grad_ready)) continue;
+        op->backward(op);
+    }
+}
+
+size_t nn_tape_bytes(const nn_tape *t) {
+    return (t->keep_floats + t->scratch_floats + t->grad_floats) * sizeof(float);
+}

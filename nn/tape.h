@@ -1,0 +1,72 @@
+/* tape.h: the op tape of the autograd engine (reverse mode, llm.c style).
+ *
+ * The graph is static: a model records its ops once (each op a pair of
+ * forward/backward functions plus the tensors and frozen parameters they
+ * use), the planner then lays every tensor and gradient out in ONE arena
+ * allocated up front, and every step replays the tape forward and then in
+ * reverse. Nothing is allocated during a step.
+ *
+ * Gradients exist only where some graph input wants one (the input image);
+ * parameters are plain constant arrays and never receive a gradient. */
+#ifndef NN_TAPE_H
+#define NN_TAPE_H
+#include "status.h"
+#include "tensor.h"
+
+typedef struct nn_op nn_op;
+typedef void (*nn_op_fn)(const nn_op *op);
+
+struct nn_op {
+    const char *name;
+    nn_op_fn forward;          /* NULL for a seed op (backward only) */
+    nn_op_fn backward;
+    nn_tensor *out;            /* NULL for a seed op */
+    nn_tensor *in[2];          /* activations read */
+    nn_tensor *saved;          /* state the forward leaves for the backward */
+    const float *w[2];         /* frozen parameters (weight, bias) */
+    int n[4];                  /* op-specific sizes, documented by each op */
+    const float *const *seed;  /* seed op: slot holding an external gradient */
+};
+
+typedef struct {
+    nn_tensor *tensors;
+    int ntensors, max_tensors;
+    nn_op *ops;
+    int nops, max_ops;
+    int with_grad;             /* plan gradients and keep what backward reads */
+    int overflow;              /* more ops than max_ops were recorded */
+    void *block;               /* the one allocation */
+    size_t keep_floats, scratch_floats, grad_floats;
+} nn_tape;
+
+int nn_tape_init(nn_tape *t, int max_ops, int with_grad, ws_status *st);
+void nn_tape_free(nn_tape *t);
+
+/* A graph input whose data (and gradient, when with_grad) the caller sets
+ * before each forward (and backward). */
+nn_tensor *nn_tape_input(nn_tape *t, int ndim, const int *shape);
+/* The caller reads x after the forward: its storage is never reused. */
+void nn_tape_keep(nn_tape *t, nn_tensor *x);
+/* Records a seed: during backward, *slot (when not NULL) is added to x's
+ * gradient at this point of the tape; x's gradient then flows on. */
+void nn_tape_seed(nn_tape *t, nn_tensor *x, const float *const *slot);
+
+/* For op constructors: appends an op, declares what it reads, and creates
+ * its output (and saved state). needed_by_backward: the op's backward
+ * reads x's values, so they must survive until then. */
+nn_op *nn_tape_append(nn_tape *t, const char *name, nn_op_fn forward, nn_op_fn backward);
+void nn_tape_read(nn_tape *t, nn_op *op, int slot, nn_tensor *x, int needed_by_backward);
+nn_tensor *nn_tape_output(nn_tape *t, nn_op *op, int ndim, const int *shape);
+nn_tensor *nn_tape_saved(nn_tape *t, nn_op *op, size_t numel);
+
+/* Lays out every tensor and gradient and allocates the arena; after this
+ * the tape can run. Fails on OOM or when max_ops was exceeded. */
+int nn_tape_plan(nn_tape *t, ws_status *st);
+void nn_tape_forward(nn_tape *t);
+/* Replays the tape in reverse from the seeds; ops no gradient reaches are
+ * skipped. A graph input whose gradient never arrived keeps grad_ready 0. */
+void nn_tape_backward(nn_tape *t);
+/* Bytes of the arena. */
+size_t nn_tape_bytes(const nn_tape *t);
+
+#endif

@@ -1,0 +1,38 @@
+/* cli_view.c: shared scene/split/view options (see cli_view.h). */
+#include <stddef.h>
+#include "cli_view.h"
+
+#define MAX_SIZE 4096
+
+int ws_cli_require(const char *value, const char *option, ws_status *st) {
+    if (!value) return ws_fail(st, WS_EUSAGE, "%s: required (see --help)", option);
+    return WS_OK;
+}
+
+int ws_cli_load_split(const char *dir, int size, int load_images, const char *split_name,
+                      ws_scene *scene, int *split, ws_status *st) {
+    if (size < 1 || size > MAX_SIZE)
+        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [1, %d]", size, MAX_SIZE);
+    *split = ws_split_index(split_name);
+    if (*split < 0)
+        return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
+    ws_scene_options opt;
+    ws_scene_options_default(&opt);
+    opt.width = opt.height = size;
+    opt.load_images = load_images;
+    if (ws_scene_load(scene, dir, &opt, st)) return st->code;
+    if (scene->split[*split].n == 0) {
+        ws_scene_free(scene);
+        return ws_fail(st, WS_EINPUT, "%s: no %s split (transforms_%s.json)", dir, split_name,
+                       split_name);
+    }
+    return WS_OK;
+}
+
+int ws_cli_check_view(const ws_scene *scene, int split, int view, ws_status *st) {
+    int n = scene->split[split].n;
+    if (view < 0 || view >= n)
+        return ws_fail(st, WS_EUSAGE, "--view: %d is not in [0, %d] (the %s split has %d views)",
+                       view, n - 1, ws_split_names[split], n);
+    return WS_OK;
+}

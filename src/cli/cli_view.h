@@ -1,0 +1,20 @@
+/* cli_view.h: the scene/split/view options that render, grad and export
+ * share: checking them and loading what they name, with the same messages
+ * everywhere. */
+#ifndef WS_CLI_VIEW_H
+#define WS_CLI_VIEW_H
+#include "scene.h"
+#include "status.h"
+
+/* Fails with WS_EUSAGE "OPTION: required" when value is NULL. */
+int ws_cli_require(const char *value, const char *option, ws_status *st);
+
+/* Loads `dir` at size x size (images only if load_images) and finds split
+ * `split_name`, which must have views: *split gets its index. */
+int ws_cli_load_split(const char *dir, int size, int load_images, const char *split_name,
+                      ws_scene *scene, int *split, ws_status *st);
+
+/* Checks that view index `view` exists in split `split` of scene. */
+int ws_cli_check_view(const ws_scene *scene, int split, int view, ws_status *st);
+
+#endif

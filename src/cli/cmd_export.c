@@ -1,0 +1,55 @@
+/* cmd_export.c: `wiresketch export`: a sketch as OBJ, PLY and SVG files. */
+#include <stdio.h>
+#include "args.h"
+#include "cli_view.h"
+#include "commands.h"
+#include "curves.h"
+#include "export.h"
+
+/* The SVG of the sketch seen from view `view` of a split of the scene. */
+static int export_svg(const char *path, const ws_curves *curves, const char *scene_dir,
+                      const char *split_name, int view, int size, ws_status *st) {
+    ws_scene scene;
+    int split;
+    if (ws_cli_load_split(scene_dir, size, 0, split_name, &scene, &split, st))
+        return st->code;
+    if (!ws_cli_check_view(&scene, split, view, st))
+        ws_export_svg(path, curves, &scene.split[split].views[view].cam, st);
+    ws_scene_free(&scene);
+    return st->code;
+}
+
+int cmd_export(int argc, char **argv) {
+    const char *obj = NULL, *ply = NULL, *svg = NULL, *scene_dir = NULL, *split_name = "test";
+    int view = 0, size = 224;
+    const ws_arg args[] = {
+        {"--obj", WS_ARG_STRING, &obj, 0, "write the curves as OBJ polylines"},
+        {"--ply", WS_ARG_STRING, &ply, 0, "write the curves as a PLY of vertices and edges"},
+        {"--svg", WS_ARG_STRING, &svg, 0, "write the sketch seen from a view as SVG"},
+        {"--scene", WS_ARG_STRING, &scene_dir, 0, "scene directory, for --svg's camera"},
+        {"--split", WS_ARG_STRING, &split_name, 0, "split of --svg's view [test]"},
+        {"--view", WS_ARG_INT, &view, 0, "index of --svg's view in the split [0]"},
+        {"--size", WS_ARG_INT, &size, 0, "--svg's image size in pixels, square [224]"},
+    };
+    const ws_command_spec spec = {
+        "export CURVES.json [--obj F] [--ply F] [--svg F --scene DIR [--split S --view K]]",
+        "Write a sketch as OBJ or PLY polylines, or as an SVG drawing from one camera.",
+        args, sizeof args / sizeof args[0], 1, 1};
+    const char *pos[1];
+    int npos, help;
+    ws_status st;
+    ws_status_clear(&st);
+    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
+    if (help) return 0;
+    if (!obj && !ply && !svg) {
+        ws_fail(&st, WS_EUSAGE, "nothing to do: give --obj, --ply or --svg (see --help)");
+        return ws_cli_fail(&st);
+    }
+    if (svg && ws_cli_require(scene_dir, "--scene", &st)) return ws_cli_fail(&st);
+    ws_curves curves;
+    if (ws_curves_load(pos[0], &curves, &st)) return ws_cli_fail(&st);
+    if (!(obj && ws_export_obj(obj, &curves, &st)) && !(ply && ws_export_ply(ply, &curves, &st)))
+        if (svg) export_svg(svg, &curves, scene_dir, split_name, view, size, &st);
+    ws_curves_free(&curves);
+    return st.code ? ws_cli_fail(&st) : 0;
+}

@@ -1,0 +1,146 @@
+/* cmd_fit.c: `wiresketch fit SCENE --out DIR [options]` and
+ * `wiresketch fit --resume DIR`. */
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+#include "args.h"
+#include "checkpoint.h"
+#include "commands.h"
+#include "fit.h"
+#include "threads.h"
+
+static void request_stop(int sig) {
+    (void)sig;
+    ws_fit_stop_requested = 1;
+}
+
+/* The loss options of --loss NAME and --edges-weight W. */
+static int choose_loss(const char *name, double edges_weight, ws_loss_options *lo, ws_status *st) {
+    if (!strcmp(name, "edges")) {
+        lo->conv_weight = lo->fc_weight = lo->global_weight = 0;
+        lo->edges_weight = edges_weight;
+    } else if (!strcmp(name, "clip+edges")) {
+        lo->edges_weight = edges_weight;
+    } else if (strcmp(name, "clip") != 0) {
+        return ws_fail(st, WS_EUSAGE, "--loss: '%s' is not clip, edges or clip+edges", name);
+    }
+    return WS_OK;
+}
+
+/* Parses the fit's own arguments (those of a new run, or those a checkpoint
+ * stored) into opt. */
+static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **resume_dir, int *help,
+                     ws_status *st) {
+    ws_fit_options_default(opt);
+    const char *loss_name = "clip";
+    double edges_weight = 1.0;
+    int seed = 0;
+    ws_arg_list layers = {0};
+    *resume_dir = NULL;
+    opt->out_dir = "out";
+    const ws_arg args[] = {
+        {"--out", WS_ARG_STRING, &opt->out_dir, 0, "output directory [out]"},
+        {"--resume", WS_ARG_STRING, resume_dir, 0, "continue the fit whose output directory is DIR"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges or clip+edges [clip]"},
+        {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
+        {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
+        {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
+        {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10]"},
+        {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30]"},
+        {"--learning-rate", WS_ARG_DOUBLE, &opt->learning_rate, 0, "Adam step size [0.005]"},
+        {"--n-curves", WS_ARG_INT, &opt->n_curves, 0, "number of curves [25]"},
+        {"--thickness", WS_ARG_DOUBLE, &opt->thickness, 0, "Gaussian radius, world units [0.02]"},
+        {"--radius", WS_ARG_DOUBLE, &opt->radius, 0, "initialisation sphere radius [0.8]"},
+        {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02]"},
+        {"--overlap", WS_ARG_DOUBLE, &opt->overlap, 0, "Gaussian overlap [0.6]"},
+        {"--clip-weight", WS_ARG_DOUBLE, &opt->loss.global_weight, 0, "global term weight [1]"},
+        {"--clip-conv-loss", WS_ARG_DOUBLE, &opt->loss.conv_weight, 0, "geometric term weight, 0 = off [1]"},
+        {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &opt->loss.fc_weight, 0, "fc term weight [0.1]"},
+        {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
+         "weight of block 0, 1, ... [0 0 1 1 0]"},
+        {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
+        {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
+        {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
+        {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
+        {"--threads", WS_ARG_INT, &opt->threads, 0, "threads, 0 = all cores [0]"},
+        {"--eval-every", WS_ARG_INT, &opt->eval_every, 0, "validate every N batches, 0 = never [10]"},
+        {"--max-steps", WS_ARG_INT, &opt->max_steps, 0, "stop after N steps in all, 0 = schedule [0]"},
+        {"--checkpoint-minutes", WS_ARG_DOUBLE, &opt->checkpoint_minutes, 0, "checkpoint interval [5]"},
+        {"--snapshot-every", WS_ARG_INT, &opt->snapshot_every, 0, "steps per evolution.gif frame [30]"},
+        {"--init", WS_ARG_STRING, &opt->init_curves, 0, "start from this curve file"},
+        {"--quiet", WS_ARG_FLAG, &opt->quiet, 0, "no progress line"},
+    };
+    const ws_command_spec spec = {
+        "fit SCENE [--out DIR] [options] | fit --resume DIR",
+        "fit 3D curves to a multi-view scene (SPEC sections 5-7)", args,
+        (int)(sizeof args / sizeof args[0]), 0, 1};
+    const char *pos[1];
+    int npos;
+    if (ws_args_parse(&spec, argc, argv, pos, &npos, help, st) || *help) return st->code;
+    if (*resume_dir) return WS_OK;
+    if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
+    opt->scene_dir = pos[0];
+    opt->seed = (uint64_t)(unsigned)seed;
+    if (layers.n) {
+        opt->loss.n_layer_weights = layers.n;
+        memset(opt->loss.layer_weights, 0, sizeof opt->loss.layer_weights);
+        memcpy(opt->loss.layer_weights, layers.v, layers.n * sizeof(double));
+    }
+    if (opt->max_steps < 0 || opt->threads < 0 || opt->eval_every < 0 || opt->snapshot_every < 0 ||
+        !(opt->checkpoint_minutes > 0))
+        return ws_fail(st, WS_EUSAGE, "fit: --max-steps, --threads, --eval-every and --snapshot-every "
+                                      "must be >= 0, --checkpoint-minutes > 0");
+    if (choose_loss(loss_name, edges_weight, &opt->loss, st)) return st->code;
+    if (ws_loss_uses_clip(&opt->loss) && access(opt->loss.weights_path, R_OK) != 0)
+        return ws_fail(st, WS_EINPUT,
+                       "%s: no CLIP weight file; convert OpenAI's ViT-B-32.pt once with "
+                       "`python3 tools/convert_weights.py ViT-B-32.pt %s` (see weights/README.md), "
+                       "or fit without CLIP: --loss edges",
+                       opt->loss.weights_path, opt->loss.weights_path);
+    return WS_OK;
+}
+
+int cmd_fit(int argc, char **argv) {
+    ws_status st;
+    ws_status_clear(&st);
+    ws_fit_options opt;
+    const char *resume_dir;
+    int help;
+    if (parse_fit(argc, argv, &opt, &resume_dir, &help, &st)) return ws_cli_fail(&st);
+    if (help) return 0;
+    int run_argc = argc;
+    char **run_argv = argv, **saved = NULL;
+    if (resume_dir) {
+        const char *dir = resume_dir;
+        char path[4200];
+        snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
+        if (access(path, F_OK) != 0) {
+            ws_fail(&st, WS_EINPUT, "%s: no checkpoint to resume from", path);
+            return ws_cli_fail(&st);
+        }
+        if (ws_checkpoint_load(path, NULL, &run_argc, &saved, &st) ||
+            parse_fit(run_argc, saved, &opt, &resume_dir, &help, &st)) {
+            ws_checkpoint_free_args(run_argc, saved);
+            return ws_cli_fail(&st);
+        }
+        run_argv = saved;
+        opt.out_dir = dir; /* the run continues where its checkpoint is now */
+    }
+    ws_threads_set(opt.threads);
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = request_stop;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    int interrupted;
+    int rc = ws_fit(&opt, (const char *const *)run_argv, run_argc, saved != NULL, &interrupted, &st);
+    ws_checkpoint_free_args(run_argc, saved);
+    if (rc) return ws_cli_fail(&st);
+    if (interrupted)
+        fprintf(stderr, "wiresketch: interrupted; outputs and checkpoint written to %s; continue with "
+                        "`wiresketch fit --resume %s`\n", opt.out_dir, opt.out_dir);
+    else
+        fprintf(stderr, "wiresketch: done; see %s/report.html\n", opt.out_dir);
+    return 0;
+}

@@ -1,0 +1,48 @@
+/* cmd_scene.c: `wiresketch scene NAME --out DIR`: a synthetic test scene
+ * (NeRF layout) with its ground-truth curves (see synth.h). */
+#include <stdio.h>
+#include "args.h"
+#include "commands.h"
+#include "synth.h"
+
+int cmd_scene(int argc, char **argv) {
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    const char *out = NULL;
+    int seed = 0;
+    const ws_arg args[] = {
+        {"--out", WS_ARG_STRING, &out, 0, "directory to write the scene into (required)"},
+        {"--views-train", WS_ARG_INT, &opt.views[WS_TRAIN], 0, "train views [48]"},
+        {"--views-val", WS_ARG_INT, &opt.views[WS_VAL], 0, "val views, 0 for none [8]"},
+        {"--views-test", WS_ARG_INT, &opt.views[WS_TEST], 0, "test views, 0 for none [8]"},
+        {"--size", WS_ARG_INT, &opt.size, 0, "image side in pixels [224]"},
+        {"--seed", WS_ARG_INT, &seed, 0, "seed of the camera placement [0]"},
+    };
+    const ws_command_spec spec = {
+        "scene NAME --out DIR [options]   (NAME: trefoil or chair)",
+        "Render a synthetic object made of Bezier tubes into a NeRF-synthetic scene:\n"
+        "DIR/transforms_{train,val,test}.json, DIR/rgb/SPLIT/r_K.png, and its exact\n"
+        "ground truth DIR/gt_curves.json.",
+        args, sizeof args / sizeof args[0], 1, 1};
+    const char *pos[1];
+    int npos, help;
+    ws_status st;
+    ws_status_clear(&st);
+    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
+    if (help) return 0;
+    if (!out) {
+        ws_fail(&st, WS_EUSAGE, "--out: required (see --help)");
+        return ws_cli_fail(&st);
+    }
+    if (seed < 0) {
+        ws_fail(&st, WS_EUSAGE, "--seed: %d is negative", seed);
+        return ws_cli_fail(&st);
+    }
+    opt.seed = (uint64_t)seed;
+    if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);
+    printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, "
+           "ground truth %s/gt_curves.json\n",
+           out, pos[0], opt.views[WS_TRAIN], opt.views[WS_VAL], opt.views[WS_TEST], opt.size,
+           opt.size, out);
+    return 0;
+}

@@ -1,0 +1,237 @@
+/* test_synth.c: the synthetic scenes: they load as scenes, their images
+ * show the ground-truth curves where the cameras project them (and nothing
+ * elsewhere), the object is centred, gt_curves.json loads, and the same
+ * options give the same bytes. Small scenes (few views, 64 px) keep it fast. */
+#define _XOPEN_SOURCE 700
+#include <ftw.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "check.h"
+#include "curves.h"
+#include "scene.h"
+#include "synth.h"
+
+static char tmp[256];
+
+static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
+    return remove(path);
+}
+
+/* Whole file into memory (NULL if missing); *n gets its size. */
+static unsigned char *slurp(const char *path, size_t *n) {
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    fseek(fp, 0, SEEK_END);
+    long len = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    unsigned char *buf = malloc(len + 1);
+    *n = fread(buf, 1, len, fp);
+    fclose(fp);
+    return buf;
+}
+
+static int same_file(const char *a, const char *b) {
+    size_t na = 0, nb = 0;
+    unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
+    int same = x && y && na == nb && !memcmp(x, y, na);
+    free(x);
+    free(y);
+    return same;
+}
+
+/* Checks one loaded view against the ground truth: every pixel on a
+ * projected curve point is lit, every pixel farther than the tube's
+ * projected radius + 1.5 px from all of them is black. */
+static void check_view(const ws_view *v, const ws_curves *gt, const char *label) {
+    const ws_image *im = &v->photo;
+    const int W = im->width, H = im->height, S = 96;
+    int n = gt->n * S, lit_on = 0, inside = 0, stray = 0, nonzero = 0;
+    double *uvr = malloc(sizeof *uvr * 3 * n), maxv = 0;
+    for (int ci = 0; ci < gt->n; ci++)
+        for (int k = 0; k < S; k++) {
+            double p[3], c[3];
+            ws_curve_point(gt, ci, k / (S - 1.0), p);
+            ws_camera_to_cam(&v->cam, p, c);
+            double d = -c[2], *e = uvr + 3 * (ci * S + k);
+            e[0] = W / 2.0 + v->cam.focal * c[0] / d;
+            e[1] = H / 2.0 - v->cam.focal * c[1] / d;
+            e[2] = v->cam.focal * gt->thickness / d;
+            int j = (int)lrint(e[0]), i = (int)lrint(e[1]);
+            if (i < 0 || j < 0 || i >= H || j >= W) continue;
+            inside++;
+            lit_on += im->data[i * W + j] + im->data[H * W + i * W + j] > 0.05;
+        }
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            double sum = 0;
+            for (int c = 0; c < 3; c++) {
+                sum += im->data[(c * H + i) * W + j];
+                maxv = fmax(maxv, im->data[(c * H + i) * W + j]);
+            }
+            nonzero += sum > 0;
+            int far = 1;
+            for (int k = 0; k < n && far; k++) {
+                double du = j - uvr[3 * k], dv = i - uvr[3 * k + 1];
+                far = du * du + dv * dv > (uvr[3 * k + 2] + 1.5) * (uvr[3 * k + 2] + 1.5);
+            }
+            stray += far && sum > 0;
+        }
+    CHECK(inside > n / 2 && lit_on == inside, "%s: %d of %d projected curve points lit", label,
+          lit_on, inside);
+    CHECK(stray == 0, "%s: %d lit pixels away from every tube", label, stray);
+    CHECK(maxv > 0.3 && maxv < 0.99, "%s: brightest value %g (blank or saturated)", label, maxv);
+    CHECK(nonzero > W * H / 100 && nonzero < W * H / 2, "%s: %d of %d pixels show the object",
+          label, nonzero, W * H);
+    free(uvr);
+}
+
+/* Generates `name` into tmp/dir_name and checks it end to end. */
+static void check_scene(const char *name, const char *dir_name, const int views[3], int size) {
+    char dir[512], path[600];
+    snprintf(dir, sizeof dir, "%s/%s", tmp, dir_name);
+    ws_status st;
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    memcpy(opt.views, views, sizeof opt.views);
+    opt.size = size;
+    opt.seed = 7;
+    int rc = ws_synth_write(name, dir, &opt, &st);
+    CHECK(rc == WS_OK, "%s: %s", name, st.msg);
+    if (rc) return;
+
+    ws_synth_object obj;
+    rc = ws_synth_object_make(&obj, name, &st);
+    CHECK(rc == WS_OK, "%s object: %s", name, st.msg);
+    if (rc) return;
+    ws_curves gt;
+    snprintf(path, sizeof path, "%s/gt_curves.json", dir);
+    rc = ws_curves_load(path, &gt, &st);
+    CHECK(rc == WS_OK, "%s: %s", path, st.msg);
+    if (rc) {
+        ws_synth_object_free(&obj);
+        return;
+    }
+    int same = gt.n == obj.curves.n && gt.thickness == obj.curves.thickness;
+    for (int k = 0; same && k < gt.n * 12; k++) same = gt.P[k] == obj.curves.P[k];
+    CHECK(same, "%s: gt_curves.json holds the object's curves exactly", name);
+
+    ws_scene sc;
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = size;
+    rc = ws_scene_load(&sc, dir, &so, &st);
+    CHECK(rc == WS_OK, "%s load: %s", name, st.msg);
+    if (!rc) {
+        for (int s = 0; s < WS_NSPLITS; s++)
+            CHECK(sc.split[s].n == views[s], "%s %s: %d views", name, ws_split_names[s],
+                  sc.split[s].n);
+        CHECK(fabs(sc.camera_angle_x - 2 * atan(18.0 / 50.0)) < 1e-15, "angle %.17g",
+              sc.camera_angle_x);
+        double off = 0;
+        for (int i = 0; i < 3; i++)
+            off += (sc.center[i] - obj.center[i]) * (sc.center[i] - obj.center[i]);
+        CHECK(sqrt(off) < 1e-6, "%s: scene centre %g from the object's centre", name, sqrt(off));
+        for (int s = 0; s < WS_NSPLITS; s++)
+            for (int k = 0; k < sc.split[s].n; k++) {
+                char label[700];
+                snprintf(label, sizeof label, "%s %s/%s", name, ws_split_names[s],
+                         sc.split[s].views[k].name);
+                check_view(&sc.split[s].views[k], &gt, label);
+                double pos[3], dist = 0;
+                ws_camera_position(&sc.split[s].views[k].cam, pos);
+                for (int i = 0; i < 3; i++)
+                    dist += (pos[i] - obj.center[i]) * (pos[i] - obj.center[i]);
+                CHECK(fabs(sqrt(dist) - 4.0) < 1e-9 && pos[2] > obj.center[2],
+                      "%s: camera on the upper hemisphere of radius 4", label);
+            }
+        ws_scene_free(&sc);
+    }
+    for (int s = 1; s < WS_NSPLITS; s++) {
+        snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[s]);
+        CHECK((access(path, F_OK) == 0) == (views[s] > 0), "%s: written iff the split has views",
+              path);
+    }
+    ws_curves_free(&gt);
+    ws_synth_object_free(&obj);
+}
+
+/* Two runs with the same options give the same bytes; another seed moves
+ * the cameras. */
+static void test_deterministic(void) {
+    ws_status st;
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    opt.views[WS_TRAIN] = 4;
+    opt.views[WS_VAL] = opt.views[WS_TEST] = 1;
+    opt.size = 64;
+    char a[512], b[512], c[512], pa[700], pb[700], pc[700];
+    snprintf(a, sizeof a, "%s/run_a", tmp);
+    snprintf(b, sizeof b, "%s/run_b", tmp);
+    snprintf(c, sizeof c, "%s/run_c", tmp);
+    int rc = ws_synth_write("chair", a, &opt, &st) || ws_synth_write("chair", b, &opt, &st);
+    opt.seed = 99;
+    rc = rc || ws_synth_write("chair", c, &opt, &st);
+    CHECK(rc == 0, "runs: %s", st.msg);
+    const char *files[] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
+                           "gt_curves.json",        "rgb/train/r_0.png",   "rgb/train/r_3.png",
+                           "rgb/val/r_0.png",       "rgb/test/r_0.png"};
+    int differ = 0;
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+        snprintf(pa, sizeof pa, "%s/%s", a, files[k]);
+        snprintf(pb, sizeof pb, "%s/%s", b, files[k]);
+        snprintf(pc, sizeof pc, "%s/%s", c, files[k]);
+        CHECK(same_file(pa, pb), "%s differs between two identical runs", files[k]);
+        differ += !same_file(pa, pc);
+    }
+    CHECK(differ >= 6, "another seed changed only %d files", differ);
+    snprintf(pa, sizeof pa, "%s/gt_curves.json", a);
+    snprintf(pc, sizeof pc, "%s/gt_curves.json", c);
+    CHECK(same_file(pa, pc), "the ground truth does not depend on the seed");
+}
+
+static void test_errors(void) {
+    ws_status st;
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    CHECK(opt.views[0] == 48 && opt.views[1] == 8 && opt.views[2] == 8 && opt.size == 224,
+          "default options");
+    char dir[512];
+    snprintf(dir, sizeof dir, "%s/never", tmp);
+    int rc = ws_synth_write("teapot", dir, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair)"),
+          "unknown name: %s", st.msg);
+    opt.views[WS_TRAIN] = 0;
+    rc = ws_synth_write("chair", dir, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--views-train: 0 is not in [1, 100000]"),
+          "no train: %s", st.msg);
+    opt.views[WS_TRAIN] = 2;
+    opt.size = 4;
+    rc = ws_synth_write("chair", dir, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--size: 4 is not in [8, 4096]"), "tiny size: %s",
+          st.msg);
+    CHECK(access(dir, F_OK) != 0, "nothing written on bad options");
+    opt.size = 16;
+    snprintf(dir, sizeof dir, "%s/no/such/parent", tmp);
+    rc = ws_synth_write("chair", dir, &opt, &st);
+    char want[700];
+    snprintf(want, sizeof want, "%s: cannot create directory: No such file or directory", dir);
+    CHECK(rc == WS_EIO && !strcmp(st.msg, want), "missing parent: %s", st.msg);
+}
+
+int main(void) {
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_synth_XXXXXX");
+    if (!mkdtemp(tmp)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    const int trefoil_views[3] = {5, 2, 2}, chair_views[3] = {4, 0, 1};
+    check_scene("trefoil", "trefoil", trefoil_views, 64);
+    check_scene("chair", "chair", chair_views, 96);
+    test_deterministic();
+    test_errors();
+    nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
+    return check_summary();
+}
