@@ -5,9 +5,11 @@
 #include "fastmath.h"
 
 #define QUICK_GELU_K 1.702f
+/* Elements per OpenMP task: whole cache lines, few tasks. */
+#define CHUNK 4096
 
-void quick_gelu_forward(float *out, const float *z, size_t n) {
-#pragma omp parallel for simd schedule(static)
+NN_SIMD_CLONES static void forward_chunk(float *out, const float *z, size_t n) {
+#pragma omp simd
     for (size_t i = 0; i < n; i++) {
         float s, sc;
         nn_sigmoid2(QUICK_GELU_K * z[i], &s, &sc);
@@ -15,13 +17,35 @@ void quick_gelu_forward(float *out, const float *z, size_t n) {
     }
 }
 
-void quick_gelu_backward(float *dz, const float *dout, const float *z, size_t n, int acc) {
-#pragma omp parallel for simd schedule(static)
+NN_SIMD_CLONES static void backward_chunk(float *dz, const float *dout, const float *z, size_t n,
+                                          int acc) {
+#pragma omp simd
     for (size_t i = 0; i < n; i++) {
         float s, sc;
         nn_sigmoid2(QUICK_GELU_K * z[i], &s, &sc);
         float d = dout[i] * (s + QUICK_GELU_K * z[i] * s * sc);
         dz[i] = (acc ? dz[i] : 0.0f) + d;
+    }
+}
+
+static size_t chunk_len(size_t n, long c) {
+    size_t start = (size_t)c * CHUNK;
+    return n - start < CHUNK ? n - start : CHUNK;
+}
+
+void quick_gelu_forward(float *out, const float *z, size_t n) {
+    long chunks = (long)((n + CHUNK - 1) / CHUNK);
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < chunks; c++)
+        forward_chunk(out + (size_t)c * CHUNK, z + (size_t)c * CHUNK, chunk_len(n, c));
+}
+
+void quick_gelu_backward(float *dz, const float *dout, const float *z, size_t n, int acc) {
+    long chunks = (long)((n + CHUNK - 1) / CHUNK);
+#pragma omp parallel for schedule(static)
+    for (long c = 0; c < chunks; c++) {
+        size_t o = (size_t)c * CHUNK;
+        backward_chunk(dz + o, dout + o, z + o, chunk_len(n, c), acc);
     }
 }
 

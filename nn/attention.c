@@ -1,35 +1,72 @@
 /* attention.c: multi-head self-attention (attention.h).
  *
- * Each (image, head) pair is an independent task for OpenMP; within one,
- * T x T x D tight loops whose innermost dimension is the head's D
- * contiguous floats, so they vectorise. Every task writes only its own
- * columns of out/dqkv: no reductions across threads, same bits every run. */
+ * Each (image, head) pair is an independent OpenMP task with its own
+ * scratch, and writes only its own columns of out / dqkv: no reduction
+ * across threads, the same bits on every run. A head is too small for a
+ * GEMM call to pay (T x T x D = 50 x 50 x 64), so every product is one
+ * tight kernel, combine(), on copies of q, k, v padded to whole vector
+ * blocks (and transposed where the sum runs over D). */
 #include <math.h>
 #include <string.h>
 #include "attention.h"
 #include "fastmath.h"
 
-static inline float dot(const float *a, const float *b, int n) {
-    float s = 0.0f;
-#pragma omp simd reduction(+ : s)
-    for (int i = 0; i < n; i++) s += a[i] * b[i];
-    return s;
+/* combine() works on blocks of 64 floats held as four 16-float vectors
+ * (GCC vector extension): the compiler keeps them in registers, as 4
+ * AVX-512, 8 AVX2 or 16 SSE registers depending on the clone. */
+enum { LANES = 64, VEC = 16 };
+typedef float vec16 __attribute__((vector_size(VEC * sizeof(float)), aligned(sizeof(float))));
+
+static int round_lanes(int n) { return (n + LANES - 1) / LANES * LANES; }
+
+/* y[l] = (acc ? y[l] : 0) + sum_{k<n} c[k*cs] x[k*xs + l], l < L. Rows of
+ * x must be readable up to L rounded up to LANES. The sums of a block stay
+ * in registers over the k loop: each x is loaded once, no sum runs across
+ * vector lanes, and the order of additions is fixed. */
+NN_INLINE void combine(float *y, int acc, const float *c, size_t cs, const float *x, size_t xs,
+                       int n, int L) {
+    for (int l0 = 0; l0 < L; l0 += LANES) {
+        vec16 a[LANES / VEC] = {{0}};
+        for (int k = 0; k < n; k++) {
+            float ck = c[k * cs];
+            const float *xk = x + k * xs + l0;
+#pragma GCC unroll 4
+            for (int v = 0; v < LANES / VEC; v++) {
+                vec16 xv;
+                memcpy(&xv, xk + v * VEC, sizeof xv);
+                a[v] += ck * xv;
+            }
+        }
+        float sums[LANES];
+        memcpy(sums, a, sizeof sums);
+        int m = L - l0 < LANES ? L - l0 : LANES;
+        for (int l = 0; l < m; l++) y[l0 + l] = (acc ? y[l0 + l] : 0.0f) + sums[l];
+    }
 }
 
-/* y += a * x */
-static inline void axpy(float *y, float a, const float *x, int n) {
-#pragma omp simd
-    for (int i = 0; i < n; i++) y[i] += a * x[i];
+/* dst [T][Dp] = the T rows of D floats at src (row apart), zero padded. */
+NN_INLINE void gather_rows(float *dst, const float *src, size_t row, int T, int D, int Dp) {
+    for (int j = 0; j < T; j++) {
+        memcpy(dst + (size_t)j * Dp, src + j * row, (size_t)D * sizeof *dst);
+        memset(dst + (size_t)j * Dp + D, 0, (size_t)(Dp - D) * sizeof *dst);
+    }
 }
 
-/* One row of logits -> probabilities, in place. */
-static void softmax_row(float *p, int n) {
+/* dst [D][Tp] = the same rows transposed, zero padded. */
+NN_INLINE void gather_transposed(float *dst, const float *src, size_t row, int T, int D, int Tp) {
+    for (int d = 0; d < D; d++) memset(dst + (size_t)d * Tp + T, 0, (size_t)(Tp - T) * sizeof *dst);
+    for (int j = 0; j < T; j++)
+        for (int d = 0; d < D; d++) dst[(size_t)d * Tp + j] = src[j * row + d];
+}
+
+/* Logits (unscaled) -> probabilities of scale * logits, in place. */
+NN_INLINE void softmax_row(float *p, int n, float scale) {
     float mx = p[0];
     for (int j = 1; j < n; j++) mx = p[j] > mx ? p[j] : mx;
     float sum = 0.0f;
 #pragma omp simd reduction(+ : sum)
     for (int j = 0; j < n; j++) {
-        p[j] = nn_exp_nonpos(p[j] - mx);
+        p[j] = nn_exp_nonpos(scale * (p[j] - mx));
         sum += p[j];
     }
     float inv = 1.0f / sum; /* sum >= 1: the maximum contributes exp(0) */
@@ -37,74 +74,115 @@ static void softmax_row(float *p, int n) {
     for (int j = 0; j < n; j++) p[j] *= inv;
 }
 
-void attention_forward(float *out, float *probs, const float *qkv, int B, int T, int C, int H) {
+static size_t head_forward_work(int T, int D) {
+    return (size_t)D * round_lanes(T) + (size_t)T * round_lanes(D);
+}
+
+static size_t head_backward_work(int T, int D) {
+    return (size_t)D * round_lanes(T) + 3 * (size_t)T * round_lanes(D) + (size_t)T * T;
+}
+
+size_t attention_forward_work(int B, int T, int C, int H) {
+    return (size_t)B * H * head_forward_work(T, C / H);
+}
+
+size_t attention_backward_work(int B, int T, int C, int H) {
+    return (size_t)B * H * head_backward_work(T, C / H);
+}
+
+/* One (image, head): q, k, v rows `row` floats apart, out rows out_row
+ * apart; probs is the head's T x T block. */
+NN_SIMD_CLONES static void head_forward(float *out, size_t out_row, float *probs, float *work,
+                                        const float *q, const float *k, const float *v, size_t row,
+                                        int T, int D) {
+    int Tp = round_lanes(T), Dp = round_lanes(D);
+    float *kt = work, *vp = work + (size_t)D * Tp;
+    gather_transposed(kt, k, row, T, D, Tp);
+    gather_rows(vp, v, row, T, D, Dp);
+    float scale = 1.0f / sqrtf((float)D);
+    for (int i = 0; i < T; i++) {
+        float *p = probs + (size_t)i * T;
+        combine(p, 0, q + i * row, 1, kt, (size_t)Tp, D, T); /* q_i . k_j */
+        softmax_row(p, T, scale);
+        combine(out + i * out_row, 0, p, 1, vp, (size_t)Dp, T, D); /* sum_j p_ij v_j */
+    }
+}
+
+void attention_forward(float *out, float *probs, float *work, const float *qkv, int B, int T,
+                       int C, int H) {
     int D = C / H;
     size_t row = 3 * (size_t)C;
-    float scale = 1.0f / sqrtf((float)D);
 #pragma omp parallel for collapse(2) schedule(static)
     for (int b = 0; b < B; b++)
         for (int h = 0; h < H; h++) {
-            const float *q = qkv + (size_t)b * T * row + (size_t)h * D, *k = q + C, *v = q + 2 * C;
-            float *pbh = probs + ((size_t)b * H + h) * T * T;
-            for (int i = 0; i < T; i++) {
-                float *p = pbh + (size_t)i * T;
-                for (int j = 0; j < T; j++) p[j] = scale * dot(q + i * row, k + j * row, D);
-                softmax_row(p, T);
-                float *o = out + ((size_t)b * T + i) * C + (size_t)h * D;
-                memset(o, 0, (size_t)D * sizeof *o);
-                for (int j = 0; j < T; j++) axpy(o, p[j], v + j * row, D);
-            }
+            const float *q = qkv + (size_t)b * T * row + (size_t)h * D;
+            size_t bh = (size_t)b * H + h;
+            head_forward(out + (size_t)b * T * C + (size_t)h * D, (size_t)C, probs + bh * T * T,
+                         work + bh * head_forward_work(T, D), q, q + C, q + 2 * C, row, T, D);
         }
 }
 
+/* One (image, head) of the backward. With s_ij = scale q_i.k_j,
+ * p = softmax(s), out_i = sum_j p_ij v_j and g_i = dL/dout_i:
+ *   dp_ij = g_i.v_j,  ds_ij = scale p_ij (dp_ij - sum_k p_ik dp_ik),
+ *   dq_i = sum_j ds_ij k_j,  dk_j = sum_i ds_ij q_i,  dv_j = sum_i p_ij g_i. */
+NN_SIMD_CLONES static void head_backward(float *dq, float *dk, float *dv, int acc, const float *g,
+                                         size_t out_row, const float *probs, float *work,
+                                         const float *q, const float *k, const float *v,
+                                         size_t row, int T, int D) {
+    int Tp = round_lanes(T), Dp = round_lanes(D);
+    float *vt = work, *kp = vt + (size_t)D * Tp, *qp = kp + (size_t)T * Dp;
+    float *gp = qp + (size_t)T * Dp, *ds = gp + (size_t)T * Dp;
+    gather_transposed(vt, v, row, T, D, Tp);
+    gather_rows(kp, k, row, T, D, Dp);
+    gather_rows(qp, q, row, T, D, Dp);
+    gather_rows(gp, g, out_row, T, D, Dp);
+    float scale = 1.0f / sqrtf((float)D);
+    for (int i = 0; i < T; i++) {
+        const float *p = probs + (size_t)i * T;
+        float *dsi = ds + (size_t)i * T;
+        combine(dsi, 0, gp + (size_t)i * Dp, 1, vt, (size_t)Tp, D, T); /* dp_i */
+        float pdp = 0.0f;
+#pragma omp simd reduction(+ : pdp)
+        for (int j = 0; j < T; j++) pdp += p[j] * dsi[j];
+#pragma omp simd
+        for (int j = 0; j < T; j++) dsi[j] = scale * p[j] * (dsi[j] - pdp);
+        combine(dq + i * row, acc, dsi, 1, kp, (size_t)Dp, T, D);
+    }
+    for (int j = 0; j < T; j++) {
+        combine(dk + j * row, acc, ds + j, (size_t)T, qp, (size_t)Dp, T, D);
+        combine(dv + j * row, acc, probs + j, (size_t)T, gp, (size_t)Dp, T, D);
+    }
+}
+
 void attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
-                        int B, int T, int C, int H, int acc) {
+                        float *work, int B, int T, int C, int H, int acc) {
     int D = C / H;
     size_t row = 3 * (size_t)C;
-    float scale = 1.0f / sqrtf((float)D);
 #pragma omp parallel for collapse(2) schedule(static)
     for (int b = 0; b < B; b++)
         for (int h = 0; h < H; h++) {
-            size_t base = (size_t)b * T * row + (size_t)h * D;
-            const float *q = qkv + base, *k = q + C, *v = q + 2 * C;
-            float *dq = dqkv + base, *dk = dq + C, *dv = dq + 2 * C;
-            const float *pbh = probs + ((size_t)b * H + h) * T * T;
-            if (!acc)
-                for (int i = 0; i < T; i++)
-                    for (int part = 0; part < 3; part++)
-                        memset(dq + i * row + (size_t)part * C, 0, (size_t)D * sizeof *dq);
-            float dp[T];
-            for (int i = 0; i < T; i++) {
-                const float *p = pbh + (size_t)i * T;
-                const float *g = dout + ((size_t)b * T + i) * C + (size_t)h * D;
-                /* out_i = sum_j p_ij v_j */
-                for (int j = 0; j < T; j++) {
-                    dp[j] = dot(g, v + j * row, D);
-                    axpy(dv + j * row, p[j], g, D);
-                }
-                /* softmax: ds_j = p_j (dp_j - sum_k p_k dp_k); s_ij = scale q_i.k_j */
-                float pdp = dot(p, dp, T);
-                for (int j = 0; j < T; j++) {
-                    float ds = scale * p[j] * (dp[j] - pdp);
-                    axpy(dq + i * row, ds, k + j * row, D);
-                    axpy(dk + j * row, ds, q + i * row, D);
-                }
-            }
+            size_t base = (size_t)b * T * row + (size_t)h * D, bh = (size_t)b * H + h;
+            float *dq = dqkv + base;
+            const float *q = qkv + base;
+            head_backward(dq, dq + C, dq + 2 * C, acc, dout + (size_t)b * T * C + (size_t)h * D,
+                          (size_t)C, probs + bh * T * T, work + bh * head_backward_work(T, D), q,
+                          q + C, q + 2 * C, row, T, D);
         }
 }
 
 /* n[0] = B, n[1] = T, n[2] = C, n[3] = H; saved: probs [B,H,T,T]. */
 static void forward(const nn_op *op) {
-    attention_forward(op->out->data, op->saved->data, op->in[0]->data, op->n[0], op->n[1],
-                      op->n[2], op->n[3]);
+    attention_forward(op->out->data, op->saved->data, op->work[0]->data, op->in[0]->data,
+                      op->n[0], op->n[1], op->n[2], op->n[3]);
 }
 
 static void backward(const nn_op *op) {
     nn_tensor *x = op->in[0];
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
-    attention_backward(x->grad, op->out->grad, x->data, op->saved->data, op->n[0], op->n[1],
-                       op->n[2], op->n[3], acc);
+    attention_backward(x->grad, op->out->grad, x->data, op->saved->data, op->work[1]->data,
+                       op->n[0], op->n[1], op->n[2], op->n[3], acc);
 }
 
 nn_tensor *nn_attention(nn_tape *t, nn_tensor *qkv, int heads) {
@@ -116,6 +194,8 @@ nn_tensor *nn_attention(nn_tape *t, nn_tensor *qkv, int heads) {
     op->n[2] = C;
     op->n[3] = heads;
     nn_tape_saved(t, op, (size_t)B * heads * T * T);
+    nn_tape_workspace(t, op, attention_forward_work(B, T, C, heads), 0);
+    nn_tape_workspace(t, op, attention_backward_work(B, T, C, heads), 1);
     int shape[3] = {B, T, C};
     return nn_tape_output(t, op, 3, shape);
 }

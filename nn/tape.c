@@ -7,8 +7,9 @@
 int nn_tape_init(nn_tape *t, int max_ops, int with_grad, ws_status *st) {
     memset(t, 0, sizeof *t);
     t->max_ops = max_ops;
-    /* Every op makes at most an output and a saved tensor; a few inputs. */
-    t->max_tensors = 2 * max_ops + 8;
+    /* Every op makes at most an output, a saved tensor and two
+     * workspaces; a few inputs. */
+    t->max_tensors = 4 * max_ops + 8;
     t->with_grad = with_grad;
     /* One spare slot each: what an overflowing constructor writes into, so
      * that recording never fails midway; nn_tape_plan reports it. */
@@ -92,13 +93,26 @@ nn_tensor *nn_tape_output(nn_tape *t, nn_op *op, int ndim, const int *shape) {
     return x;
 }
 
-nn_tensor *nn_tape_saved(nn_tape *t, nn_op *op, size_t numel) {
+/* A flat tensor that op writes and nobody else reads. */
+static nn_tensor *op_private(nn_tape *t, nn_op *op, size_t numel) {
     int n = (int)numel;
     nn_tensor *x = new_tensor(t, 1, &n);
     x->numel = numel;
     x->producer = op_index(t, op);
+    return x;
+}
+
+nn_tensor *nn_tape_saved(nn_tape *t, nn_op *op, size_t numel) {
+    nn_tensor *x = op_private(t, op, numel);
     x->keep = t->with_grad;
     op->saved = x;
+    return x;
+}
+
+nn_tensor *nn_tape_workspace(nn_tape *t, nn_op *op, size_t numel, int for_backward) {
+    nn_tensor *x = op_private(t, op, numel);
+    x->backward_work = for_backward;
+    op->work[for_backward] = x;
     return x;
 }
 
@@ -195,6 +209,10 @@ int nn_tape_plan(nn_tape *t, ws_status *st) {
         nn_tensor *x = &t->tensors[i];
         if (x->external) continue;
         size_t size = round_up(x->numel);
+        if (x->backward_work) {
+            if (t->with_grad) grads[ng++] = (interval){x->producer, x->producer, size, 0, i};
+            continue;
+        }
         if (x->keep) {
             keep_offset[i] = keep;
             keep += size;
@@ -220,7 +238,10 @@ int nn_tape_plan(nn_tape *t, ws_status *st) {
     for (int i = 0; i < n; i++)
         if (t->tensors[i].keep && !t->tensors[i].external) t->tensors[i].data = base + keep_offset[i];
     for (int k = 0; k < ns; k++) t->tensors[scratch[k].id].data = scratch_base + scratch[k].offset;
-    for (int k = 0; k < ng; k++) t->tensors[grads[k].id].grad = grad_base + grads[k].offset;
+    for (int k = 0; k < ng; k++) {
+        nn_tensor *x = &t->tensors[grads[k].id];
+        *(x->backward_work ? &x->data : &x->grad) = grad_base + grads[k].offset;
+    }
 done:
     free(scratch);
     free(grads);

@@ -23,6 +23,7 @@ struct nn_op {
     nn_tensor *out;            /* NULL for a seed op */
     nn_tensor *in[2];          /* activations read */
     nn_tensor *saved;          /* state the forward leaves for the backward */
+    nn_tensor *work[2];        /* scratch while the forward [0] / backward [1] runs */
     const float *w[2];         /* frozen parameters (weight, bias) */
     int n[4];                  /* op-specific sizes, documented by each op */
     const float *const *seed;  /* seed op: slot holding an external gradient */
@@ -58,6 +59,10 @@ nn_op *nn_tape_append(nn_tape *t, const char *name, nn_op_fn forward, nn_op_fn b
 void nn_tape_read(nn_tape *t, nn_op *op, int slot, nn_tensor *x, int needed_by_backward);
 nn_tensor *nn_tape_output(nn_tape *t, nn_op *op, int ndim, const int *shape);
 nn_tensor *nn_tape_saved(nn_tape *t, nn_op *op, size_t numel);
+/* Scratch the op uses while its forward (for_backward 0) or its backward
+ * (1) runs, in op->work[for_backward]; it shares memory with whatever is
+ * not alive at that moment. */
+nn_tensor *nn_tape_workspace(nn_tape *t, nn_op *op, size_t numel, int for_backward);
 
 /* Lays out every tensor and gradient and allocates the arena; after this
  * the tape can run. Fails on OOM or when max_ops was exceeded. */

@@ -29,6 +29,7 @@ typedef struct {
     int keep;          /* data read after its last forward use (backward, caller) */
     int needs_grad;    /* a gradient flows here: some input of the graph wants one */
     int external;      /* data (and grad) are supplied by the caller */
+    int backward_work; /* data is scratch of its op's backward (gradient region) */
 } nn_tensor;
 
 /* Size of dimension i counted from the end (nn_dim(t, 0) is the last). */

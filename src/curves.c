@@ -117,8 +117,16 @@ static int gaussians_reserve(ws_gaussians *g, int need, ws_status *st) {
     return WS_OK;
 }
 
-/* Cumulative arc length at t = i / (WS_ARC_SAMPLES - 1). */
+/* Cumulative arc length at t = i / (WS_ARC_SAMPLES - 1). A curve whose
+ * control points are all equal has length exactly 0 (the rounding of the
+ * Bernstein sums would otherwise give it a length of about 1e-16). */
 static void arc_length_table(const ws_curves *c, int ci, double cum[WS_ARC_SAMPLES]) {
+    const double *P = c->P + (size_t)ci * 12;
+    if (!memcmp(P, P + 3, 3 * sizeof *P) && !memcmp(P, P + 6, 3 * sizeof *P) &&
+        !memcmp(P, P + 9, 3 * sizeof *P)) {
+        memset(cum, 0, WS_ARC_SAMPLES * sizeof *cum);
+        return;
+    }
     double prev[3], p[3];
     ws_curve_point(c, ci, 0.0, prev);
     cum[0] = 0;
@@ -184,9 +192,9 @@ int ws_curves_sample(const ws_curves *c, ws_gaussians *g, ws_status *st) {
             ws_curve_point(c, ci, t, g->mu + (size_t)gi * 3);
         }
     }
-    if (capped != g->capped)
+    if (capped && capped != g->capped)
         fprintf(stderr,
-                "wiresketch: warning: %d curve%s longer than %d Gaussians (capped: spacing grows)\n",
+                "wiresketch: warning: %d curve%s too long for %d Gaussians: capped, spaced wider\n",
                 capped, capped == 1 ? " is" : "s are", WS_MAX_GAUSSIANS_PER_CURVE);
     g->capped = capped;
     return WS_OK;

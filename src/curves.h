@@ -69,9 +69,9 @@ void ws_curve_point(const ws_curves *c, int ci, double t, double p[3]);
  * with M = 1 (L <= spacing) its one Gaussian sits at the arc-length midpoint
  * (t = 0.5 for a degenerate curve). A curve longer than
  * WS_MAX_GAUSSIANS_PER_CURVE spacings gets that many, spread over its whole
- * length; a warning is printed when the number of capped curves differs
- * from g->capped of the previous call (so a fit does not repeat it every
- * step). Fails with WS_ENUMERIC on a non-finite control point and WS_EINPUT
+ * length; a one-line warning goes to stderr when some curves are capped and
+ * their number differs from g->capped of the previous call (so a fit does
+ * not repeat it every step). Fails with WS_ENUMERIC on a non-finite control point and WS_EINPUT
  * on a thickness or overlap outside its range. */
 int ws_curves_sample(const ws_curves *c, ws_gaussians *g, ws_status *st);
 void ws_gaussians_free(ws_gaussians *g);

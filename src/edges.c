@@ -39,8 +39,21 @@ void ws_edges_target(const float *photo, int W, int H, float *edge) {
             edge[(size_t)i * W + j] = m;
             if (m > max) max = m;
         }
-    if (max > 0)
-        for (size_t k = 0; k < hw; k++) edge[k] /= max;
+    if (!(max > 0)) return;
+    /* The scale is the mean magnitude of the clear edges (above a tenth of
+     * the strongest), not the maximum: a stroke costs about 1 per pixel
+     * wherever it lies, so it must also earn about 1 on a typical edge, or
+     * an empty sketch would beat a right one. Summed serially: the same
+     * bits for any thread count. */
+    double sum = 0;
+    long count = 0;
+    for (size_t k = 0; k < hw; k++)
+        if (edge[k] > 0.1f * max) {
+            sum += edge[k];
+            count++;
+        }
+    float scale = (float)(sum / count);
+    for (size_t k = 0; k < hw; k++) edge[k] = fminf(1.0f, edge[k] / scale);
 }
 
 int ws_edges_workspace_create(ws_edges_workspace **out, int W, int H, ws_status *st) {

@@ -5,8 +5,9 @@
  *   Y = 0.299 R + 0.587 G + 0.114 B;
  *   Gx, Gy = the 3 x 3 Sobel derivatives of Y, the image extended by
  *   repeating its border pixels (so the border itself is no edge);
- *   E = sqrt(Gx^2 + Gy^2) / max over the image of it (E = 0 for an image
- *   without any gradient: no division by zero).
+ *   M = sqrt(Gx^2 + Gy^2); E = min(1, M / m), where m is the mean of M over
+ *   the pixels with M > max(M) / 10 (the clear edges), so a typical edge
+ *   is 1, like a stroke; E = 0 for an image without any gradient.
  *
  * Loss of the stroke alpha A (H x W) against E, with S = WS_EDGES_LEVELS
  * levels and blur sigma = WS_EDGES_SIGMA pixels (of each level):

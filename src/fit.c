@@ -70,6 +70,7 @@ typedef struct {
     double *dmu;              /* gaussians x 3, grown with them */
     int dmu_cap;
     double *dP, *grad;        /* curves x 12 */
+    double *backup;           /* 3 x curves x 12: P, Adam m and v before an update */
     ws_fit_state s;
     double start;             /* now_seconds() when this process began fitting */
 } fit_run;
@@ -115,29 +116,46 @@ static int view_loss(fit_run *r, int split, int view, int augment, double scale,
  * reported and the step refused: the control points and moments stay. */
 static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws_status *st) {
     int np = r->s.curves.n * 12;
-    if (ws_curves_sample(&r->s.curves, &r->gaussians, st)) return st->code;
     memset(r->grad, 0, np * sizeof(double));
     *loss = 0;
-    for (int k = 0; k < nviews; k++) {
+    int rc = ws_curves_sample(&r->s.curves, &r->gaussians, st);
+    for (int k = 0; k < nviews && !rc; k++) {
         double l;
-        int rc = view_loss(r, WS_TRAIN, views[k], 1, 1.0 / nviews, &l, 1, st);
-        if (rc == WS_ENUMERIC) {
-            *loss = NAN;
-            break;
-        }
-        if (rc) return rc;
+        rc = view_loss(r, WS_TRAIN, views[k], 1, 1.0 / nviews, &l, 1, st);
         *loss += l / nviews;
     }
-    int finite = isfinite(*loss);
+    if (rc && rc != WS_ENUMERIC) return rc;
+    int finite = !rc && isfinite(*loss);
     for (int i = 0; i < np && finite; i++) finite = isfinite(r->grad[i]);
     if (!finite) {
         r->s.skipped_steps++;
-        fprintf(stderr, "\nwiresketch: step %ld: non-finite loss or gradient; step skipped\n",
-                r->s.global_step);
+        *loss = NAN;
+        fprintf(stderr, "\nwiresketch: step %ld: non-finite loss or gradient (%s); step skipped\n",
+                r->s.global_step, rc ? st->msg : "in the gradient");
+        ws_status_clear(st);
         return WS_OK;
     }
-    ws_adam_update(&r->s.adam, r->s.curves.P, r->grad);
-    return WS_OK;
+    /* An update that leaves curves too long to sample (a huge step) is
+     * undone, so the state always holds curves every later step, the
+     * evaluation and the outputs can use. */
+    ws_adam *adam = &r->s.adam;
+    memcpy(r->backup, r->s.curves.P, np * sizeof(double));
+    memcpy(r->backup + np, adam->m, np * sizeof(double));
+    memcpy(r->backup + 2 * np, adam->v, np * sizeof(double));
+    ws_adam_update(adam, r->s.curves.P, r->grad);
+    rc = ws_curves_sample(&r->s.curves, &r->gaussians, st);
+    if (rc == WS_ENUMERIC) {
+        memcpy(r->s.curves.P, r->backup, np * sizeof(double));
+        memcpy(adam->m, r->backup + np, np * sizeof(double));
+        memcpy(adam->v, r->backup + 2 * np, np * sizeof(double));
+        adam->step--;
+        r->s.skipped_steps++;
+        fprintf(stderr, "\nwiresketch: step %ld: the update made the curves unusable (%s); step undone\n",
+                r->s.global_step, st->msg);
+        ws_status_clear(st);
+        return WS_OK;
+    }
+    return rc;
 }
 
 /* The mean loss of a split's views, item 0 only (NaN for an empty split);
@@ -207,6 +225,14 @@ static int init_state(fit_run *r, ws_status *st) {
     ws_rng_seed(&s->rng, o->seed);
     if (o->init_curves) {
         if (ws_curves_load(o->init_curves, &s->curves, st)) return st->code;
+        ws_gaussians g = {0};
+        int rc = ws_curves_sample(&s->curves, &g, st);
+        ws_gaussians_free(&g);
+        if (rc) {
+            char why[sizeof st->msg];
+            snprintf(why, sizeof why, "%s", st->msg);
+            return ws_fail(st, WS_EINPUT, "%s: %s", o->init_curves, why);
+        }
     } else if (ws_curves_init_random(&s->curves, o->n_curves, r->scene.center, o->radius, o->length,
                                      o->thickness, o->overlap, &s->rng, st)) {
         return st->code;
@@ -292,6 +318,7 @@ static void fit_run_free(fit_run *r) {
     free(r->dmu);
     free(r->dP);
     free(r->grad);
+    free(r->backup);
     ws_fit_state_free(&r->s);
     ws_scene_free(&r->scene);
 }
@@ -331,7 +358,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     if (!(r->alpha = ws_malloc(pixels * sizeof(double), "stroke image", st)) ||
         !(r->dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||
         !(r->dP = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
-        !(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)))
+        !(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
+        !(r->backup = ws_malloc(3 * np * sizeof(double), "control point backup", st)))
         return st->code;
     return WS_OK;
 }

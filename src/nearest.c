@@ -61,13 +61,19 @@ static void build_node(ws_nearest *t, int node, int lo, int hi, int level) {
         if (box[3 + a] - box[a] > box[3 + axis] - box[axis]) axis = a;
     int mid = lo + (hi - lo) / 2;
     select_kth(t, lo, hi, mid, axis);
+    /* The halves are disjoint and built by the same steps whichever thread
+     * runs them, so the tree does not depend on the thread count. */
+#pragma omp task if (hi - lo > 65536)
     build_node(t, 2 * node + 1, lo, mid, level + 1);
     build_node(t, 2 * node + 2, mid, hi, level + 1);
+#pragma omp taskwait
 }
 
 int ws_nearest_build(ws_nearest *t, const double *xyz, int n, ws_status *st) {
     memset(t, 0, sizeof *t);
     if (n < 1) return ws_fail(st, WS_EINPUT, "nearest-neighbour set is empty");
+    if (n > WS_MAX_POINTS)
+        return ws_fail(st, WS_EINPUT, "nearest-neighbour set: %d points exceed the limit of %d", n, WS_MAX_POINTS);
     for (int i = 0; i < n * 3; i++)
         if (!isfinite(xyz[i]))
             return ws_fail(st, WS_ENUMERIC, "nearest-neighbour set: point %d is not finite", i / 3);
@@ -86,6 +92,8 @@ int ws_nearest_build(ws_nearest *t, const double *xyz, int n, ws_status *st) {
     }
     memcpy(t->xyz, xyz, (size_t)n * 3 * sizeof(double));
     for (int i = 0; i < n; i++) t->index[i] = i;
+#pragma omp parallel
+#pragma omp single
     build_node(t, 0, 0, n, 0);
     return WS_OK;
 }

@@ -10,6 +10,7 @@
  * lowest index. Results do not depend on the thread count. */
 #ifndef WS_NEAREST_H
 #define WS_NEAREST_H
+#include "pointcloud.h"
 #include "status.h"
 
 #define WS_NEAREST_LEAF 32
@@ -23,11 +24,11 @@ typedef struct {
                           node i: 2i+1, 2i+2) x 6: lo xyz, hi xyz of its points */
 } ws_nearest;
 
-/* Builds the tree over n >= 1 finite points (copied). */
+/* Builds the tree over 1 <= n <= WS_MAX_POINTS finite points (copied). */
 int ws_nearest_build(ws_nearest *t, const double *xyz, int n, ws_status *st);
 void ws_nearest_free(ws_nearest *t);
 
-/* For each of the nq finite query points q (nq x 3): dist[i] = distance to
+/* For each of the nq <= WS_MAX_POINTS finite query points q (nq x 3): dist[i] = distance to
  * the nearest point of the set and, when index is not NULL, index[i] = that
  * point's position in the input of ws_nearest_build. */
 void ws_nearest_query(const ws_nearest *t, const double *q, int nq, double *dist, int *index);

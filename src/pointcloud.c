@@ -6,7 +6,6 @@
  * property goes through the same few lines. */
 #include <ctype.h>
 #include <errno.h>
-#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -291,8 +290,8 @@ static int read_points(const char *path, const unsigned char *buf, size_t len, p
     for (int e = 0; e < v; e++)
         if (read_rows(path, &c, &h->elem[e], NULL, NULL, st)) return st->code;
     if (rows_fit(path, &c, ve, st)) return st->code;
-    if (ve->count > INT_MAX)
-        return ws_fail(st, WS_EINPUT, "%s: %lld vertices exceed the limit of %d", path, ve->count, INT_MAX);
+    if (ve->count > WS_MAX_POINTS)
+        return ws_fail(st, WS_EINPUT, "%s: %lld vertices exceed the limit of %d", path, ve->count, WS_MAX_POINTS);
     pc->xyz = ws_malloc((size_t)ve->count * 3 * sizeof(double), "point cloud", st);
     if (!pc->xyz) return st->code;
     pc->n = (int)ve->count;

@@ -9,7 +9,12 @@
  * fails with one line "PATH: ..." instead of exhausting memory. */
 #ifndef WS_POINTCLOUD_H
 #define WS_POINTCLOUD_H
+#include <limits.h>
 #include "status.h"
+
+/* The most points a cloud (or a nearest-neighbour set or query batch) may
+ * hold, so that every coordinate index i * 3 + a fits in an int. */
+#define WS_MAX_POINTS (INT_MAX / 3)
 
 typedef struct {
     int n;       /* number of points (> 0 after a successful load) */

@@ -345,6 +345,20 @@ static void test_surface_rose(void) {
         ws_pointcloud_free(&pc);
         return;
     }
+    /* The tree itself does not depend on the thread count either. */
+    ws_nearest tree1, tree2;
+    omp_set_num_threads(1);
+    rc = ws_nearest_build(&tree1, pc.xyz, pc.n, &st);
+    omp_set_num_threads(2);
+    rc |= ws_nearest_build(&tree2, pc.xyz, pc.n, &st);
+    size_t nodes = ((size_t)2 << tree1.depth) - 1;
+    CHECK(rc == WS_OK && tree1.depth == tree2.depth && !memcmp(tree1.xyz, tree2.xyz, (size_t)pc.n * 24) &&
+              !memcmp(tree1.index, tree2.index, (size_t)pc.n * sizeof(int)) &&
+              !memcmp(tree1.box, tree2.box, nodes * 6 * sizeof(double)),
+          "k-d tree differs between 1 and 2 threads");
+    ws_nearest_free(&tree1);
+    ws_nearest_free(&tree2);
+
     int n = 50000;
     ws_gaussians g = {.n = n, .mu = malloc((size_t)n * 3 * sizeof(double))};
     for (int i = 0; i < n; i++) memcpy(g.mu + i * 3, pc.xyz + (size_t)((i * 7919L) % pc.n) * 3, 24);

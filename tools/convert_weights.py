@@ -109,8 +109,8 @@ def transpose2(data, rows, cols, element):
 # PyTorch zip archives (TorchScript and torch.save) read with a closed Unpickler
 
 class Storage:
-    def __init__(self, archive, key, dtype, numel):
-        self.archive, self.key, self.dtype, self.numel = archive, key, dtype, numel
+    def __init__(self, key, dtype, numel):
+        self.key, self.dtype, self.numel = key, dtype, numel
 
 
 class StorageType:
@@ -167,9 +167,8 @@ ALLOWED_GLOBALS = {
 
 
 class ClosedUnpickler(pickle.Unpickler):
-    def __init__(self, data, archive):
+    def __init__(self, data):
         super().__init__(io.BytesIO(data))
-        self.archive = archive
 
     def find_class(self, module, name):
         if (module, name) in ALLOWED_GLOBALS:
@@ -186,7 +185,7 @@ class ClosedUnpickler(pickle.Unpickler):
                 or not isinstance(pid[1], StorageType) or not isinstance(pid[2], str)
                 or not isinstance(pid[4], int) or pid[4] < 0):
             raise ConvertError("malformed storage reference in the pickle")
-        return Storage(self.archive, pid[2], pid[1].dtype, pid[4])
+        return Storage(pid[2], pid[1].dtype, pid[4])
 
 
 class TorchArchive:
@@ -203,7 +202,7 @@ class TorchArchive:
         self.storages = {}
 
     def load(self):
-        unpickler = ClosedUnpickler(self.zip.read(self.root + "data.pkl"), self)
+        unpickler = ClosedUnpickler(self.zip.read(self.root + "data.pkl"))
         try:
             return unpickler.load()
         except ConvertError:
@@ -342,7 +341,10 @@ def read_hf_config(path):
             config = json.load(f)
     except (OSError, ValueError) as e:
         raise ConvertError(f"cannot read {config_path} ({e})")
-    vision = config.get("vision_config", config) if isinstance(config, dict) else None
+    # CLIPModel: nested (older files name it vision_config_dict); CLIPVisionModel: top level
+    vision = None
+    if isinstance(config, dict):
+        vision = config.get("vision_config") or config.get("vision_config_dict") or config
     if not isinstance(vision, dict):
         raise ConvertError(f"{config_path} has no vision_config")
     act = vision.get("hidden_act", "quick_gelu")

@@ -205,7 +205,7 @@ def fixture(args):
     focal = 0.5 * W / math.tan(0.5 * angle)
     w2c = np.linalg.inv(c2w)
     cam = dict(R=w2c[:3, :3], t=w2c[:3, 3], focal=focal, W=W, H=H)
-    radius = 0.06
+    radius = 0.15
     rng = np.random.default_rng(7)
     cam_pts = [np.array([x, y, -4.0]) for x, y in rng.uniform(-0.8, 0.8, size=(6, 2))]
     # exactly on pixel (row 5, column 12): u = 12, v = 5 at depth 3.5

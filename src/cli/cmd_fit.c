@@ -2,10 +2,12 @@
  * `wiresketch fit --resume DIR`. */
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "args.h"
 #include "checkpoint.h"
+#include "cli_loss.h"
 #include "commands.h"
 #include "fit.h"
 #include "threads.h"
@@ -13,19 +15,6 @@
 static void request_stop(int sig) {
     (void)sig;
     ws_fit_stop_requested = 1;
-}
-
-/* The loss options of --loss NAME and --edges-weight W. */
-static int choose_loss(const char *name, double edges_weight, ws_loss_options *lo, ws_status *st) {
-    if (!strcmp(name, "edges")) {
-        lo->conv_weight = lo->fc_weight = lo->global_weight = 0;
-        lo->edges_weight = edges_weight;
-    } else if (!strcmp(name, "clip+edges")) {
-        lo->edges_weight = edges_weight;
-    } else if (strcmp(name, "clip") != 0) {
-        return ws_fail(st, WS_EUSAGE, "--loss: '%s' is not clip, edges or clip+edges", name);
-    }
-    return WS_OK;
 }
 
 /* Parses the fit's own arguments (those of a new run, or those a checkpoint
@@ -42,7 +31,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &opt->out_dir, 0, "output directory [out]"},
         {"--resume", WS_ARG_STRING, resume_dir, 0, "continue the fit whose output directory is DIR"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges or clip+edges [clip]"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges or l2 [clip]"},
         {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
@@ -72,7 +61,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--quiet", WS_ARG_FLAG, &opt->quiet, 0, "no progress line"},
     };
     const ws_command_spec spec = {
-        "fit SCENE [--out DIR] [options] | fit --resume DIR",
+        "fit SCENE [--out DIR] [options] | fit --resume DIR [options that override]",
         "fit 3D curves to a multi-view scene (SPEC sections 5-7)", args,
         (int)(sizeof args / sizeof args[0]), 0, 1};
     const char *pos[1];
@@ -91,51 +80,61 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         !(opt->checkpoint_minutes > 0))
         return ws_fail(st, WS_EUSAGE, "fit: --max-steps, --threads, --eval-every and --snapshot-every "
                                       "must be >= 0, --checkpoint-minutes > 0");
-    if (choose_loss(loss_name, edges_weight, &opt->loss, st)) return st->code;
-    if (ws_loss_uses_clip(&opt->loss) && access(opt->loss.weights_path, R_OK) != 0)
-        return ws_fail(st, WS_EINPUT,
-                       "%s: no CLIP weight file; convert OpenAI's ViT-B-32.pt once with "
-                       "`python3 tools/convert_weights.py ViT-B-32.pt %s` (see weights/README.md), "
-                       "or fit without CLIP: --loss edges",
-                       opt->loss.weights_path, opt->loss.weights_path);
+    return ws_cli_choose_loss(loss_name, edges_weight, &opt->loss, st);
+}
+
+/* The arguments of a resumed run: those its checkpoint stored, then the
+ * ones given now except --resume DIR, so that later ones override (e.g. a
+ * larger --max-steps). The strings stay owned by saved/argv. */
+static int resume_arguments(const char *dir, int argc, char **argv, int *run_argc, char ***run_argv,
+                            int *nsaved, char ***saved, ws_status *st) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
+    if (access(path, F_OK) != 0) return ws_fail(st, WS_EINPUT, "%s: no checkpoint to resume from", path);
+    if (ws_checkpoint_load(path, NULL, nsaved, saved, st)) return st->code;
+    *run_argv = ws_calloc((size_t)(*nsaved + argc + 1), sizeof(char *), "arguments", st);
+    if (!*run_argv) return st->code;
+    int n = 0;
+    for (int i = 0; i < *nsaved; i++) (*run_argv)[n++] = (*saved)[i];
+    for (int i = 0; i < argc; i++) {
+        if (!strcmp(argv[i], "--resume")) {
+            i++;
+            continue;
+        }
+        (*run_argv)[n++] = argv[i];
+    }
+    *run_argc = n;
     return WS_OK;
 }
 
 int cmd_fit(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
-    ws_fit_options opt;
-    const char *resume_dir;
-    int help;
-    if (parse_fit(argc, argv, &opt, &resume_dir, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
-    int run_argc = argc;
-    char **run_argv = argv, **saved = NULL;
-    if (resume_dir) {
-        const char *dir = resume_dir;
-        char path[4200];
-        snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
-        if (access(path, F_OK) != 0) {
-            ws_fail(&st, WS_EINPUT, "%s: no checkpoint to resume from", path);
-            return ws_cli_fail(&st);
-        }
-        if (ws_checkpoint_load(path, NULL, &run_argc, &saved, &st) ||
-            parse_fit(run_argc, saved, &opt, &resume_dir, &help, &st)) {
-            ws_checkpoint_free_args(run_argc, saved);
-            return ws_cli_fail(&st);
-        }
-        run_argv = saved;
-        opt.out_dir = dir; /* the run continues where its checkpoint is now */
-    }
-    ws_threads_set(opt.threads);
+    /* Installed first: a signal during start-up also ends the run cleanly. */
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = request_stop;
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
-    int interrupted;
-    int rc = ws_fit(&opt, (const char *const *)run_argv, run_argc, saved != NULL, &interrupted, &st);
-    ws_checkpoint_free_args(run_argc, saved);
+    ws_fit_options opt;
+    const char *resume_dir;
+    int help;
+    if (parse_fit(argc, argv, &opt, &resume_dir, &help, &st)) return ws_cli_fail(&st);
+    if (help) return 0;
+    int run_argc = argc, nsaved = 0, rc = WS_OK, interrupted = 0;
+    char **run_argv = argv, **saved = NULL;
+    const char *dir = resume_dir;
+    if (dir) {
+        rc = resume_arguments(dir, argc, argv, &run_argc, &run_argv, &nsaved, &saved, &st);
+        if (!rc) rc = parse_fit(run_argc, run_argv, &opt, &resume_dir, &help, &st);
+        opt.out_dir = dir; /* the run continues where its checkpoint is now */
+    }
+    if (!rc) {
+        ws_threads_set(opt.threads);
+        rc = ws_fit(&opt, (const char *const *)run_argv, run_argc, dir != NULL, &interrupted, &st);
+    }
+    if (dir && run_argv != argv) free(run_argv);
+    ws_checkpoint_free_args(nsaved, saved);
     if (rc) return ws_cli_fail(&st);
     if (interrupted)
         fprintf(stderr, "wiresketch: interrupted; outputs and checkpoint written to %s; continue with "

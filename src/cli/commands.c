@@ -3,6 +3,7 @@
 
 const ws_command ws_commands[] = {
     {"fit", cmd_fit, "fit 3D curves to a multi-view scene: the main job"},
+    {"eval", cmd_eval, "test loss and distance to the ground truth of a sketch (JSON)"},
     {"render", cmd_render, "splat a sketch into every view of a split as PNGs"},
     {"grad", cmd_grad, "loss of one view and its gradient per control point (JSON)"},
     {"export", cmd_export, "write a sketch as OBJ, PLY or SVG"},

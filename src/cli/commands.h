@@ -17,5 +17,6 @@ int cmd_grad(int argc, char **argv);
 int cmd_export(int argc, char **argv);
 int cmd_scene(int argc, char **argv);
 int cmd_fit(int argc, char **argv);
+int cmd_eval(int argc, char **argv);
 
 #endif

@@ -1,0 +1,22 @@
+/* cli_loss.c: the --loss choice (see cli_loss.h). */
+#include <string.h>
+#include <unistd.h>
+#include "cli_loss.h"
+
+int ws_cli_choose_loss(const char *name, double edges_weight, ws_loss_options *lo, ws_status *st) {
+    int clip = !strcmp(name, "clip") || !strcmp(name, "clip+edges");
+    if (!clip) lo->conv_weight = lo->fc_weight = lo->global_weight = 0;
+    if (!strcmp(name, "edges") || !strcmp(name, "clip+edges"))
+        lo->edges_weight = edges_weight;
+    else if (!strcmp(name, "l2"))
+        lo->l2_weight = 1.0;
+    else if (!clip)
+        return ws_fail(st, WS_EUSAGE, "--loss: '%s' is not clip, edges, clip+edges or l2", name);
+    if (ws_loss_uses_clip(lo) && access(lo->weights_path, R_OK) != 0)
+        return ws_fail(st, WS_EINPUT,
+                       "%s: no CLIP weight file; convert OpenAI's ViT-B-32.pt once with "
+                       "`python3 tools/convert_weights.py ViT-B-32.pt %s` (see weights/README.md), "
+                       "or run without CLIP: --loss edges",
+                       lo->weights_path, lo->weights_path);
+    return WS_OK;
+}

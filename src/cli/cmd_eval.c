@@ -1,0 +1,112 @@
+/* cmd_eval.c: `wiresketch eval SCENE --curves C.json`: the test loss of a
+ * sketch (item 0, no augmentation) and its distance to the ground truth
+ * (SPEC section 8), as one JSON object on stdout. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "args.h"
+#include "cli_loss.h"
+#include "commands.h"
+#include "evaluate.h"
+#include "threads.h"
+
+static void print_number(const char *key, double v) {
+    if (isfinite(v))
+        printf(", \"%s\": %.9g", key, v);
+    else
+        printf(", \"%s\": null", key);
+}
+
+static int evaluate_sketch(const char *scene_dir, const char *curves_path, const char *split_name,
+                           int size, const ws_loss_options *lo, const ws_splat_options *so,
+                           const char *gt_points, const char *gt_curves, ws_status *st) {
+    int split = ws_split_index(split_name);
+    if (split < 0) return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
+    ws_scene scene = {0};
+    ws_scene_options sopt;
+    ws_scene_options_default(&sopt);
+    sopt.width = sopt.height = size;
+    ws_curves curves = {0};
+    ws_gaussians g = {0};
+    ws_loss *loss = NULL;
+    ws_splat *splat = NULL;
+    double *alpha = NULL, mean = NAN;
+    ws_quality q;
+    int rc = ws_curves_load(curves_path, &curves, st);
+    if (!rc) rc = ws_scene_load(&scene, scene_dir, &sopt, st);
+    if (!rc) rc = ws_loss_create(&loss, lo, &scene, st);
+    if (!rc) rc = ws_splat_create(&splat, scene.width, scene.height, st);
+    if (!rc && !(alpha = ws_malloc((size_t)scene.width * scene.height * sizeof(double), "stroke image", st)))
+        rc = st->code;
+    if (!rc) rc = ws_curves_sample(&curves, &g, st);
+    if (!rc) rc = ws_split_loss(loss, splat, so, &scene, split, &g, curves.thickness, alpha, NULL, &mean, st);
+    if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
+    if (!rc) {
+        printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d", split_name,
+               scene.split[split].n, curves.n, g.n);
+        print_number("loss", mean);
+        if (q.have_surface) {
+            print_number("surface_mean", q.surface.mean);
+            print_number("surface_p90", q.surface.p90);
+        }
+        if (q.have_curves) {
+            print_number("chamfer", q.curves.chamfer);
+            print_number("precision", q.curves.precision);
+            print_number("recall", q.curves.recall);
+            print_number("fscore", q.curves.fscore);
+        }
+        printf("}\n");
+    }
+    free(alpha);
+    ws_splat_free(splat);
+    ws_loss_free(loss);
+    ws_gaussians_free(&g);
+    ws_curves_free(&curves);
+    ws_scene_free(&scene);
+    return rc;
+}
+
+int cmd_eval(int argc, char **argv) {
+    ws_status st;
+    ws_status_clear(&st);
+    const char *curves_path = NULL, *split_name = "test", *loss_name = "clip";
+    const char *gt_points = NULL, *gt_curves = NULL;
+    double edges_weight = 1.0;
+    int size = 224, threads = 0;
+    ws_loss_options lo;
+    ws_loss_options_default(&lo);
+    ws_splat_options so;
+    ws_splat_options_default(&so);
+    const ws_arg args[] = {
+        {"--curves", WS_ARG_STRING, &curves_path, 0, "the sketch (curve file) [required]"},
+        {"--gt", WS_ARG_STRING, &gt_points, 0, "ground-truth point cloud (PLY) [SCENE/gt_points.ply if present]"},
+        {"--gt-curves", WS_ARG_STRING, &gt_curves, 0, "ground-truth curves [SCENE/gt_curves.json if present]"},
+        {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges or l2 [clip]"},
+        {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
+        {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
+        {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
+        {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
+        {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = all cores [0]"},
+    };
+    ws_command_spec spec = {"eval SCENE --curves C.json [--gt POINTS.ply] [--gt-curves C.json] [options]",
+                            "test loss and distance to the ground truth of a sketch, as JSON", args,
+                            (int)(sizeof args / sizeof args[0]), 1, 1};
+    const char *pos[1];
+    int npos, help;
+    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
+    if (help) return 0;
+    if (!curves_path) {
+        ws_fail(&st, WS_EUSAGE, "--curves: required");
+        return ws_cli_fail(&st);
+    }
+    if (ws_cli_choose_loss(loss_name, edges_weight, &lo, &st)) return ws_cli_fail(&st);
+    char scene_points[4200], scene_curves[4200];
+    ws_scene_ground_truth(pos[0], scene_points, scene_curves);
+    ws_threads_set(threads);
+    if (evaluate_sketch(pos[0], curves_path, split_name, size, &lo, &so,
+                        gt_points ? gt_points : scene_points, gt_curves ? gt_curves : scene_curves, &st))
+        return ws_cli_fail(&st);
+    return 0;
+}

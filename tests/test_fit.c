@@ -1,0 +1,224 @@
+/* test_fit.c: `wiresketch fit` end to end through the command line, on a
+ * small synthetic scene with the weight-free loss: the loss goes down, every
+ * output is written, a resumed run (after --max-steps or after SIGINT) ends
+ * bit-identical to an uninterrupted one, a non-finite gradient never moves
+ * the curves, and bad input gets its message and exit code. */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "check.h"
+#include "checkpoint.h"
+
+static char bin[512], tmp[256];
+
+/* Runs `wiresketch ARGS` (through the shell), stderr into tmp/stderr.txt;
+ * returns the exit code. */
+static int run(const char *args) {
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
+    int rc = system(cmd);
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+static int file_has(const char *path, const char *text) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    static char buf[1 << 16];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    return strstr(buf, text) != NULL;
+}
+
+static int stderr_has(const char *text) {
+    char path[300];
+    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
+    return file_has(path, text);
+}
+
+static int same_files(const char *a, const char *b) {
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "cmp -s %s %s", a, b);
+    return system(cmd) == 0;
+}
+
+static int exists(const char *dir, const char *name) {
+    char path[600];
+    struct stat sb;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return stat(path, &sb) == 0 && sb.st_size > 0;
+}
+
+/* The common settings: 64 px, edges loss, 1 thread, a fixed seed. */
+#define FIT "fit %s/scene --size 64 --loss edges --length 0.3 --learning-rate 0.01 --inner-steps 5 " \
+            "--threads 1 --seed 7 --quiet"
+
+static void test_outputs_and_loss(void) {
+    char args[1024], dir[300];
+    snprintf(dir, sizeof dir, "%s/a", tmp);
+    snprintf(args, sizeof args, FIT " --out %s --max-steps 60", tmp, dir);
+    CHECK(run(args) == 0, "fit failed");
+    const char *outputs[] = {"curves.json", "curves.obj", "curves.ply", "log.csv", "metrics.json",
+                             "report.html", "turntable.gif", "evolution.gif", "checkpoint.bin",
+                             "test/r_0.png", "test/r_0_photo.png"};
+    for (size_t i = 0; i < sizeof outputs / sizeof outputs[0]; i++)
+        CHECK(exists(dir, outputs[i]), "output %s missing", outputs[i]);
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "ls %s | grep -q '\\.tmp\\.'", dir);
+    CHECK(system(cmd) != 0, "a temporary file was left in %s", dir);
+    /* The training loss falls: the mean of the last 10 steps is below the
+     * mean of the first 10. */
+    char path[400];
+    snprintf(path, sizeof path, "%s/log.csv", dir);
+    FILE *f = fopen(path, "r");
+    double first = 0, last = 0, loss[64];
+    int n = 0;
+    char line[256];
+    if (f) {
+        while (fgets(line, sizeof line, f))
+            if (n < 64 && sscanf(line, "%*d,%*d,%*f,%lf", &loss[n]) == 1) n++;
+        fclose(f);
+    }
+    CHECK(n == 60, "log.csv has %d steps, expected 60", n);
+    for (int i = 0; i < 10 && n == 60; i++) {
+        first += loss[i] / 10;
+        last += loss[50 + i] / 10;
+    }
+    CHECK(last < 0.9 * first, "training loss did not fall: first %g, last %g", first, last);
+    snprintf(path, sizeof path, "%s/metrics.json", dir);
+    CHECK(file_has(path, "\"test_loss\"") && file_has(path, "\"chamfer\""), "metrics.json incomplete");
+}
+
+static void test_resume_after_max_steps(void) {
+    char args[1024], a[300], b[300];
+    snprintf(a, sizeof a, "%s/a/curves.json", tmp);
+    snprintf(b, sizeof b, "%s/b/curves.json", tmp);
+    snprintf(args, sizeof args, FIT " --out %s/b --max-steps 23", tmp, tmp);
+    CHECK(run(args) == 0, "first part failed");
+    CHECK(!same_files(a, b), "23 steps gave the same curves as 60");
+    snprintf(args, sizeof args, "fit --resume %s/b --max-steps 60", tmp);
+    CHECK(run(args) == 0, "resume failed");
+    CHECK(same_files(a, b), "resumed run differs from the uninterrupted one");
+}
+
+static void test_resume_after_sigint(void) {
+    char args[1024], a[300], c[300], ckpt[300];
+    snprintf(a, sizeof a, "%s/long/curves.json", tmp);
+    snprintf(c, sizeof c, "%s/c/curves.json", tmp);
+    snprintf(ckpt, sizeof ckpt, "%s/c/checkpoint.bin", tmp);
+    snprintf(args, sizeof args, FIT " --out %s/long --max-steps 400", tmp, tmp);
+    CHECK(run(args) == 0, "uninterrupted run failed");
+    pid_t pid = fork();
+    if (pid == 0) {
+        char out[300];
+        snprintf(out, sizeof out, "%s/c", tmp);
+        snprintf(args, sizeof args, "%s/scene", tmp);
+        execl(bin, bin, "fit", args, "--size", "64", "--loss", "edges", "--length", "0.3",
+              "--learning-rate", "0.01", "--inner-steps", "5", "--threads", "1", "--seed", "7",
+              "--quiet", "--out", out, "--max-steps", "400", (char *)NULL);
+        _exit(127);
+    }
+    /* Interrupt once the first checkpoint is there and a few steps ran. */
+    struct stat sb;
+    for (int i = 0; i < 500 && stat(ckpt, &sb) != 0; i++) usleep(10000);
+    usleep(300000);
+    kill(pid, SIGINT);
+    int status;
+    waitpid(pid, &status, 0);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, "interrupted fit: status %d", status);
+    char dir[300];
+    snprintf(dir, sizeof dir, "%s/c", tmp);
+    CHECK(exists(dir, "report.html") && exists(dir, "curves.json") && exists(dir, "log.csv"),
+          "interrupted run left incomplete outputs");
+    ws_fit_state s;
+    ws_status st = {0};
+    int ac;
+    char **av;
+    CHECK(ws_checkpoint_load(ckpt, &s, &ac, &av, &st) == WS_OK, "checkpoint: %s", st.msg);
+    if (st.code == WS_OK) {
+        CHECK(s.global_step < 400, "the run was not interrupted (%ld steps)", s.global_step);
+        ws_fit_state_free(&s);
+        ws_checkpoint_free_args(ac, av);
+    }
+    snprintf(args, sizeof args, "fit --resume %s/c", tmp);
+    CHECK(run(args) == 0, "resume after SIGINT failed");
+    CHECK(same_files(a, c), "run resumed after SIGINT differs from the uninterrupted one");
+}
+
+static void test_bad_input(void) {
+    char args[1024], path[300];
+    snprintf(args, sizeof args, "fit %s/scene --out %s/d --size 64 --weights %s/none.bin", tmp, tmp, tmp);
+    CHECK(run(args) == 1 && stderr_has("none.bin: no CLIP weight file") && stderr_has("--loss edges"),
+          "missing weights not explained");
+    snprintf(args, sizeof args, "fit --resume %s/nowhere", tmp);
+    CHECK(run(args) == 1 && stderr_has("nowhere/checkpoint.bin: no checkpoint to resume from"),
+          "resume without a checkpoint");
+    CHECK(run("fit x --no-such-option 1") == 2 && stderr_has("--no-such-option: unknown option"),
+          "unknown option");
+    CHECK(run("fit x --epochs many") == 2 && stderr_has("--epochs: 'many' is not an integer"), "bad integer");
+    /* A damaged checkpoint is refused, not half-used. */
+    snprintf(path, sizeof path, "%s/b/checkpoint.bin", tmp);
+    FILE *f = fopen(path, "r+b");
+    if (f) {
+        fseek(f, 40, SEEK_SET);
+        int c = fgetc(f);
+        fseek(f, 40, SEEK_SET);
+        fputc(c ^ 0x55, f);
+        fclose(f);
+    }
+    snprintf(args, sizeof args, "fit --resume %s/b", tmp);
+    CHECK(run(args) == 1 && stderr_has("checkpoint.bin: checksum mismatch (the file is damaged)"),
+          "damaged checkpoint accepted");
+}
+
+/* An absurd learning rate: every update throws the curves beyond what can
+ * be sampled; each is undone and reported, and the curves never move. An
+ * unusable --init is refused up front. */
+static void test_unusable_steps_refused(void) {
+    char args[1024], a[300], e[300];
+    snprintf(args, sizeof args, FIT " --out %s/e --max-steps 3 --learning-rate 1e300", tmp, tmp);
+    CHECK(run(args) == 0, "fit with unusable steps failed");
+    snprintf(a, sizeof a, "%s/e/metrics.json", tmp);
+    CHECK(file_has(a, "\"skipped_steps\": 3"), "unusable steps were not all refused");
+    CHECK(stderr_has("the update made the curves unusable (curves: curve"), "refused step not reported");
+    /* steps of 1e-300 leave every control point as it was */
+    snprintf(args, sizeof args, FIT " --out %s/f --max-steps 3 --learning-rate 1e-300", tmp, tmp);
+    CHECK(run(args) == 0, "fit of tiny steps failed");
+    snprintf(a, sizeof a, "%s/e/curves.json", tmp);
+    snprintf(e, sizeof e, "%s/f/curves.json", tmp);
+    CHECK(same_files(a, e), "curves moved by a refused step");
+    snprintf(a, sizeof a, "%s/huge.json", tmp);
+    FILE *f = fopen(a, "w");
+    if (f) {
+        fprintf(f, "{\"thickness\": 0.02, \"overlap\": 0.6, \"curves\": [[[0, 0, 0], [1e300, 0, 0], "
+                   "[0, 1e300, 0], [0, 0, 1e300]]]}");
+        fclose(f);
+    }
+    snprintf(args, sizeof args, FIT " --out %s/g --init %s", tmp, tmp, a);
+    CHECK(run(args) == 1 && stderr_has("huge.json: curves: curve 0 is too long to measure"),
+          "unusable --init accepted");
+}
+
+int main(void) {
+    const char *build = getenv("BUILD");
+    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_XXXXXX");
+    if (!mkdtemp(tmp)) return 1;
+    char args[600];
+    snprintf(args, sizeof args,
+             "scene trefoil --out %s/scene --size 64 --views-train 6 --views-val 2 --views-test 2", tmp);
+    CHECK(run(args) == 0, "scene generation failed");
+    test_outputs_and_loss();
+    test_resume_after_max_steps();
+    test_resume_after_sigint();
+    test_bad_input();
+    test_unusable_steps_refused();
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
+    if (!check_failed && system(cmd) != 0) return 1;
+    return check_summary();
+}
