@@ -29,7 +29,7 @@ TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 HEADERS   := $(wildcard src/*.h) $(wildcard nn/*.h) $(wildcard src/cli/*.h) tests/check.h
 
 .PHONY: all test clean bench demo
-all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a
+all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example
 
 $(BUILD)/obj/%.o: %.c $(HEADERS)
 	@mkdir -p $(dir $@)
@@ -51,6 +51,9 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a $(HEADERS)
 
 test: all $(TEST_BIN)
 	@BUILD=$(BUILD) bash tests/run.sh $(TEST_BIN)
+
+demo: all
+	@BUILD=$(BUILD) bash tools/demo.sh
 
 clean:
 	rm -rf build

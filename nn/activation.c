@@ -3,6 +3,7 @@
  * derivative 1 and 0, without overflow. */
 #include "activation.h"
 #include "fastmath.h"
+#include "parallel.h"
 
 #define QUICK_GELU_K 1.702f
 /* Elements per OpenMP task: whole cache lines, few tasks. */
@@ -35,14 +36,14 @@ static size_t chunk_len(size_t n, long c) {
 
 void quick_gelu_forward(float *out, const float *z, size_t n) {
     long chunks = (long)((n + CHUNK - 1) / CHUNK);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nn_fork(n))
     for (long c = 0; c < chunks; c++)
         forward_chunk(out + (size_t)c * CHUNK, z + (size_t)c * CHUNK, chunk_len(n, c));
 }
 
 void quick_gelu_backward(float *dz, const float *dout, const float *z, size_t n, int acc) {
     long chunks = (long)((n + CHUNK - 1) / CHUNK);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nn_fork(n))
     for (long c = 0; c < chunks; c++) {
         size_t o = (size_t)c * CHUNK;
         backward_chunk(dz + o, dout + o, z + o, chunk_len(n, c), acc);

@@ -10,6 +10,7 @@
 #include <string.h>
 #include "attention.h"
 #include "fastmath.h"
+#include "parallel.h"
 
 /* combine() works on blocks of 64 floats held as four 16-float vectors
  * (GCC vector extension): the compiler keeps them in registers, as 4
@@ -112,7 +113,7 @@ void attention_forward(float *out, float *probs, float *work, const float *qkv, 
                        int C, int H) {
     int D = C / H;
     size_t row = 3 * (size_t)C;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (nn_fork((size_t)B * T * T * C))
     for (int b = 0; b < B; b++)
         for (int h = 0; h < H; h++) {
             const float *q = qkv + (size_t)b * T * row + (size_t)h * D;
@@ -159,7 +160,7 @@ void attention_backward(float *dqkv, const float *dout, const float *qkv, const 
                         float *work, int B, int T, int C, int H, int acc) {
     int D = C / H;
     size_t row = 3 * (size_t)C;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (nn_fork((size_t)B * T * T * C))
     for (int b = 0; b < B; b++)
         for (int h = 0; h < H; h++) {
             size_t base = (size_t)b * T * row + (size_t)h * D, bh = (size_t)b * H + h;

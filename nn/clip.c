@@ -47,23 +47,29 @@ struct clip_model {
 typedef struct {
     char name[64];
     int ndim;
-    int64_t shape[2];
+    int64_t shape[4];
     const float **dst;
     float centre, std;
 } weight_spec;
 
-static void spec(weight_spec *s, const char *name, int ndim, int64_t d0, int64_t d1,
+static void spec(weight_spec *s, const char *name, int ndim, const int64_t *shape,
                  const float **dst, float centre, float std) {
     snprintf(s->name, sizeof s->name, "%s", name);
     s->ndim = ndim;
-    s->shape[0] = d0;
-    s->shape[1] = d1;
+    memcpy(s->shape, shape, (size_t)ndim * sizeof *shape);
     s->dst = dst;
     s->centre = centre;
     s->std = std;
 }
 
-static int64_t spec_numel(const weight_spec *s) { return s->ndim == 1 ? s->shape[0] : s->shape[0] * s->shape[1]; }
+static int64_t spec_numel(const weight_spec *s) {
+    int64_t n = 1;
+    for (int i = 0; i < s->ndim; i++) n *= s->shape[i];
+    return n;
+}
+
+/* DIMS(a, b) expands to the arguments `2, (int64_t[]){a, b}` of spec(). */
+#define DIMS(...) (sizeof((int64_t[]){__VA_ARGS__}) / sizeof(int64_t)), (int64_t[]){__VA_ARGS__}
 
 static int spec_count(const wf_arch *a) { return 8 + 12 * a->layers; }
 
@@ -74,34 +80,34 @@ static void weight_table(clip_model *m, weight_spec *specs) {
     float sw = 1.0f / sqrtf((float)W), sproj = sw / sqrtf(2.0f * a->layers);
     float sfc = 1.0f / sqrtf(2.0f * W), sbias = 0.02f, sln = 0.1f;
     weight_spec *s = specs;
-    spec(s++, "conv1.weight", 2, W, P, &m->conv1, 0, 1.0f / sqrtf((float)P));
-    spec(s++, "class_embedding", 1, W, 0, &m->class_embedding, 0, sw);
-    spec(s++, "positional_embedding", 2, G * G + 1, W, &m->positional_embedding, 0, sw);
-    spec(s++, "ln_pre.weight", 1, W, 0, &m->ln_pre_w, 1, sln);
-    spec(s++, "ln_pre.bias", 1, W, 0, &m->ln_pre_b, 0, sln);
+    spec(s++, "conv1.weight", DIMS(W, CHANNELS, a->patch, a->patch), &m->conv1, 0, 1.0f / sqrtf((float)P));
+    spec(s++, "class_embedding", DIMS(W), &m->class_embedding, 0, sw);
+    spec(s++, "positional_embedding", DIMS(G * G + 1, W), &m->positional_embedding, 0, sw);
+    spec(s++, "ln_pre.weight", DIMS(W), &m->ln_pre_w, 1, sln);
+    spec(s++, "ln_pre.bias", DIMS(W), &m->ln_pre_b, 0, sln);
     for (int l = 0; l < a->layers; l++) {
         clip_block *b = &m->blocks[l];
         char n[64];
-#define BLOCK(suffix, nd, d0, d1, field, centre, std)                              \
+#define BLOCK(suffix, dims, field, centre, std)                                    \
     snprintf(n, sizeof n, "transformer.resblocks.%d." suffix, l);                  \
-    spec(s++, n, nd, d0, d1, &b->field, centre, std)
-        BLOCK("ln_1.weight", 1, W, 0, ln_1_w, 1, sln);
-        BLOCK("ln_1.bias", 1, W, 0, ln_1_b, 0, sln);
-        BLOCK("attn.in_proj_weight", 2, 3 * W, W, in_proj_w, 0, sw);
-        BLOCK("attn.in_proj_bias", 1, 3 * W, 0, in_proj_b, 0, sbias);
-        BLOCK("attn.out_proj.weight", 2, W, W, out_proj_w, 0, sproj);
-        BLOCK("attn.out_proj.bias", 1, W, 0, out_proj_b, 0, sbias);
-        BLOCK("ln_2.weight", 1, W, 0, ln_2_w, 1, sln);
-        BLOCK("ln_2.bias", 1, W, 0, ln_2_b, 0, sln);
-        BLOCK("mlp.c_fc.weight", 2, 4 * W, W, fc_w, 0, sfc);
-        BLOCK("mlp.c_fc.bias", 1, 4 * W, 0, fc_b, 0, sbias);
-        BLOCK("mlp.c_proj.weight", 2, W, 4 * W, cproj_w, 0, sproj);
-        BLOCK("mlp.c_proj.bias", 1, W, 0, cproj_b, 0, sbias);
+    spec(s++, n, dims, &b->field, centre, std)
+        BLOCK("ln_1.weight", DIMS(W), ln_1_w, 1, sln);
+        BLOCK("ln_1.bias", DIMS(W), ln_1_b, 0, sln);
+        BLOCK("attn.in_proj_weight", DIMS(3 * W, W), in_proj_w, 0, sw);
+        BLOCK("attn.in_proj_bias", DIMS(3 * W), in_proj_b, 0, sbias);
+        BLOCK("attn.out_proj.weight", DIMS(W, W), out_proj_w, 0, sproj);
+        BLOCK("attn.out_proj.bias", DIMS(W), out_proj_b, 0, sbias);
+        BLOCK("ln_2.weight", DIMS(W), ln_2_w, 1, sln);
+        BLOCK("ln_2.bias", DIMS(W), ln_2_b, 0, sln);
+        BLOCK("mlp.c_fc.weight", DIMS(4 * W, W), fc_w, 0, sfc);
+        BLOCK("mlp.c_fc.bias", DIMS(4 * W), fc_b, 0, sbias);
+        BLOCK("mlp.c_proj.weight", DIMS(W, 4 * W), cproj_w, 0, sproj);
+        BLOCK("mlp.c_proj.bias", DIMS(W), cproj_b, 0, sbias);
 #undef BLOCK
     }
-    spec(s++, "ln_post.weight", 1, W, 0, &m->ln_post_w, 1, sln);
-    spec(s++, "ln_post.bias", 1, W, 0, &m->ln_post_b, 0, sln);
-    spec(s++, "proj", 2, W, a->output_dim, &m->proj, 0, sw);
+    spec(s++, "ln_post.weight", DIMS(W), &m->ln_post_w, 1, sln);
+    spec(s++, "ln_post.bias", DIMS(W), &m->ln_post_b, 0, sln);
+    spec(s++, "proj", DIMS(W, a->output_dim), &m->proj, 0, sw);
 }
 
 /* The sizes every part of the tower relies on. */

@@ -21,7 +21,6 @@ static size_t segment(size_t s, int C, int R, int p, size_t *patch_off) {
 
 void patchify_forward(float *patches, const float *img, int B, int C, int R, int p) {
     long n = (long)B * (R / p) * (R / p) * C * p;
-#pragma omp parallel for schedule(static)
     for (long s = 0; s < n; s++) {
         size_t po, io = segment((size_t)s, C, R, p, &po);
         memcpy(patches + po, img + io, (size_t)p * sizeof *patches);
@@ -30,7 +29,6 @@ void patchify_forward(float *patches, const float *img, int B, int C, int R, int
 
 void patchify_backward(float *d_img, const float *d_patches, int B, int C, int R, int p, int acc) {
     long n = (long)B * (R / p) * (R / p) * C * p;
-#pragma omp parallel for schedule(static)
     for (long s = 0; s < n; s++) {
         size_t po, io = segment((size_t)s, C, R, p, &po);
         for (int k = 0; k < p; k++) d_img[io + k] = (acc ? d_img[io + k] : 0.0f) + d_patches[po + k];
@@ -39,7 +37,6 @@ void patchify_backward(float *d_img, const float *d_patches, int B, int C, int R
 
 void tokens_forward(float *x, const float *emb, const float *cls, const float *pos, int B, int T,
                     int W) {
-#pragma omp parallel for collapse(2) schedule(static)
     for (int b = 0; b < B; b++)
         for (int t = 0; t < T; t++) {
             float *xt = x + ((size_t)b * T + t) * W;
@@ -51,7 +48,6 @@ void tokens_forward(float *x, const float *emb, const float *cls, const float *p
 }
 
 void tokens_backward(float *d_emb, const float *dx, int B, int T, int W, int acc) {
-#pragma omp parallel for collapse(2) schedule(static)
     for (int b = 0; b < B; b++)
         for (int t = 1; t < T; t++) {
             float *d = d_emb + ((size_t)b * (T - 1) + t - 1) * W;

@@ -1,24 +1,24 @@
 /* layernorm.c: LayerNorm forward and input gradient (layernorm.h). */
 #include <math.h>
 #include "layernorm.h"
+#include "parallel.h"
 
 void layernorm_forward(float *out, float *stats, const float *x, const float *gamma,
                        const float *beta, int M, int C) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nn_fork((size_t)M * C))
     for (int i = 0; i < M; i++) {
         const float *xi = x + (size_t)i * C;
         float *oi = out + (size_t)i * C;
-        float sum = 0.0f;
+        float shift = xi[0], sum = 0.0f;
 #pragma omp simd reduction(+ : sum)
-        for (int j = 0; j < C; j++) sum += xi[j];
-        float mean = sum / (float)C;
-        /* Two passes: the variance of deviations does not cancel. */
+        for (int j = 0; j < C; j++) sum += xi[j] - shift;
+        float mean = sum / (float)C; /* of the shifted row */
         float ss = 0.0f;
 #pragma omp simd reduction(+ : ss)
-        for (int j = 0; j < C; j++) ss += (xi[j] - mean) * (xi[j] - mean);
+        for (int j = 0; j < C; j++) ss += (xi[j] - shift - mean) * (xi[j] - shift - mean);
         float rstd = 1.0f / sqrtf(ss / (float)C + NN_LAYERNORM_EPS);
 #pragma omp simd
-        for (int j = 0; j < C; j++) oi[j] = (xi[j] - mean) * rstd * gamma[j] + beta[j];
+        for (int j = 0; j < C; j++) oi[j] = (xi[j] - shift - mean) * rstd * gamma[j] + beta[j];
         stats[2 * i] = mean;
         stats[2 * i + 1] = rstd;
     }
@@ -26,23 +26,23 @@ void layernorm_forward(float *out, float *stats, const float *x, const float *ga
 
 void layernorm_backward(float *dx, const float *dout, const float *x, const float *stats,
                         const float *gamma, int M, int C, int acc) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nn_fork((size_t)M * C))
     for (int i = 0; i < M; i++) {
         const float *xi = x + (size_t)i * C, *gi = dout + (size_t)i * C;
         float *di = dx + (size_t)i * C;
-        float mean = stats[2 * i], rstd = stats[2 * i + 1];
+        float shift = xi[0], mean = stats[2 * i], rstd = stats[2 * i + 1];
         /* dx = rstd * (g - mean(g) - xhat * mean(g * xhat)), g = dout * gamma */
         float sum_g = 0.0f, sum_gx = 0.0f;
 #pragma omp simd reduction(+ : sum_g, sum_gx)
         for (int j = 0; j < C; j++) {
             float g = gi[j] * gamma[j];
             sum_g += g;
-            sum_gx += g * (xi[j] - mean) * rstd;
+            sum_gx += g * (xi[j] - shift - mean) * rstd;
         }
         float mg = sum_g / (float)C, mgx = sum_gx / (float)C;
 #pragma omp simd
         for (int j = 0; j < C; j++) {
-            float g = gi[j] * gamma[j], xhat = (xi[j] - mean) * rstd;
+            float g = gi[j] * gamma[j], xhat = (xi[j] - shift - mean) * rstd;
             di[j] = (acc ? di[j] : 0.0f) + rstd * (g - mg - xhat * mgx);
         }
     }

@@ -5,9 +5,12 @@
 
 #define NN_LAYERNORM_EPS 1e-5f
 
-/* out [M,C] = (x - mean) * rstd * gamma + beta, row by row; stats [M,2]
- * receives (mean, rstd) for the backward. A constant row (a blank image)
- * has variance 0: rstd = eps^-1/2, out = beta, nothing divides by zero. */
+/* out [M,C] = (x - mean) * rstd * gamma + beta, row by row. The sums run
+ * on the row minus its first element (shifted data: no cancellation when
+ * the mean is large against the spread), and stats [M,2] keeps (mean of
+ * the shifted row, rstd) for the backward. A constant row (a blank image)
+ * is exactly 0 after the shift: variance 0, rstd = eps^-1/2, out = beta
+ * exactly, and nothing divides by zero. */
 void layernorm_forward(float *out, float *stats, const float *x, const float *gamma,
                        const float *beta, int M, int C);
 /* dx [M,C] from dout [M,C]; added to dx when acc. */

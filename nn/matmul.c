@@ -9,7 +9,6 @@ void matmul_forward(float *out, const float *in, const float *w, const float *bi
     float beta = 0.0f;
     if (bias) {
         /* The GEMM adds onto the bias rows: no separate pass over out. */
-#pragma omp parallel for schedule(static)
         for (int i = 0; i < M; i++) memcpy(out + (size_t)i * N, bias, (size_t)N * sizeof *out);
         beta = 1.0f;
     }

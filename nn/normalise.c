@@ -3,7 +3,6 @@
 
 void normalise_forward(float *out, const float *img, const float *mean, const float *std, int B,
                        int C, int HW) {
-#pragma omp parallel for collapse(2) schedule(static)
     for (int b = 0; b < B; b++)
         for (int c = 0; c < C; c++) {
             size_t o = ((size_t)b * C + c) * HW;
@@ -15,7 +14,6 @@ void normalise_forward(float *out, const float *img, const float *mean, const fl
 
 void normalise_backward(float *d_img, const float *d_out, const float *std, int B, int C, int HW,
                         int acc) {
-#pragma omp parallel for collapse(2) schedule(static)
     for (int b = 0; b < B; b++)
         for (int c = 0; c < C; c++) {
             size_t o = ((size_t)b * C + c) * HW;

@@ -3,7 +3,7 @@
 #include "residual.h"
 
 void residual_forward(float *out, const float *a, const float *b, size_t n) {
-#pragma omp parallel for simd schedule(static)
+#pragma omp simd
     for (size_t i = 0; i < n; i++) out[i] = a[i] + b[i];
 }
 
@@ -12,7 +12,7 @@ void residual_backward(float *d_in, const float *dout, size_t n, int acc) {
         memcpy(d_in, dout, n * sizeof *d_in);
         return;
     }
-#pragma omp parallel for simd schedule(static)
+#pragma omp simd
     for (size_t i = 0; i < n; i++) d_in[i] += dout[i];
 }
 

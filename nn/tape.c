@@ -123,7 +123,7 @@ static void seed_backward(const nn_op *op) {
     float *dx = x->grad;
     long n = (long)x->numel;
     if (nn_grad_begin(x)) {
-#pragma omp parallel for simd schedule(static)
+#pragma omp simd
         for (long i = 0; i < n; i++) dx[i] += g[i];
     } else {
         memcpy(dx, g, (size_t)n * sizeof *dx);

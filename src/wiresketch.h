@@ -13,4 +13,13 @@
 #include "scene.h"
 #include "curves.h"
 #include "splat.h"
+#include "augment.h"
+#include "edges.h"
+#include "loss.h"
+#include "fit.h"
+#include "evaluate.h"
+#include "export.h"
+#include "metrics.h"
+#include "pointcloud.h"
+#include "clip.h"
 #endif

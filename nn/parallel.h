@@ -1,0 +1,19 @@
+/* parallel.h: when the ops of nn/ fork OpenMP teams.
+ *
+ * OpenBLAS (the pthread build) runs its own worker threads, and OpenMP's
+ * idle threads spin for milliseconds after every parallel region (the
+ * default OMP_WAIT_POLICY). On a machine with as many threads as cores the
+ * two pools then fight: a GEMM that follows an OpenMP region runs at half
+ * speed while OpenMP's workers spin, which costs far more than the
+ * parallel op saved (measured: forward+backward of ViT-B/32 2.5x slower).
+ * So an op forks only when that cannot happen: OpenMP waits passively, or
+ * OpenBLAS has no worker threads. And only when the work is big enough to
+ * pay for waking a team. */
+#ifndef NN_PARALLEL_H
+#define NN_PARALLEL_H
+#include <stddef.h>
+
+/* Should an op with `work` elementary steps fork a team? */
+int nn_fork(size_t work);
+
+#endif

@@ -1,0 +1,184 @@
+/* test_loss.c: the whole loss of SPEC section 6, end to end: control points
+ * -> Gaussians -> splatting -> augmentation -> CLIP (the tiny fixture model,
+ * converted by tools/convert_weights.py) -> geometric, fc and global terms,
+ * and back. The gradient with respect to the control points is checked
+ * against central finite differences, with augmentation off and on (the same
+ * transforms for both sides of a difference: the rng is restored), and with
+ * the edge loss added. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "check.h"
+#include "wiresketch.h"
+#include "synth.h"
+
+typedef struct {
+    ws_scene scene;
+    ws_loss *loss;
+    ws_splat *splat;
+    ws_splat_options so;
+    ws_gaussians g;
+    double *alpha, *dalpha, *dmu;
+} setup;
+
+/* The loss of view 0 of the training split for curves c; with dP, its
+ * gradient. rng0: the augmentation stream, restored for every evaluation.
+ * With dP the curves are sampled anew; without, the Gaussians keep the
+ * parameters t_k of the last sampling (SPEC 2: the t_k are constants of the
+ * backward pass, so the finite differences must hold them too). */
+static double loss_of(setup *s, const ws_curves *c, int augment, const ws_rng *rng0, double *dP) {
+    ws_status st = {0};
+    ws_rng rng = *rng0;
+    double value = NAN;
+    if (dP && ws_curves_sample(c, &s->g, &st)) return NAN;
+    for (int k = 0; !dP && k < s->g.n; k++) ws_curve_point(c, s->g.curve[k], s->g.t[k], s->g.mu + 3 * k);
+    if (ws_splat_forward(s->splat, &s->scene.split[WS_TRAIN].views[0].cam, s->g.mu, s->g.n, c->thickness,
+                         &s->so, s->alpha, &st) ||
+        ws_loss_view(s->loss, WS_TRAIN, 0, s->alpha, augment, &rng, &value, dP ? s->dalpha : NULL, &st)) {
+        fprintf(stderr, "loss: %s\n", st.msg);
+        return NAN;
+    }
+    if (dP) {
+        if (ws_splat_backward(s->splat, s->dalpha, s->dmu, &st)) return NAN;
+        ws_curves_backward(c, &s->g, s->dmu, dP);
+    }
+    return value;
+}
+
+/* Curves crossing the object, long enough to cover many pixels. */
+static void make_curves(ws_curves *c, const double center[3], ws_rng *rng) {
+    for (int k = 0; k < c->n; k++)
+        for (int j = 0; j < 4; j++)
+            for (int x = 0; x < 3; x++)
+                c->P[(k * 4 + j) * 3 + x] = center[x] + 0.6 * (ws_rng_uniform(rng) - 0.5) + 0.15 * j;
+}
+
+static void check_gradient(setup *s, ws_curves *c, int augment, const char *what) {
+    ws_rng rng0;
+    ws_rng_seed(&rng0, 99);
+    int np = c->n * 12;
+    double *dP = malloc(np * sizeof(double));
+    double base = loss_of(s, c, augment, &rng0, dP);
+    CHECK(isfinite(base) && base > 0, "%s: loss %g", what, base);
+    /* the largest gradient entries: there float32 CLIP's rounding is
+     * small against the change a step of h makes */
+    double worst = 0, gmax = 0;
+    for (int i = 0; i < np; i++) gmax = fmax(gmax, fabs(dP[i]));
+    int checked = 0;
+    for (int i = 0; i < np && checked < 6; i++) {
+        if (fabs(dP[i]) < 0.3 * gmax) continue;
+        double keep = c->P[i], h = 2e-4;
+        c->P[i] = keep + h;
+        double up = loss_of(s, c, augment, &rng0, NULL);
+        c->P[i] = keep - h;
+        double down = loss_of(s, c, augment, &rng0, NULL);
+        c->P[i] = keep;
+        double fd = (up - down) / (2 * h);
+        worst = fmax(worst, fabs(fd - dP[i]) / gmax);
+        checked++;
+    }
+    CHECK(checked >= 3 && worst < 5e-3, "%s: finite differences off by %.3g of the largest entry (%d checked)",
+          what, worst, checked);
+    printf("%-40s loss %.6g, %d entries, worst error %.2g of max |dL/dP| %.3g\n", what, base, checked, worst, gmax);
+    free(dP);
+}
+
+static int make_setup(setup *s, const char *dir, const char *weights, const ws_loss_options *lo) {
+    ws_status st = {0};
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 64;
+    int rc = ws_scene_load(&s->scene, dir, &so, &st);
+    if (!rc) rc = ws_loss_create(&s->loss, lo, &s->scene, &st);
+    if (!rc) rc = ws_splat_create(&s->splat, 64, 64, &st);
+    CHECK(rc == WS_OK, "setup: %s", st.msg);
+    ws_splat_options_default(&s->so);
+    s->so.cutoff = INFINITY; /* a cut-off is a kink for finite differences */
+    s->alpha = malloc(64 * 64 * sizeof(double));
+    s->dalpha = malloc(64 * 64 * sizeof(double));
+    s->dmu = malloc(4 * WS_MAX_GAUSSIANS_PER_CURVE * 3 * sizeof(double));
+    (void)weights;
+    return rc;
+}
+
+static void free_setup(setup *s) {
+    ws_loss_free(s->loss);
+    ws_splat_free(s->splat);
+    ws_gaussians_free(&s->g);
+    ws_scene_free(&s->scene);
+    free(s->alpha);
+    free(s->dalpha);
+    free(s->dmu);
+}
+
+int main(void) {
+    char dir[] = "/tmp/ws_test_loss_XXXXXX", scene[300], weights[300], cmd[1024];
+    if (!mkdtemp(dir)) return 1;
+    snprintf(scene, sizeof scene, "%s/scene", dir);
+    snprintf(weights, sizeof weights, "%s/tiny.bin", dir);
+    snprintf(cmd, sizeof cmd, "python3 tools/convert_weights.py tests/fixtures/clip_tiny/clip_tiny_state_dict.pt %s >/dev/null",
+             weights);
+    CHECK(system(cmd) == 0, "converting the tiny model failed");
+    ws_status st = {0};
+    ws_synth_options syn;
+    ws_synth_options_default(&syn);
+    syn.size = 64;
+    syn.views[WS_TRAIN] = 2;
+    syn.views[WS_VAL] = 0;
+    syn.views[WS_TEST] = 1;
+    CHECK(ws_synth_write("trefoil", scene, &syn, &st) == WS_OK, "scene: %s", st.msg);
+
+    ws_loss_options lo;
+    ws_loss_options_default(&lo);
+    lo.weights_path = weights;
+    lo.n_layer_weights = 2;
+    lo.layer_weights[0] = 1;
+    lo.layer_weights[1] = 1;
+    lo.layer_weights[2] = lo.layer_weights[3] = 0;
+    lo.num_aug = 2;
+    setup s = {0};
+    ws_curves c = {0};
+    ws_rng rng;
+    ws_rng_seed(&rng, 5);
+    if (make_setup(&s, scene, weights, &lo) == WS_OK && ws_curves_alloc(&c, 3, &st) == WS_OK) {
+        c.thickness = 0.04;
+        c.overlap = 0.6;
+        make_curves(&c, s.scene.center, &rng);
+        check_gradient(&s, &c, 0, "CLIP, item 0 only");
+        check_gradient(&s, &c, 1, "CLIP, 1 + 2 augmented items");
+        /* Evaluation never draws from the rng; augmenting draws, and a
+         * different stream gives a different loss. */
+        ws_rng a, b;
+        ws_rng_seed(&a, 1);
+        ws_rng_seed(&b, 2);
+        double la = loss_of(&s, &c, 1, &a, NULL), lb = loss_of(&s, &c, 1, &b, NULL);
+        CHECK(isfinite(la) && isfinite(lb), "loss %g %g", la, lb);
+        CHECK(la != lb, "augmentations do not change the loss (%g)", la);
+        CHECK(loss_of(&s, &c, 1, &a, NULL) == la, "the same transforms give a different loss");
+    }
+    free_setup(&s);
+    memset(&s, 0, sizeof s);
+    lo.edges_weight = 0.5;
+    lo.fc_weight = 0;
+    if (make_setup(&s, scene, weights, &lo) == WS_OK && c.P) check_gradient(&s, &c, 1, "CLIP geometric + global + edges");
+    free_setup(&s);
+    /* The scene's size must be the model's input size. */
+    memset(&s, 0, sizeof s);
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 48;
+    ws_loss *loss = NULL;
+    if (ws_scene_load(&s.scene, scene, &so, &st) == WS_OK) {
+        int rc = ws_loss_create(&loss, &lo, &s.scene, &st);
+        CHECK(rc == WS_EUSAGE && strstr(st.msg, "tiny.bin: the model takes 64 x 64 images but the scene is loaded at 48 x 48"),
+              "size mismatch: %s", st.msg);
+    }
+    ws_loss_free(loss);
+    ws_scene_free(&s.scene);
+    ws_curves_free(&c);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    if (!check_failed && system(cmd) != 0) return 1;
+    return check_summary();
+}

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# make demo: a synthetic scene made by wiresketch itself, fitted with the
+# weight-free edge loss (and with CLIP too when weights/clip-vit-b32.bin
+# exists), evaluated against its ground-truth curves. Outputs in demo/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ws=${BUILD:-build}/wiresketch
+mkdir -p demo
+[ -f demo/trefoil/transforms_train.json ] || "$ws" scene trefoil --out demo/trefoil
+fit="--epochs 2 --inner-steps 30 --length 0.3 --learning-rate 0.01 --seed 1"
+"$ws" fit demo/trefoil --out demo/fit-edges --loss edges $fit
+echo "evaluation against the ground-truth curves (demo/fit-edges):"
+"$ws" eval demo/trefoil --curves demo/fit-edges/curves.json --loss edges
+report=demo/fit-edges/report.html
+if [ -f weights/clip-vit-b32.bin ]; then
+    "$ws" fit demo/trefoil --out demo/fit-clip --loss clip+edges $fit
+    echo "evaluation against the ground-truth curves (demo/fit-clip):"
+    "$ws" eval demo/trefoil --curves demo/fit-clip/curves.json --loss clip+edges
+    report="$report and demo/fit-clip/report.html"
+else
+    echo "(no weights/clip-vit-b32.bin: CLIP fit skipped; see weights/README.md)"
+fi
+echo "report: $report"
