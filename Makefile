@@ -1,7 +1,9 @@
 # wiresketch build. `make` builds build/wiresketch and build/libwiresketch.a;
 # `make test` builds and runs every test; `make clean` removes build/.
 # Options: NATIVE=1 adds -march=native (not portable to older CPUs);
-#          SANITIZE=1 builds with ASan+UBSan into build/san.
+#          SANITIZE=1 builds with ASan+UBSan into build/san (or BUILD=...).
+# `make fuzz` builds tests/fuzz/fuzz_*.c with clang's libFuzzer into
+# build/fuzz and runs each target FUZZ_SECONDS (60) on its seed corpus.
 
 CC       ?= cc
 OPT      ?= -O2
@@ -9,16 +11,20 @@ CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT) -g -Wall
             -Wno-unused-parameter -fopenmp -Isrc -Inn \
             $(shell pkg-config --cflags openblas libpng zlib libcjson)
 LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson) -lgif -lm -fopenmp
-BUILD    ?= build
 
 ifeq ($(NATIVE),1)
 CFLAGS   += -march=native
 endif
 ifeq ($(SANITIZE),1)
-BUILD    := build/san
+BUILD    ?= build/san
 CFLAGS   += -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 LDLIBS   += -fsanitize=address,undefined
 endif
+ifeq ($(FUZZ),1)
+CFLAGS   += -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -Wno-pass-failed \
+            -fno-sanitize-recover=undefined
+endif
+BUILD    ?= build
 
 LIB_SRC   := $(wildcard src/*.c) $(wildcard nn/*.c)
 CLI_SRC   := $(wildcard src/cli/*.c)
@@ -28,7 +34,7 @@ CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 HEADERS   := $(wildcard src/*.h) $(wildcard nn/*.h) $(wildcard src/cli/*.h) tests/check.h
 
-.PHONY: all test clean bench demo
+.PHONY: all test clean bench demo fuzz fuzz-build
 all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example
 
 $(BUILD)/obj/%.o: %.c $(HEADERS)
@@ -51,6 +57,31 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a $(HEADERS)
 
 test: all $(TEST_BIN)
 	@BUILD=$(BUILD) bash tests/run.sh $(TEST_BIN)
+
+# Fuzzing (clang + libFuzzer; tools/setup_fuzz.sh installs them). The
+# library is rebuilt with clang and coverage into build/fuzz; each target
+# runs FUZZ_SECONDS on a copy of its seed corpus (new inputs land in
+# build/fuzz/corpus/TARGET, crashes in build/fuzz/findings/TARGET).
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_BIN     := $(FUZZ_TARGETS:%=build/fuzz/fuzz_%)
+
+fuzz-build:
+	$(MAKE) CC=clang FUZZ=1 BUILD=build/fuzz $(FUZZ_BIN)
+
+build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_input.h $(BUILD)/libwiresketch.a $(HEADERS)
+	$(CC) $(CFLAGS) -fsanitize=fuzzer -Itests/fuzz $< $(BUILD)/libwiresketch.a -o $@ $(LDLIBS)
+
+fuzz: fuzz-build
+	@for t in $(FUZZ_TARGETS); do \
+	    mkdir -p build/fuzz/corpus/$$t build/fuzz/findings/$$t && \
+	    echo "fuzz_$$t: $(FUZZ_SECONDS) s" && \
+	    OMP_NUM_THREADS=1 build/fuzz/fuzz_$$t build/fuzz/corpus/$$t tests/fuzz/corpus/$$t \
+	        -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=4096 -max_len=65536 \
+	        -artifact_prefix=build/fuzz/findings/$$t/ -print_final_stats=1 2>build/fuzz/fuzz_$$t.log; \
+	    rc=$$?; grep -E '^(stat::number_of_executed_units|#[0-9]+ +DONE)' build/fuzz/fuzz_$$t.log; \
+	    if [ $$rc -ne 0 ]; then tail -n 40 build/fuzz/fuzz_$$t.log; exit 1; fi; \
+	done
 
 demo: all
 	@BUILD=$(BUILD) bash tools/demo.sh

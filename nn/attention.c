@@ -63,6 +63,7 @@ NN_INLINE void gather_transposed(float *dst, const float *src, size_t row, int T
 /* Logits (unscaled) -> probabilities of scale * logits, in place. */
 NN_INLINE void softmax_row(float *p, int n, float scale) {
     float mx = p[0];
+#pragma omp simd reduction(max : mx)
     for (int j = 1; j < n; j++) mx = p[j] > mx ? p[j] : mx;
     float sum = 0.0f;
 #pragma omp simd reduction(+ : sum)

@@ -19,6 +19,8 @@
 #include "rng.h"
 #include "tape.h"
 
+/* MAX_TOKENS keeps every size of a run (rows of a batch, T x T attention
+ * blocks) far inside int and memory. */
 enum { CHANNELS = 3, MAX_TOKENS = 4096 };
 
 /* CLIP's preprocessing statistics (SPEC section 4). */
@@ -218,7 +220,6 @@ const wf_arch *clip_model_arch(const clip_model *m) { return &m->arch; }
 /* ---- a run: the recorded tower ------------------------------------------ */
 
 struct clip_run {
-    const clip_model *m;
     clip_run_options opt;
     int blocks;                /* blocks recorded: last_block + 1, or all for the embedding */
     nn_tape tape;
@@ -252,7 +253,6 @@ int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options 
                        opt->last_block, a->layers);
     clip_run *r = ws_calloc(1, sizeof *r, "clip run", st);
     if (!r) return st->code;
-    r->m = m;
     r->opt = *opt;
     r->blocks = opt->need_embedding ? a->layers : opt->last_block + 1;
     r->hidden = ws_calloc((size_t)r->blocks, sizeof *r->hidden, "clip run", st);

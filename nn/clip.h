@@ -35,14 +35,17 @@ void clip_run_free(clip_run *r);
 /* images: batch x 3 x R x R, RGB in [0, 1] (CLIP's per-channel
  * normalisation is applied inside). */
 int clip_forward(clip_run *r, const float *images, ws_status *st);
-/* h_l, block l's output: batch x tokens x width (tokens = 1 + (R/patch)^2). */
+/* h_l, block l's output: batch x tokens x width (tokens = 1 + (R/patch)^2);
+ * NULL for a block the run does not compute. Valid until the next forward. */
 const float *clip_hidden(const clip_run *r, int layer);
-/* e: batch x output_dim (when need_embedding). */
+/* e: batch x output_dim (NULL without need_embedding). */
 const float *clip_embedding(const clip_run *r);
 
 /* d_hidden[l]: dL/dh_l (batch x tokens x width) or NULL for blocks the loss
  * does not read (array of last_block + 1 entries, or NULL for none);
- * d_embedding: dL/de or NULL. d_images: batch x 3 x R x R, overwritten. */
+ * d_embedding: dL/de or NULL. d_images: batch x 3 x R x R, overwritten.
+ * Only the blocks below the deepest seed are replayed. Needs a forward
+ * first; may run again after the same forward (e.g. other seeds). */
 int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embedding,
                   float *d_images, ws_status *st);
 

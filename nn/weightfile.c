@@ -142,6 +142,8 @@ static int read_entry(wf_file *f, ws_bytes_reader *r, int index, uint64_t table_
     size_t len = strnlen((const char *)name, 64);
     int padded = len > 0 && len < 64;
     for (size_t i = len; padded && i < 64; i++) padded = name[i] == 0;
+    /* printable ASCII only: the name goes into one-line messages */
+    for (size_t i = 0; padded && i < len; i++) padded = name[i] > 0x20 && name[i] < 0x7f;
     if (!padded)
         return ws_fail(st, WS_EINPUT, "%s: tensor table entry %d has a malformed name", f->path, index);
     memcpy(t->name, name, len + 1);

@@ -89,6 +89,34 @@ static int get_count(ws_bytes_reader *r, size_t size, int *count) {
     return 1;
 }
 
+static int all_finite(const double *v, size_t n) {
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+/* What a resumed fit relies on without checking it again: a file whose
+ * checksum is right may still have been made by something else. */
+static int check_state(const ws_fit_state *s, const char *path, ws_status *st) {
+    size_t np = (size_t)s->curves.n * 12;
+    if (s->n_train < 1 || s->epoch < 0 || s->batch_in_epoch < 0 ||
+        s->batch_in_epoch >= s->n_train || s->step_in_batch < 0 || s->global_step < 0 ||
+        s->global_batch < 0 || s->skipped_steps < 0 || !(s->elapsed >= 0 && s->elapsed < INFINITY))
+        return bad(path, "schedule position", st);
+    for (int i = 0; i < s->n_train; i++)
+        if (s->order[i] < 0 || s->order[i] >= s->n_train) return bad(path, "view order", st);
+    if (!(s->curves.thickness > 0 && s->curves.thickness < INFINITY) ||
+        !(s->curves.overlap >= 0 && s->curves.overlap < 1))
+        return bad(path, "curve thickness or overlap", st);
+    if (!all_finite(s->curves.P, np)) return bad(path, "non-finite control point", st);
+    int moments = all_finite(s->adam.m, np) && all_finite(s->adam.v, np);
+    for (size_t i = 0; moments && i < np; i++) moments = s->adam.v[i] >= 0;
+    if (s->adam.step < 0 || !(s->adam.lr > 0 && s->adam.lr < INFINITY) || !moments)
+        return bad(path, "optimiser state", st);
+    if (!all_finite(s->snapshots, (size_t)s->nsnap * np)) return bad(path, "snapshots", st);
+    return WS_OK;
+}
+
 static int get_state(ws_bytes_reader *r, ws_fit_state *s, const char *path, ws_status *st) {
     memset(s, 0, sizeof *s);
     s->epoch = (int)ws_get_u32(r);
@@ -135,11 +163,7 @@ static int get_state(ws_bytes_reader *r, ws_fit_state *s, const char *path, ws_s
     if (!s->snapshots) return st->code;
     ws_get_f64s(r, s->snapshots, (size_t)s->nsnap * np);
     if (r->failed) return bad(path, "truncated state", st);
-    for (size_t i = 0; i < np; i++)
-        if (!isfinite(s->curves.P[i])) return bad(path, "non-finite control point", st);
-    for (int i = 0; i < s->n_train; i++)
-        if (s->order[i] < 0 || s->order[i] >= s->n_train) return bad(path, "view order", st);
-    return WS_OK;
+    return check_state(s, path, st);
 }
 
 int ws_checkpoint_load(const char *path, ws_fit_state *s, int *argc, char ***argv,

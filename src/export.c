@@ -66,6 +66,18 @@ static double depth(const ws_camera *cam, const double p[3]) {
     return -cc[2];
 }
 
+/* Stroke width over sigma: where a dense line of Gaussians of footprint
+ * sigma spaced s apart reaches alpha 1/2. Across the line the weights add up
+ * to about k exp(-r^2 / (2 sigma^2)) with k = sqrt(2 pi) sigma / s, which is
+ * sqrt(2 pi) / (2 (1 - overlap)) in any view (sigma and s = 2 thickness
+ * (1 - overlap) scale alike under projection), and alpha = 1/2 where that
+ * sum is ln 2. At least 2 (one sigma each side). */
+static double stroke_width_in_sigmas(const ws_curves *c) {
+    double k = sqrt(2 * M_PI) / (2 * (1 - c->overlap));
+    double ratio = k / log(2.0);
+    return ratio > exp(0.5) ? 2 * sqrt(2 * log(ratio)) : 2.0;
+}
+
 int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, ws_status *st) {
     ws_outfile f;
     if (check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
@@ -77,6 +89,7 @@ int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, ws
             "<g fill=\"none\" stroke=\"black\" stroke-linecap=\"round\" "
             "stroke-linejoin=\"round\">\n",
             cam->width, cam->height, cam->width, cam->height);
+    double width = stroke_width_in_sigmas(c);
     for (int ci = 0; ci < c->n; ci++) {
         int in_front = 1;
         for (int j = 0; j < 4; j++) in_front &= depth(cam, c->P + (size_t)ci * 12 + j * 3) > SVG_NEAR;
@@ -84,7 +97,7 @@ int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, ws
         double mid[3];
         ws_curve_point(c, ci, 0.5, mid);
         double sigma = cam->focal * c->thickness / depth(cam, mid);
-        fprintf(f.fp, "<path stroke-width=\"%.4g\" d=\"", 2.0 * sigma);
+        fprintf(f.fp, "<path stroke-width=\"%.4g\" d=\"", width * sigma);
         for (int k = 0; k < VERTS_PER_CURVE; k++) {
             double p[3], cc[3];
             polyline_point(c, ci, k, p);

@@ -198,8 +198,14 @@ static long total_steps(const fit_run *r) {
     return r->opt->max_steps > 0 && r->opt->max_steps < steps ? r->opt->max_steps : steps;
 }
 
+/* h:mm:ss of a duration in seconds. */
+static void clock_text(double seconds, char text[32]) {
+    long t = (long)(seconds + 0.5);
+    snprintf(text, 32, "%ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
+}
+
 /* The progress line on stderr: rewritten in place on a terminal, a line
- * every 10 seconds otherwise (logs stay readable). */
+ * every 10 seconds otherwise (logs stay readable); a last line at the end. */
 static void progress(fit_run *r, double loss, double rate_start, long steps_this_run, int final) {
     static double last_print;
     double t = now_seconds();
@@ -207,14 +213,18 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     if (r->opt->quiet || (!final && t - last_print < (tty ? 0.2 : 10.0))) return;
     last_print = t;
     double rate = steps_this_run / fmax(t - rate_start, 1e-9);
-    long left = total_steps(r) - r->s.global_step;
-    double eta = rate > 0 ? left / rate : 0;
+    char left[32], spent[32];
+    clock_text(rate > 0 ? (total_steps(r) - r->s.global_step) / rate : 0, left);
+    clock_text(elapsed(r), spent);
+    if (final) {
+        fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
+                tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
+        return;
+    }
     int nb = (r->scene.split[WS_TRAIN].n + r->opt->batch_size - 1) / r->opt->batch_size;
-    fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  left %02d:%02d:%02d%s",
-            tty ? "\r" : "", r->s.epoch + 1 > r->opt->epochs ? r->opt->epochs : r->s.epoch + 1,
-            r->opt->epochs, r->s.batch_in_epoch + 1 > nb ? nb : r->s.batch_in_epoch + 1, nb,
-            r->s.global_step, total_steps(r), loss, rate, (int)(eta / 3600), (int)fmod(eta / 60, 60),
-            (int)fmod(eta, 60), tty && !final ? "   " : "\n");
+    fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
+            tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1, nb,
+            r->s.global_step, total_steps(r), loss, rate, spent, left, tty ? "   " : "\n");
     fflush(stderr);
 }
 

@@ -146,6 +146,10 @@ static int parse_frame(const cJSON *frame, const char *path, int index, double a
     const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
     if (!fp) return ws_fail(st, WS_EINPUT, "%s: missing file_path", what);
     if (!cJSON_IsString(fp)) return ws_fail(st, WS_EINPUT, "%s: file_path is not a string", what);
+    /* it is echoed in messages, which are one line each */
+    for (const char *c = fp->valuestring; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7f)
+            return ws_fail(st, WS_EINPUT, "%s: file_path contains a control character", what);
     const cJSON *m = cJSON_GetObjectItemCaseSensitive(frame, "transform_matrix");
     if (!m) return ws_fail(st, WS_EINPUT, "%s: missing transform_matrix", what);
     double c2w[4][4];

@@ -3,16 +3,22 @@
  * Forward: project every Gaussian (centre u, v and footprint sigma in
  * pixels), clip its cut-off box to the image, and bin it into 16 x 16 pixel
  * tiles with a counting sort, so each tile's list holds the Gaussians that
- * can touch it in index order. Tiles run in parallel; each pixel multiplies
- * its transmittance T = prod (1 - w_k) over its tile's list, alpha = 1 - T.
+ * can touch it in index order. Tiles run in parallel; within a tile each
+ * Gaussian visits the pixels of its box, so the cost follows the pixels
+ * covered, and each pixel's transmittance T = prod (1 - w_k) is multiplied
+ * up in index order; alpha = 1 - T.
  *
  * Backward: dalpha/dw_k = prod_{j != k} (1 - w_j), formed per pixel as
  * (prefix product before k) x (suffix product after k) without dividing by
- * 1 - w_k, which is 0 on an exact hit. Each (tile, Gaussian) entry collects
- * dL/d(u, v, sigma) over its tile's pixels; the entries are then summed per
- * Gaussian in tile order and carried to dL/dmu through the projection. No
- * sum depends on which thread ran a tile, so the result is bit-identical for
- * any thread count. */
+ * 1 - w_k, which is 0 on an exact hit. A tile is done row by row: a forward
+ * sweep over its list stores w and the prefix of every (Gaussian, pixel)
+ * pair of the row, a backward sweep forms the suffix. Each (tile, Gaussian)
+ * entry collects dL/d(u, v, sigma) from its tile's pixels; the entries are
+ * then summed per Gaussian in tile order and carried to dL/dmu through the
+ * projection. No sum depends on which thread ran a tile, so the result is
+ * bit-identical for any thread count. Scratch: 16 pairs per list entry of
+ * the longest tile list, per thread (so even the exact sum, where every
+ * Gaussian is in every tile, needs only 256 bytes per Gaussian per thread). */
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
@@ -20,6 +26,7 @@
 #include "splat.h"
 
 #define TILE 16
+#define PARALLEL_GAUSSIANS 16384
 
 typedef struct {
     double u, v, sigma;  /* centre (column, row) and footprint, pixels */
@@ -36,9 +43,9 @@ struct ws_splat {
     size_t entry_cap;
     int *entry;           /* entry_cap: the Gaussian of each (tile, Gaussian) entry */
     double *dentry;       /* entry_cap x 3: that entry's dL/d(u, v, sigma) */
-    int scratch_threads, scratch_len;
-    double *scratch;      /* threads x scratch_len x 2: w and suffix product, one pixel */
-    int *scratch_entry;   /* threads x scratch_len: which entry each scratch item is */
+    int scratch_threads;
+    size_t scratch_len;   /* (entry, pixel) pairs of one tile row, at most */
+    double *scratch;      /* threads x scratch_len x 2: w and prefix product per pair */
     ws_camera cam;        /* of the last forward pass */
     double half_cutoff2;  /* 0.5 cutoff^2: w is 0 where (r / sigma)^2 / 2 exceeds it */
     int n;                /* Gaussians of the last forward pass; -1 before any */
@@ -78,13 +85,11 @@ static int reserve_entries(ws_splat *s, size_t n, ws_status *st) {
     return WS_OK;
 }
 
-static int reserve_scratch(ws_splat *s, int threads, int len, ws_status *st) {
+static int reserve_scratch(ws_splat *s, int threads, size_t len, ws_status *st) {
     if (threads <= s->scratch_threads && len <= s->scratch_len) return WS_OK;
     if (threads < s->scratch_threads) threads = s->scratch_threads;
     if (len < s->scratch_len) len = s->scratch_len;
-    size_t items = (size_t)threads * (size_t)len;
-    if (grow((void **)&s->scratch, items * 2, sizeof *s->scratch, "pixel scratch", st) ||
-        grow((void **)&s->scratch_entry, items, sizeof *s->scratch_entry, "pixel scratch", st))
+    if (grow((void **)&s->scratch, (size_t)threads * len * 2, sizeof *s->scratch, "row scratch", st))
         return st->code;
     s->scratch_threads = threads;
     s->scratch_len = len;
@@ -105,7 +110,7 @@ int ws_splat_create(ws_splat **out, int width, int height, ws_status *st) {
     s->n = -1;
     if (grow((void **)&s->tile_start, (size_t)s->ntiles + 1, sizeof *s->tile_start, "tiles", st) ||
         reserve_gaussians(s, 1024, st) || reserve_entries(s, 4096, st) ||
-        reserve_scratch(s, omp_get_max_threads(), 256, st)) {
+        reserve_scratch(s, omp_get_max_threads(), 1024, st)) {
         ws_splat_free(s);
         return st->code;
     }
@@ -121,7 +126,6 @@ void ws_splat_free(ws_splat *s) {
     free(s->entry);
     free(s->dentry);
     free(s->scratch);
-    free(s->scratch_entry);
     free(s);
 }
 
@@ -155,13 +159,12 @@ static void project(const ws_camera *cam, const double mu[3], double radius, dou
     p->y1 = (int)y1;
 }
 
-/* Weight of Gaussian p at pixel (i, j) and the scaled offsets qx = (j - u) /
- * sigma, qy = (i - v) / sigma; 0 outside its box or beyond the cut-off.
+/* Weight of Gaussian p at pixel (i, j) of its box, 0 beyond the cut-off,
+ * and the scaled offsets qx = (j - u) / sigma, qy = (i - v) / sigma.
  * Offsets are scaled before squaring so that sigma far below a pixel cannot
  * overflow or turn an exact hit into 0/0. */
 static inline double weight(const projected *p, int i, int j, double half_cutoff2, double *qx,
                             double *qy) {
-    if (j < p->x0 || j > p->x1 || i < p->y0 || i > p->y1) return 0.0;
     *qx = (j - p->u) / p->sigma;
     *qy = (i - p->v) / p->sigma;
     double e = 0.5 * (*qx * *qx + *qy * *qy);
@@ -215,59 +218,84 @@ int ws_splat_forward(ws_splat *s, const ws_camera *cam, const double *mu, int n,
     if (reserve_gaussians(s, n, st)) return st->code;
     s->cam = *cam;
     s->half_cutoff2 = 0.5 * opt->cutoff * opt->cutoff;
-    #pragma omp parallel for schedule(static)
+    /* Per-Gaussian loops are cheap: a thread team pays only for many. */
+    #pragma omp parallel for schedule(static) if (n >= PARALLEL_GAUSSIANS)
     for (int k = 0; k < n; k++) project(cam, mu + (size_t)k * 3, radius, opt->cutoff, opt->near, &s->g[k]);
     int longest;
-    if (bin_tiles(s, n, &longest, st) || reserve_scratch(s, omp_get_max_threads(), longest, st))
+    if (bin_tiles(s, n, &longest, st) || reserve_scratch(s, omp_get_max_threads(), (size_t)longest * TILE, st))
         return st->code;
     const int W = s->width, H = s->height;
     const double half_cutoff2 = s->half_cutoff2;
+    /* Gaussian by Gaussian over each tile, so a Gaussian costs the pixels it
+     * covers; every pixel still multiplies its factors in index order. */
     #pragma omp parallel for schedule(dynamic, 1)
     for (int t = 0; t < s->ntiles; t++) {
         int i0 = (t / s->tiles_x) * TILE, j0 = (t % s->tiles_x) * TILE;
         int i1 = i0 + TILE < H ? i0 + TILE : H, j1 = j0 + TILE < W ? j0 + TILE : W;
+        double T[TILE * TILE];
+        for (int k = 0; k < TILE * TILE; k++) T[k] = 1.0;
+        for (size_t e = s->tile_start[t]; e < s->tile_start[t + 1]; e++) {
+            const projected *p = &s->g[s->entry[e]];
+            int ia = p->y0 > i0 ? p->y0 : i0, ib = p->y1 < i1 - 1 ? p->y1 : i1 - 1;
+            int ja = p->x0 > j0 ? p->x0 : j0, jb = p->x1 < j1 - 1 ? p->x1 : j1 - 1;
+            for (int i = ia; i <= ib; i++)
+                for (int j = ja; j <= jb; j++) {
+                    double qx, qy;
+                    T[(i - i0) * TILE + (j - j0)] *= 1.0 - weight(p, i, j, half_cutoff2, &qx, &qy);
+                }
+        }
         for (int i = i0; i < i1; i++)
-            for (int j = j0; j < j1; j++) {
-                double T = 1.0, qx, qy;
-                for (size_t e = s->tile_start[t]; e < s->tile_start[t + 1]; e++)
-                    T *= 1.0 - weight(&s->g[s->entry[e]], i, j, half_cutoff2, &qx, &qy);
-                alpha[(size_t)i * W + j] = 1.0 - T;
-            }
+            for (int j = j0; j < j1; j++) alpha[(size_t)i * W + j] = 1.0 - T[(i - i0) * TILE + (j - j0)];
     }
     s->n = n;
     return WS_OK;
 }
 
-/* One pixel's share of dL/d(u, v, sigma) for every entry of its tile:
- * dL/dw_k = dalpha * prefix_k * suffix_k, and
- * dw/du = w qx / sigma, dw/dv = w qy / sigma, dw/dsigma = w (qx^2 + qy^2) / sigma. */
-static void pixel_backward(ws_splat *s, size_t first, size_t last, int i, int j, double dalpha,
-                           double *wsuf, int *which) {
-    /* Sweep from the back: keep each contributing entry's w and the product
-     * of (1 - w) over the entries after it. */
-    int m = 0;
-    double suffix = 1.0, qx, qy;
-    for (size_t e = last; e-- > first;) {
-        double w = weight(&s->g[s->entry[e]], i, j, s->half_cutoff2, &qx, &qy);
-        if (w == 0.0) continue;
-        wsuf[2 * m] = w;
-        wsuf[2 * m + 1] = suffix;
-        which[m++] = (int)(e - first);
-        suffix *= 1.0 - w;
-    }
-    /* Sweep from the front with the prefix product. */
-    double prefix = 1.0;
-    while (m-- > 0) {
-        size_t e = first + (size_t)which[m];
+/* Row i of a tile (columns j0 .. j1-1): each entry's share of dL/d(u, v,
+ * sigma) from the row's pixels, added to s->dentry. With
+ * dL/dw_k = dalpha prefix_k suffix_k, dw/du = w qx / sigma,
+ * dw/dv = w qy / sigma, dw/dsigma = w (qx^2 + qy^2) / sigma.
+ * Forward over the entries: store w and the prefix product of every pixel
+ * an entry covers (wpre, in push order); backward over the entries: pop them
+ * in reverse while the suffix product grows. */
+static void row_backward(ws_splat *s, size_t first, size_t last, int i, int j0, int j1,
+                         const double *dalpha_row, double *wpre) {
+    double prefix[TILE], suffix[TILE], qx, qy;
+    size_t m = 0;
+    for (int j = j0; j < j1; j++) prefix[j - j0] = suffix[j - j0] = 1.0;
+    for (size_t e = first; e < last; e++) {
         const projected *p = &s->g[s->entry[e]];
-        double w = wsuf[2 * m], g = dalpha * prefix * wsuf[2 * m + 1] * w / p->sigma;
-        qx = (j - p->u) / p->sigma;
-        qy = (i - p->v) / p->sigma;
+        if (i < p->y0 || i > p->y1) continue;
+        int ja = p->x0 > j0 ? p->x0 : j0, jb = p->x1 < j1 - 1 ? p->x1 : j1 - 1;
+        for (int j = ja; j <= jb; j++) {
+            double w = weight(p, i, j, s->half_cutoff2, &qx, &qy);
+            wpre[2 * m] = w;
+            wpre[2 * m + 1] = prefix[j - j0];
+            m++;
+            prefix[j - j0] *= 1.0 - w;
+        }
+    }
+    for (size_t e = last; e-- > first;) {
+        const projected *p = &s->g[s->entry[e]];
+        if (i < p->y0 || i > p->y1) continue;
+        int ja = p->x0 > j0 ? p->x0 : j0, jb = p->x1 < j1 - 1 ? p->x1 : j1 - 1;
+        double du = 0, dv = 0, dsigma = 0;
+        for (int j = jb; j >= ja; j--) {
+            m--;
+            double w = wpre[2 * m];
+            if (w == 0.0) continue; /* also keeps qx of a vanishing sigma out */
+            double g = dalpha_row[j] * wpre[2 * m + 1] * suffix[j - j0] * w / p->sigma;
+            qx = (j - p->u) / p->sigma;
+            qy = (i - p->v) / p->sigma;
+            du += g * qx;
+            dv += g * qy;
+            dsigma += g * (qx * qx + qy * qy);
+            suffix[j - j0] *= 1.0 - w;
+        }
         double *d = s->dentry + e * 3;
-        d[0] += g * qx;
-        d[1] += g * qy;
-        d[2] += g * (qx * qx + qy * qy);
-        prefix *= 1.0 - w;
+        d[0] += du;
+        d[1] += dv;
+        d[2] += dsigma;
     }
 }
 
@@ -282,18 +310,17 @@ int ws_splat_backward(ws_splat *s, const double *dalpha, double *dmu, ws_status 
     const int threads = s->scratch_threads;
     #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int t = 0; t < s->ntiles; t++) {
-        int me = omp_get_thread_num();
-        double *wsuf = s->scratch + (size_t)me * s->scratch_len * 2;
-        int *which = s->scratch_entry + (size_t)me * s->scratch_len;
+        double *wpre = s->scratch + (size_t)omp_get_thread_num() * s->scratch_len * 2;
         size_t first = s->tile_start[t], last = s->tile_start[t + 1];
         memset(s->dentry + first * 3, 0, (last - first) * 3 * sizeof *s->dentry);
         int i0 = (t / s->tiles_x) * TILE, j0 = (t % s->tiles_x) * TILE;
         int i1 = i0 + TILE < H ? i0 + TILE : H, j1 = j0 + TILE < W ? j0 + TILE : W;
-        for (int i = i0; i < i1; i++)
-            for (int j = j0; j < j1; j++) {
-                double da = dalpha[(size_t)i * W + j];
-                if (da != 0.0) pixel_backward(s, first, last, i, j, da, wsuf, which);
-            }
+        for (int i = i0; i < i1; i++) {
+            const double *row = dalpha + (size_t)i * W;
+            int any = 0;
+            for (int j = j0; j < j1; j++) any |= row[j] != 0.0;
+            if (any) row_backward(s, first, last, i, j0, j1, row, wpre);
+        }
     }
     /* Sum the entries per Gaussian in tile order (fixed, thread-independent). */
     memset(s->dproj, 0, (size_t)n * 3 * sizeof *s->dproj);
@@ -304,7 +331,7 @@ int ws_splat_backward(ws_splat *s, const double *dalpha, double *dmu, ws_status 
      * du/dc = (f/d, 0, f cx/d^2), dv/dc = (0, -f/d, -f cy/d^2),
      * dsigma/dc = (0, 0, sigma/d); then dmu = R^T dc. */
     const ws_camera *cam = &s->cam;
-    #pragma omp parallel for schedule(static)
+    #pragma omp parallel for schedule(static) if (n >= PARALLEL_GAUSSIANS)
     for (int k = 0; k < n; k++) {
         const projected *p = &s->g[k];
         double *out = dmu + (size_t)k * 3;

@@ -7,6 +7,8 @@ const ws_command ws_commands[] = {
     {"render", cmd_render, "splat a sketch into every view of a split as PNGs"},
     {"grad", cmd_grad, "loss of one view and its gradient per control point (JSON)"},
     {"export", cmd_export, "write a sketch as OBJ, PLY or SVG"},
+    {"embed", cmd_embed, "CLIP embedding of images, one JSON array per line"},
+    {"bench", cmd_bench, "benchmarks: speed against the hardware's floor (tables)"},
     {"scene", cmd_scene, "write a synthetic test scene (NeRF layout) with its ground-truth curves"},
 };
 const int ws_ncommands = sizeof ws_commands / sizeof ws_commands[0];

@@ -18,5 +18,8 @@ int cmd_export(int argc, char **argv);
 int cmd_scene(int argc, char **argv);
 int cmd_fit(int argc, char **argv);
 int cmd_eval(int argc, char **argv);
+int cmd_embed(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+int cmd_bench_clip(int argc, char **argv);
 
 #endif

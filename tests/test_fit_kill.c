@@ -1,0 +1,133 @@
+/* test_fit_kill.c: a kill -9 at a random moment of a fit never leaves a
+ * corrupt checkpoint.
+ *
+ * A fit of a small synthetic scene checkpoints after every step
+ * (--checkpoint-minutes 0.0001), so that a large share of its time is spent
+ * writing checkpoints; it is killed with SIGKILL at random moments, from
+ * before its first checkpoint to deep into the run, the new fit and the
+ * resumed ones alike. After every kill, DIR/checkpoint.bin is either absent
+ * or loads completely, and `fit --resume DIR` either continues from it (one
+ * more step, exit 0) or says that there is no checkpoint (exit 1). The
+ * moments are printed, so a failure can be replayed. */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+#include "check.h"
+#include "checkpoint.h"
+
+static char bin[512], tmp[256], dir[300], ckpt[400];
+
+static int run(const char *args) {
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
+    int rc = system(cmd);
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+static int stderr_is(const char *want) {
+    char path[300], got[4096] = "";
+    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
+    FILE *f = fopen(path, "r");
+    if (f) {
+        got[fread(got, 1, sizeof got - 1, f)] = '\0';
+        fclose(f);
+    }
+    return !strcmp(got, want);
+}
+
+/* The step the checkpoint on disk is at: -1 when there is none, -2 when it
+ * does not load. */
+static long checkpoint_step(void) {
+    if (access(ckpt, F_OK) != 0) return -1;
+    ws_fit_state s;
+    ws_status st = {0};
+    int argc;
+    char **argv;
+    if (ws_checkpoint_load(ckpt, &s, &argc, &argv, &st)) {
+        fprintf(stderr, "%s\n", st.msg);
+        return -2;
+    }
+    long step = s.global_step;
+    ws_fit_state_free(&s);
+    ws_checkpoint_free_args(argc, argv);
+    return step;
+}
+
+/* Starts the fit (resume: `fit --resume`), SIGKILLs it after `ms`
+ * milliseconds; returns 1 if it was still running then. */
+static int fit_and_kill(int resume, int ms) {
+    char scene[300], steps[] = "100000";
+    snprintf(scene, sizeof scene, "%s/scene", tmp);
+    pid_t pid = fork();
+    if (pid == 0) {
+        if (!freopen("/dev/null", "w", stderr)) _exit(126);
+        if (resume)
+            execl(bin, bin, "fit", "--resume", dir, "--max-steps", steps, (char *)NULL);
+        else
+            execl(bin, bin, "fit", scene, "--out", dir, "--size", "64", "--loss", "edges", "--length",
+                  "0.3", "--threads", "1", "--quiet", "--checkpoint-minutes", "0.0001",
+                  "--snapshot-every", "1", "--max-steps", steps, (char *)NULL);
+        _exit(127);
+    }
+    struct timespec wait = {ms / 1000, (ms % 1000) * 1000000L};
+    nanosleep(&wait, NULL);
+    kill(pid, SIGKILL);
+    int status;
+    waitpid(pid, &status, 0);
+    return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
+int main(void) {
+    const char *build = getenv("BUILD");
+    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_kill_XXXXXX");
+    if (!mkdtemp(tmp)) return 1;
+    snprintf(dir, sizeof dir, "%s/fit", tmp);
+    snprintf(ckpt, sizeof ckpt, "%s/checkpoint.bin", dir);
+    char args[1024];
+    snprintf(args, sizeof args,
+             "scene trefoil --out %s/scene --size 64 --views-train 6 --views-val 1 --views-test 1", tmp);
+    CHECK(run(args) == 0, "scene generation failed");
+    unsigned seed = (unsigned)time(NULL);
+    srand(seed);
+    int killed = 0, resumed = 0, none = 0;
+    for (int round = 0; round < 10; round++) {
+        /* the first rounds start new fits (killed early, often before any
+         * checkpoint), later ones resume and are killed anywhere */
+        int fresh = round < 3 || checkpoint_step() == -1;
+        if (fresh) {
+            snprintf(args, sizeof args, "rm -rf %s", dir);
+            if (system(args) != 0) break;
+        }
+        int ms = fresh && round < 3 ? rand() % 60 : 20 + rand() % 400;
+        killed += fit_and_kill(!fresh, ms);
+        long step = checkpoint_step();
+        CHECK(step != -2, "seed %u round %d: checkpoint corrupt after kill -9 at %d ms", seed, round, ms);
+        /* --resume continues from it for one step, or says there is none */
+        snprintf(args, sizeof args, "fit --resume %s --max-steps %ld", dir, step + 1);
+        int rc = run(args);
+        if (step == -1) {
+            char want[600];
+            snprintf(want, sizeof want, "wiresketch: %s: no checkpoint to resume from\n", ckpt);
+            CHECK(rc == 1 && stderr_is(want), "seed %u round %d: no checkpoint, resume said otherwise",
+                  seed, round);
+            none++;
+        } else if (step >= 0) {
+            CHECK(rc == 0 && checkpoint_step() == step + 1,
+                  "seed %u round %d: resume from step %ld failed (exit %d)", seed, round, step, rc);
+            resumed++;
+        }
+    }
+    CHECK(killed >= 8, "only %d of 10 fits were still running when killed", killed);
+    CHECK(resumed >= 3, "only %d rounds had a checkpoint to resume", resumed);
+    printf("kill -9 at random moments (seed %u): %d killed, %d resumed, %d without checkpoint\n", seed,
+           killed, resumed, none);
+    snprintf(args, sizeof args, "rm -rf %s", tmp);
+    if (!check_failed && system(args) != 0) return 1;
+    return check_summary();
+}
