@@ -232,7 +232,9 @@ static void test_errors(const char *curves_path) {
         {"render %s --out %s/x", 2, "wiresketch: --scene: required (see --help)\n"},
         {"render %s/nothere.json --scene " SCENE " --out %s", 1, "nothere.json: cannot open: No such file or directory\n"},
         {"grad " SCENE " --curves %s --view 33 --loss l2%.0s", 2, "wiresketch: --view: 33 is not in [0, 32] (the test split has 33 views)\n"},
-        {"grad " SCENE " --curves %s --loss clip%.0s", 2, "wiresketch: --loss: 'clip' is not a loss (l2)\n"},
+        {"grad " SCENE " --curves %s --loss bogus%.0s", 2,
+         "wiresketch: --loss: 'bogus' is not clip, edges, clip+edges or l2\n"},
+        {"grad " SCENE " --curves %s --loss clip --weights %s/none.bin", 1, "none.bin: no CLIP weight file"},
         {"export %s --obj %s/nodir/x.obj", 1, "x.obj: cannot write"},
         {"export %s%.0s", 2, "wiresketch: nothing to do: give --obj, --ply or --svg (see --help)\n"},
     };
