@@ -1,8 +1,10 @@
 /* test_fit.c: `wiresketch fit` end to end through the command line, on a
  * small synthetic scene with the weight-free loss: the loss goes down, every
  * output is written, a resumed run (after --max-steps or after SIGINT) ends
- * bit-identical to an uninterrupted one, a non-finite gradient never moves
+ * bit-identical to an uninterrupted one, a short fit reaches the Chamfer
+ * distance the README states, the embedding example runs, a non-finite gradient never moves
  * the curves, and bad input gets its message and exit code. */
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,7 +15,7 @@
 #include "check.h"
 #include "checkpoint.h"
 
-static char bin[512], tmp[256];
+static char bin[600], dirname_of_bin[512], tmp[256];
 
 /* Runs `wiresketch ARGS` (through the shell), stderr into tmp/stderr.txt;
  * returns the exit code. */
@@ -91,6 +93,38 @@ static void test_outputs_and_loss(void) {
     CHECK(last < 0.9 * first, "training loss did not fall: first %g, last %g", first, last);
     snprintf(path, sizeof path, "%s/metrics.json", dir);
     CHECK(file_has(path, "\"test_loss\"") && file_has(path, "\"chamfer\""), "metrics.json incomplete");
+}
+
+/* The number after "key": in a JSON file, NaN if absent. */
+static double json_number(const char *path, const char *key) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NAN;
+    static char buf[1 << 16];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    char pattern[64];
+    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+    const char *p = strstr(buf, pattern);
+    return p ? atof(p + strlen(pattern)) : NAN;
+}
+
+/* The README's promise: 300 steps on this 64 px trefoil bring the curve
+ * Chamfer distance from about 0.16 of the diagonal (the random start) to
+ * below 0.06 (measured 0.039). */
+static void test_quality(void) {
+    char args[1024], path[300];
+    snprintf(args, sizeof args, FIT " --out %s/q --max-steps 300", tmp, tmp);
+    CHECK(run(args) == 0, "300-step fit failed");
+    snprintf(path, sizeof path, "%s/q/metrics.json", tmp);
+    double chamfer = json_number(path, "chamfer");
+    CHECK(chamfer < 0.06, "Chamfer after 300 steps %g, the README promises < 0.06", chamfer);
+    snprintf(args, sizeof args, "%s/scene %s/q/curves.json", tmp, tmp);
+    char cmd[2400];
+    snprintf(cmd, sizeof cmd, "%s/embed_example %s > %s/stdout.txt 2>&1", dirname_of_bin, args, tmp);
+    CHECK(system(cmd) == 0, "embed_example failed");
+    snprintf(path, sizeof path, "%s/stdout.txt", tmp);
+    CHECK(file_has(path, "view r_0: 25 curves,") && file_has(path, "l2 loss"), "embed_example output");
 }
 
 static void test_resume_after_max_steps(void) {
@@ -205,7 +239,8 @@ static void test_unusable_steps_refused(void) {
 
 int main(void) {
     const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
+    snprintf(dirname_of_bin, sizeof dirname_of_bin, "%s", build ? build : "build");
+    snprintf(bin, sizeof bin, "%s/wiresketch", dirname_of_bin);
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_XXXXXX");
     if (!mkdtemp(tmp)) return 1;
     char args[600];
@@ -213,6 +248,7 @@ int main(void) {
              "scene trefoil --out %s/scene --size 64 --views-train 6 --views-val 2 --views-test 2", tmp);
     CHECK(run(args) == 0, "scene generation failed");
     test_outputs_and_loss();
+    test_quality();
     test_resume_after_max_steps();
     test_resume_after_sigint();
     test_bad_input();

@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 ws=${BUILD:-build}/wiresketch
 mkdir -p demo
 [ -f demo/trefoil/transforms_train.json ] || "$ws" scene trefoil --out demo/trefoil
-fit="--epochs 2 --inner-steps 30 --length 0.3 --seed 1"
+fit="--epochs 6 --inner-steps 30 --length 0.3 --seed 1"
 "$ws" fit demo/trefoil --out demo/fit-edges --loss edges $fit
 echo "evaluation against the ground-truth curves (demo/fit-edges):"
 "$ws" eval demo/trefoil --curves demo/fit-edges/curves.json --loss edges
