@@ -60,8 +60,9 @@ test: all $(TEST_BIN)
 
 # Fuzzing (clang + libFuzzer; tools/setup_fuzz.sh installs them). The
 # library is rebuilt with clang and coverage into build/fuzz; each target
-# runs FUZZ_SECONDS on a copy of its seed corpus (new inputs land in
-# build/fuzz/corpus/TARGET, crashes in build/fuzz/findings/TARGET).
+# runs FUZZ_SECONDS on its seed corpus, with tests/fuzz/TARGET.dict (or
+# json.dict) as dictionary (new inputs land in build/fuzz/corpus/TARGET,
+# crashes in build/fuzz/findings/TARGET).
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_BIN     := $(FUZZ_TARGETS:%=build/fuzz/fuzz_%)
@@ -76,15 +77,25 @@ fuzz: fuzz-build
 	@for t in $(FUZZ_TARGETS); do \
 	    mkdir -p build/fuzz/corpus/$$t build/fuzz/findings/$$t && \
 	    echo "fuzz_$$t: $(FUZZ_SECONDS) s" && \
+	    dict=tests/fuzz/$$t.dict; case $$t in scene|curves) dict=tests/fuzz/json.dict;; esac; \
 	    OMP_NUM_THREADS=1 build/fuzz/fuzz_$$t build/fuzz/corpus/$$t tests/fuzz/corpus/$$t \
-	        -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=4096 -max_len=65536 \
+	        $$([ -f $$dict ] && echo -dict=$$dict) -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=4096 -max_len=65536 \
 	        -artifact_prefix=build/fuzz/findings/$$t/ -print_final_stats=1 2>build/fuzz/fuzz_$$t.log; \
-	    rc=$$?; grep -E '^(stat::number_of_executed_units|#[0-9]+ +DONE)' build/fuzz/fuzz_$$t.log; \
+	    rc=$$?; grep -E '^#[0-9]+[[:space:]]+DONE' build/fuzz/fuzz_$$t.log; \
 	    if [ $$rc -ne 0 ]; then tail -n 40 build/fuzz/fuzz_$$t.log; exit 1; fi; \
 	done
 
 demo: all
 	@BUILD=$(BUILD) bash tools/demo.sh
+
+# `make bench`: every benchmark table of the README's "Speed and accuracy"
+# (wiresketch bench). The f16 row and the peak-memory part need a ViT-B/32
+# with random weights as f32 and f16 files: made once (about a minute).
+bench: all weights/random-f32.bin weights/random-f16.bin
+	$(BUILD)/wiresketch bench
+
+weights/random-%.bin:
+	python3 tools/make_random_weights.py $@ --dtype $*
 
 clean:
 	rm -rf build

@@ -1,11 +1,12 @@
 /* fit.c: the optimisation loop of `wiresketch fit` (see fit.h).
  *
- * One step: sample the curves into Gaussians; for each view of the batch,
- * splat, take the loss and its gradient (loss.h), splat backward, curve
- * backward; average over the batch; refuse the step if anything is not
- * finite; Adam. The state that decides the trajectory (control points, Adam
- * moments, rng, position in the schedule) lives in ws_fit_state and is what
- * a checkpoint stores, so a resumed run takes exactly the same steps. */
+ * One step: the batch's loss and gradient (step.h: sample the curves into
+ * Gaussians; for each view of the batch, splat, take the loss and its
+ * gradient, splat backward, curve backward; average over the batch); refuse
+ * the step if anything is not finite; Adam. The state that decides the
+ * trajectory (control points, Adam moments, rng, position in the schedule)
+ * lives in ws_fit_state and is what a checkpoint stores, so a resumed run
+ * takes exactly the same steps. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +19,7 @@
 #include "fit_outputs.h"
 #include "outfile.h"
 #include "scene.h"
-#include "splat.h"
+#include "step.h"
 
 volatile sig_atomic_t ws_fit_stop_requested = 0;
 
@@ -62,14 +63,8 @@ static double now_seconds(void) {
 typedef struct {
     const ws_fit_options *opt;
     ws_scene scene;
-    ws_loss *loss;
-    ws_splat *splat;
-    ws_splat_options splat_opt;
-    ws_gaussians gaussians;
-    double *alpha, *dalpha;   /* H x W */
-    double *dmu;              /* gaussians x 3, grown with them */
-    int dmu_cap;
-    double *dP, *grad;        /* curves x 12 */
+    ws_step step;             /* loss, splatting and their buffers */
+    double *grad;             /* curves x 12 */
     double *backup;           /* 3 x curves x 12: P, Adam m and v before an update */
     ws_fit_state s;
     double start;             /* now_seconds() when this process began fitting */
@@ -87,43 +82,11 @@ static void shuffle(int *order, int n, ws_rng *rng) {
     }
 }
 
-static int grow_dmu(fit_run *r, ws_status *st) {
-    if (r->gaussians.n <= r->dmu_cap) return WS_OK;
-    free(r->dmu);
-    r->dmu_cap = r->gaussians.n * 2;
-    r->dmu = ws_malloc((size_t)r->dmu_cap * 3 * sizeof(double), "Gaussian gradients", st);
-    return r->dmu ? WS_OK : st->code;
-}
-
-/* The loss of one view for the current Gaussians; with grad, dL/dP is added
- * to r->grad with weight `scale`. */
-static int view_loss(fit_run *r, int split, int view, int augment, double scale, double *loss,
-                     int grad, ws_status *st) {
-    const ws_view *v = &r->scene.split[split].views[view];
-    if (ws_splat_forward(r->splat, &v->cam, r->gaussians.mu, r->gaussians.n, r->s.curves.thickness,
-                         &r->splat_opt, r->alpha, st) ||
-        ws_loss_view(r->loss, split, view, r->alpha, augment, &r->s.rng, loss,
-                     grad ? r->dalpha : NULL, st))
-        return st->code;
-    if (!grad) return WS_OK;
-    if (grow_dmu(r, st) || ws_splat_backward(r->splat, r->dalpha, r->dmu, st)) return st->code;
-    ws_curves_backward(&r->s.curves, &r->gaussians, r->dmu, r->dP);
-    for (int i = 0; i < r->s.curves.n * 12; i++) r->grad[i] += scale * r->dP[i];
-    return WS_OK;
-}
-
 /* One Adam step on the views of a batch. A non-finite loss or gradient is
  * reported and the step refused: the control points and moments stay. */
 static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws_status *st) {
     int np = r->s.curves.n * 12;
-    memset(r->grad, 0, np * sizeof(double));
-    *loss = 0;
-    int rc = ws_curves_sample(&r->s.curves, &r->gaussians, st);
-    for (int k = 0; k < nviews && !rc; k++) {
-        double l;
-        rc = view_loss(r, WS_TRAIN, views[k], 1, 1.0 / nviews, &l, 1, st);
-        *loss += l / nviews;
-    }
+    int rc = ws_step_batch(&r->step, &r->s.curves, views, nviews, &r->s.rng, loss, r->grad, st);
     if (rc && rc != WS_ENUMERIC) return rc;
     int finite = !rc && isfinite(*loss);
     for (int i = 0; i < np && finite; i++) finite = isfinite(r->grad[i]);
@@ -143,7 +106,7 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
     memcpy(r->backup + np, adam->m, np * sizeof(double));
     memcpy(r->backup + 2 * np, adam->v, np * sizeof(double));
     ws_adam_update(adam, r->s.curves.P, r->grad);
-    rc = ws_curves_sample(&r->s.curves, &r->gaussians, st);
+    rc = ws_curves_sample(&r->s.curves, &r->step.gaussians, st);
     if (rc == WS_ENUMERIC) {
         memcpy(r->s.curves.P, r->backup, np * sizeof(double));
         memcpy(adam->m, r->backup + np, np * sizeof(double));
@@ -161,9 +124,10 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
 /* The mean loss of a split's views, item 0 only (NaN for an empty split);
  * per_view (n, or NULL) receives each view's loss. */
 static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_status *st) {
-    if (ws_curves_sample(&r->s.curves, &r->gaussians, st)) return st->code;
-    return ws_split_loss(r->loss, r->splat, &r->splat_opt, &r->scene, split, &r->gaussians,
-                         r->s.curves.thickness, r->alpha, per_view, mean, st);
+    ws_step *p = &r->step;
+    if (ws_curves_sample(&r->s.curves, &p->gaussians, st)) return st->code;
+    return ws_split_loss(p->loss, p->splat, &p->splat_opt, &r->scene, split, &p->gaussians,
+                         r->s.curves.thickness, p->alpha, per_view, mean, st);
 }
 
 static int append_log(ws_fit_state *s, const ws_log_row *row, ws_status *st) {
@@ -320,13 +284,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
 }
 
 static void fit_run_free(fit_run *r) {
-    ws_loss_free(r->loss);
-    ws_splat_free(r->splat);
-    ws_gaussians_free(&r->gaussians);
-    free(r->alpha);
-    free(r->dalpha);
-    free(r->dmu);
-    free(r->dP);
+    ws_step_free(&r->step);
     free(r->grad);
     free(r->backup);
     ws_fit_state_free(&r->s);
@@ -358,17 +316,14 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     } else if (init_state(r, st) || save_checkpoint(r, argv, argc, st)) {
         return st->code;
     }
-    ws_splat_options_default(&r->splat_opt);
-    r->splat_opt.cutoff = o->cutoff;
-    size_t pixels = (size_t)r->scene.width * r->scene.height;
+    ws_splat_options splat_opt;
+    ws_splat_options_default(&splat_opt);
+    splat_opt.cutoff = o->cutoff;
+    ws_loss_options lo = o->loss;
+    lo.aug_seed = o->seed; /* an augmentation bank follows the run's seed */
     size_t np = (size_t)r->s.curves.n * 12;
-    if (ws_loss_create(&r->loss, &o->loss, &r->scene, st) ||
-        ws_splat_create(&r->splat, r->scene.width, r->scene.height, st))
-        return st->code;
-    if (!(r->alpha = ws_malloc(pixels * sizeof(double), "stroke image", st)) ||
-        !(r->dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||
-        !(r->dP = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
-        !(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
+    if (ws_step_init(&r->step, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
+    if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
         !(r->backup = ws_malloc(3 * np * sizeof(double), "control point backup", st)))
         return st->code;
     return WS_OK;

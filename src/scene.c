@@ -333,6 +333,27 @@ static void axes_center(const ws_scene *scene, double center[3]) {
         }
 }
 
+/* Everything downstream (initialisation radius, turntable, culling)
+ * squares distances between the cameras and the centre: a camera so far
+ * out that they overflow is refused here, naming its frame. */
+static int check_distances(ws_scene *scene, ws_status *st) {
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (int k = 0; k < scene->split[s].n; k++) {
+            double p[3], d2 = 0;
+            ws_camera_position(&scene->split[s].views[k].cam, p);
+            for (int i = 0; i < 3; i++) d2 += (p[i] - scene->center[i]) * (p[i] - scene->center[i]);
+            if (!isfinite(d2)) {
+                ws_fail(st, WS_EINPUT,
+                        "%s/transforms_%s.json: frame %d: camera too far out (its distance to the "
+                        "scene centre overflows)",
+                        scene->dir, ws_split_names[s], k);
+                ws_scene_free(scene);
+                return st->code;
+            }
+        }
+    return WS_OK;
+}
+
 int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt, ws_status *st) {
     memset(scene, 0, sizeof *scene);
     if (opt->width <= 0 || opt->height <= 0)
@@ -359,5 +380,5 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
         return st->code;
     }
     axes_center(scene, scene->center);
-    return WS_OK;
+    return check_distances(scene, st);
 }

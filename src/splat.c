@@ -27,6 +27,7 @@
 
 #define TILE 16
 #define PARALLEL_GAUSSIANS 16384
+#define EXP_ZERO_SIGMAS 38.63 /* sqrt(2 * 746): beyond it w = exp(-r^2 / 2 sigma^2) == 0 */
 
 typedef struct {
     double u, v, sigma;  /* centre (column, row) and footprint, pixels */
@@ -144,15 +145,10 @@ static void project(const ws_camera *cam, const double mu[3], double radius, dou
     p->v = 0.5 * cam->height - f * p->c[1] / d;
     p->sigma = f * radius / d;
     if (!isfinite(p->u) || !isfinite(p->v) || !(p->sigma > 0) || !isfinite(p->sigma)) return;
-    double x0 = 0, x1 = cam->width - 1, y0 = 0, y1 = cam->height - 1;
-    if (isfinite(cutoff)) {
-        double reach = cutoff * p->sigma;
-        x0 = fmax(x0, ceil(p->u - reach));
-        x1 = fmin(x1, floor(p->u + reach));
-        y0 = fmax(y0, ceil(p->v - reach));
-        y1 = fmin(y1, floor(p->v + reach));
-        if (x0 > x1 || y0 > y1) return;
-    }
+    double reach = cutoff * p->sigma;
+    double x0 = fmax(0, ceil(p->u - reach)), x1 = fmin(cam->width - 1, floor(p->u + reach));
+    double y0 = fmax(0, ceil(p->v - reach)), y1 = fmin(cam->height - 1, floor(p->v + reach));
+    if (x0 > x1 || y0 > y1) return;
     p->x0 = (int)x0;
     p->x1 = (int)x1;
     p->y0 = (int)y0;
@@ -217,10 +213,14 @@ int ws_splat_forward(ws_splat *s, const ws_camera *cam, const double *mu, int n,
             return ws_fail(st, WS_ENUMERIC, "splat: Gaussian %zu has a non-finite centre", k / 3);
     if (reserve_gaussians(s, n, st)) return st->code;
     s->cam = *cam;
-    s->half_cutoff2 = 0.5 * opt->cutoff * opt->cutoff;
+    /* exp(-e) is exactly 0 in double for e > 746 (below half the smallest
+     * subnormal), so no cut-off beyond sqrt(2 * 746) = 38.6 sigmas changes a
+     * bit: the exact sum (cutoff INFINITY) clips its boxes there too. */
+    const double cutoff = fmin(opt->cutoff, EXP_ZERO_SIGMAS);
+    s->half_cutoff2 = 0.5 * cutoff * cutoff;
     /* Per-Gaussian loops are cheap: a thread team pays only for many. */
     #pragma omp parallel for schedule(static) if (n >= PARALLEL_GAUSSIANS)
-    for (int k = 0; k < n; k++) project(cam, mu + (size_t)k * 3, radius, opt->cutoff, opt->near, &s->g[k]);
+    for (int k = 0; k < n; k++) project(cam, mu + (size_t)k * 3, radius, cutoff, opt->near, &s->g[k]);
     int longest;
     if (bin_tiles(s, n, &longest, st) || reserve_scratch(s, omp_get_max_threads(), (size_t)longest * TILE, st))
         return st->code;
@@ -307,7 +307,9 @@ int ws_splat_backward(ws_splat *s, const double *dalpha, double *dmu, ws_status 
         if (!isfinite(dalpha[p]))
             return ws_fail(st, WS_ENUMERIC, "splat: dL/dalpha is not finite at pixel (%zu, %zu)",
                            p / W, p % W);
-    const int threads = s->scratch_threads;
+    /* The scratch was sized for the team of the forward pass; never more. */
+    const int threads = omp_get_max_threads() < s->scratch_threads ? omp_get_max_threads()
+                                                                  : s->scratch_threads;
     #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int t = 0; t < s->ntiles; t++) {
         double *wpre = s->scratch + (size_t)omp_get_thread_num() * s->scratch_len * 2;

@@ -211,6 +211,13 @@ static void test_scenes(void) {
                      "[0, 0, 0, 1]]}]}");
     rc = run("fit %s --out %s " FIT, s, out);
     CHECK(ANSWER(1, rc, "%s: frame 0: transform_matrix has a non-finite entry", path), "Inf matrix");
+    write_text(path, "{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"train/r_0\", "
+                     "\"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 1e300], "
+                     "[0, 0, 0, 1]]}]}");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: frame 0: camera too far out (its distance to the scene centre overflows)",
+                 path),
+          "camera at 1e300");
     write_text(path, "{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"train/r_9\", "
                      "\"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]}]}");
     rc = run("fit %s --out %s " FIT, s, out);

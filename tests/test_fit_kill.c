@@ -58,10 +58,24 @@ static long checkpoint_step(void) {
     return step;
 }
 
-/* Starts the fit (resume: `fit --resume`), SIGKILLs it after `ms`
- * milliseconds; returns 1 if it was still running then. */
-static int fit_and_kill(int resume, int ms) {
-    char scene[300], steps[] = "100000";
+/* Temporaries in dir: each is a checkpoint write a kill interrupted (they
+ * stay, and are never read). */
+static int temporaries(void) {
+    char cmd[600];
+    int n = 0;
+    snprintf(cmd, sizeof cmd, "ls %s 2>/dev/null | grep -c '^checkpoint\\.bin\\.tmp\\.'", dir);
+    FILE *p = popen(cmd, "r");
+    if (p) {
+        if (fscanf(p, "%d", &n) != 1) n = 0;
+        pclose(p);
+    }
+    return n;
+}
+
+/* Starts a fit of at most `steps` steps that checkpoints after every step
+ * (resume: `fit --resume DIR`, which keeps the stored settings). */
+static pid_t start_fit(int resume, const char *steps) {
+    char scene[300];
     snprintf(scene, sizeof scene, "%s/scene", tmp);
     pid_t pid = fork();
     if (pid == 0) {
@@ -74,6 +88,13 @@ static int fit_and_kill(int resume, int ms) {
                   "--snapshot-every", "1", "--max-steps", steps, (char *)NULL);
         _exit(127);
     }
+    return pid;
+}
+
+/* Starts a long fit, SIGKILLs it after `ms` milliseconds; returns 1 if it
+ * was still running then. */
+static int fit_and_kill(int resume, int ms) {
+    pid_t pid = start_fit(resume, "100000");
     struct timespec wait = {ms / 1000, (ms % 1000) * 1000000L};
     nanosleep(&wait, NULL);
     kill(pid, SIGKILL);
@@ -95,19 +116,26 @@ int main(void) {
     CHECK(run(args) == 0, "scene generation failed");
     unsigned seed = (unsigned)time(NULL);
     srand(seed);
-    int killed = 0, resumed = 0, none = 0;
+    int killed = 0, resumed = 0, none = 0, interrupted = 0;
     for (int round = 0; round < 10; round++) {
-        /* the first rounds start new fits (killed early, often before any
-         * checkpoint), later ones resume and are killed anywhere */
-        int fresh = round < 3 || checkpoint_step() == -1;
+        /* rounds 0-2 start new fits and kill them early, often before their
+         * first checkpoint; rounds 3-9 resume one and kill it anywhere */
+        int fresh = round < 3;
         if (fresh) {
             snprintf(args, sizeof args, "rm -rf %s", dir);
             if (system(args) != 0) break;
+        } else if (round == 3 && checkpoint_step() == -1) {
+            int status;
+            waitpid(start_fit(0, "1"), &status, 0);
+            CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, "the fit to resume from failed");
         }
-        int ms = fresh && round < 3 ? rand() % 60 : 20 + rand() % 400;
+        int ms = fresh ? rand() % 60 : 20 + rand() % 400;
+        int before = temporaries();
         killed += fit_and_kill(!fresh, ms);
+        interrupted += temporaries() - before;
         long step = checkpoint_step();
         CHECK(step != -2, "seed %u round %d: checkpoint corrupt after kill -9 at %d ms", seed, round, ms);
+        CHECK(fresh || step >= 0, "seed %u round %d: the checkpoint vanished", seed, round);
         /* --resume continues from it for one step, or says there is none */
         snprintf(args, sizeof args, "fit --resume %s --max-steps %ld", dir, step + 1);
         int rc = run(args);
@@ -124,9 +152,10 @@ int main(void) {
         }
     }
     CHECK(killed >= 8, "only %d of 10 fits were still running when killed", killed);
-    CHECK(resumed >= 3, "only %d rounds had a checkpoint to resume", resumed);
-    printf("kill -9 at random moments (seed %u): %d killed, %d resumed, %d without checkpoint\n", seed,
-           killed, resumed, none);
+    CHECK(resumed >= 7, "only %d rounds had a checkpoint to resume", resumed);
+    printf("kill -9 at random moments (seed %u): %d killed, %d resumed, %d without checkpoint, %d "
+           "checkpoint writes interrupted\n",
+           seed, killed, resumed, none, interrupted);
     snprintf(args, sizeof args, "rm -rf %s", tmp);
     if (!check_failed && system(args) != 0) return 1;
     return check_summary();

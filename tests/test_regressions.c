@@ -19,6 +19,7 @@
 #include "curves.h"
 #include "image.h"
 #include "outfile.h"
+#include "pointcloud.h"
 #include "scene.h"
 
 /* A scene directory with train/r_0.png .. train/r_2.png, as fuzz_scene.c
@@ -44,6 +45,13 @@ static int load_weights(const char *path, ws_status *st) {
     clip_model *m;
     int rc = clip_model_load(&m, path, st);
     if (!rc) clip_model_free(m);
+    return rc;
+}
+
+static int load_ply(const char *path, ws_status *st) {
+    ws_pointcloud pc;
+    int rc = ws_pointcloud_load_ply(path, &pc, st);
+    if (!rc) ws_pointcloud_free(&pc);
     return rc;
 }
 
@@ -82,7 +90,7 @@ static const struct {
     int names_copy; /* the message names the copy in scene_dir */
 } targets[] = {
     {"scene", load_scene, 1},     {"png", load_png, 0},           {"weights", load_weights, 0},
-    {"curves", load_curves, 0},   {"checkpoint", load_checkpoint, 0},
+    {"curves", load_curves, 0},   {"checkpoint", load_checkpoint, 0}, {"ply", load_ply, 0},
 };
 
 /* Each regression input and the message it gets (after "PATH"). */

@@ -463,6 +463,16 @@ static void test_stiff(void) {
     check_dmu_fd("5000 on a pixel", &small, mu5, 5000, radius, &opt, some, 3, 1e-7, 1e-4);
     free(mu5);
 
+    /* Off the image by 30 and 40 sigmas (sigma 1 px): alpha cannot show
+     * w = exp(-450) next to 1, but the exact gradient does; at 40 sigmas
+     * exp(-800) is 0 in double and so is the gradient. */
+    double off[6] = {-62 * 4 / f, 0, 0, -72 * 4 / f, 0, 0};
+    opt.cutoff = INFINITY;
+    ws_splat_forward(s, &cam, off, 2, 4 / f, &opt, a, &st);
+    ws_splat_backward(s, ones, dmu, &st);
+    CHECK(dmu[0] != 0 && all_finite(dmu, 6), "30 sigmas off the image: exact gradient %g", dmu[0]);
+    CHECK(dmu[3] == 0 && dmu[4] == 0 && dmu[5] == 0, "40 sigmas off the image: gradient 0");
+
     /* Nothing to draw. */
     CHECK(ws_splat_forward(s, &cam, NULL, 0, radius, &opt, a, &st) == WS_OK, "no Gaussians");
     double amax = 0;

@@ -18,6 +18,9 @@ corpus is committed):
                own writer
   curves/      a fitted sketch, a synthetic scene's ground truth, edge cases
   checkpoint/  checkpoints of two short fits of a 32-pixel synthetic scene
+  ply/         point clouds: ascii, binary of both byte orders, other types,
+               extra properties, a list and a face element; rose's
+               gt_points.ply cut to its first 40 points
 The last two need a built wiresketch. Python 3 standard library only.
 """
 import argparse
@@ -196,6 +199,30 @@ def weights_corpus():
 
 
 # --------------------------------------------------------------------------
+# PLY point clouds
+
+def ply_corpus():
+    points = [(0.5 * i, -0.25 * i, 1.0 + i) for i in range(5)]
+    ascii_ = "ply\nformat ascii 1.0\ncomment seed\nelement vertex 5\nproperty float x\n" \
+             "property float y\nproperty float z\nproperty uchar red\nelement face 1\n" \
+             "property list uchar int vertex_indices\nend_header\n"
+    ascii_ += "".join(f"{x} {y} {z} {i * 40}\n" for i, (x, y, z) in enumerate(points)) + "3 0 1 2\n"
+    write("ply", "ascii_face.ply", ascii_.encode())
+    head = ("ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty double x\n"
+            "property double y\nproperty double z\nproperty float nx\nend_header\n").encode()
+    write("ply", "binary_le_double.ply",
+          head + b"".join(struct.pack("<dddf", x, y, z, 1.0) for x, y, z in points))
+    head = ("ply\nformat binary_big_endian 1.0\nelement vertex 5\nproperty list uchar short idx\n"
+            "property int16 x\nproperty int16 y\nproperty int16 z\nend_header\n").encode()
+    write("ply", "binary_be_list_int16.ply",
+          head + b"".join(struct.pack(">BhhBhhh", 2, 7, 8, i, -i, 2 * i, 3) for i in range(5)))
+    rose = open(os.path.join(ROSE, "gt_points.ply"), "rb").read()
+    end = rose.index(b"end_header\n") + len(b"end_header\n")
+    header = rose[:end].replace(b"element vertex 136205", b"element vertex 40")
+    write("ply", "rose_40_points.ply", header + rose[end:end + 40 * 12])
+
+
+# --------------------------------------------------------------------------
 # Curves and checkpoints: from short fits of a small synthetic scene
 
 def run(cmd):
@@ -230,11 +257,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--wiresketch", default=os.path.join(ROOT, "build", "wiresketch"))
     args = ap.parse_args()
-    for kind in ("scene", "png", "weights", "curves", "checkpoint"):
+    for kind in ("scene", "png", "weights", "curves", "checkpoint", "ply"):
         shutil.rmtree(os.path.join(CORPUS, kind), ignore_errors=True)
         os.makedirs(os.path.join(CORPUS, kind))
     png_corpus()
     weights_corpus()
+    ply_corpus()
     with tempfile.TemporaryDirectory() as tmp:
         scene = os.path.join(tmp, "scene")
         run([args.wiresketch, "scene", "trefoil", "--out", scene, "--size", "32", "--views-train", "3",

@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages wiresketch builds and tests with, only those
 # that are missing (as root, non-interactive). Nothing else is downloaded.
+# `tools/setup.sh fuzz` adds what `make fuzz` needs (clang with libFuzzer and
+# the sanitizer runtimes, clang's OpenMP, llvm-symbolizer); CI does not fuzz.
 set -euo pipefail
 packages="build-essential pkg-config libopenblas-dev libpng-dev zlib1g-dev libcjson-dev libgif-dev python3"
+if [ "${1:-}" = fuzz ]; then
+    packages="$packages clang libclang-rt-14-dev libomp-14-dev llvm-14"
+fi
 missing=""
 for p in $packages; do
     dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"

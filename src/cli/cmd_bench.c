@@ -1,25 +1,153 @@
-/* cmd_bench.c: `wiresketch bench PART`: the benchmarks, one subcommand per
- * part of the program (they print tables; nothing here is a test). */
+/* cmd_bench.c: `wiresketch bench [PART] [--json]`: the benchmarks, one part
+ * per concern (bench_parts.h); without PART every part runs, in one process
+ * on the same inputs. They print tables; nothing here is a test. */
+#include <cblas.h>
+#include <math.h>
+#include <omp.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include "args.h"
+#include "bench_parts.h"
 #include "commands.h"
+#include "threads.h"
+
+static const struct {
+    const char *name;
+    int (*run)(bench_ctx *ctx, cJSON *out, ws_status *st);
+    const char *summary;
+} parts[] = {
+    {"clip", bench_part_clip, "CLIP forward and forward+backward against the GEMM floor"},
+    {"splat", bench_part_splat, "splatting time and error for 1k, 10k, 100k Gaussians and each cut-off"},
+    {"step", bench_part_step, "where the time of a default training step goes"},
+    {"approx", bench_part_approx, "error against run time of every approximation"},
+    {"memory", bench_part_memory, "peak memory of a default fit (a child process)"},
+};
+enum { NPARTS = sizeof parts / sizeof parts[0] };
+
+cJSON *bench_number(double x) { return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull(); }
+
+int bench_scene(bench_ctx *ctx, ws_status *st) {
+    if (ctx->have_scene) return WS_OK;
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    if (ws_scene_load(&ctx->scene, ctx->scene_dir, &so, st)) return st->code;
+    ctx->have_scene = 1;
+    return WS_OK;
+}
+
+int bench_model(bench_ctx *ctx, ws_status *st) {
+    if (ctx->model) return WS_OK;
+    static const wf_arch vit_b32 = {768, 12, 12, 32, 224, 512};
+    return ctx->weights ? clip_model_load(&ctx->model, ctx->weights, st)
+                        : clip_model_random(&ctx->model, &vit_b32, 1, st);
+}
+
+int bench_sketch(bench_ctx *ctx, ws_status *st) {
+    if (ctx->sketch.n) return WS_OK;
+    /* 25 curves of ~1 unit around the centre: about 2,000 Gaussians, the
+     * size a default fit's sketch grows to */
+    return bench_scene(ctx, st) || ws_bench_sketch(&ctx->sketch, 25, ctx->scene.center, 0.8, 1.05, 1, st)
+               ? st->code
+               : WS_OK;
+}
+
+/* The machine: CPU model, cores, OpenBLAS build and kernels, load. */
+static cJSON *machine(void) {
+    char cpu[256] = "unknown", line[512];
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, "model name", 10) && strchr(line, ':')) {
+            snprintf(cpu, sizeof cpu, "%s", strchr(line, ':') + 2);
+            cpu[strcspn(cpu, "\n")] = '\0';
+            break;
+        }
+    if (f) fclose(f);
+    double load[3] = {NAN, NAN, NAN};
+    f = fopen("/proc/loadavg", "r");
+    if (f && fscanf(f, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3) load[0] = NAN;
+    if (f) fclose(f);
+    cJSON *m = cJSON_CreateObject();
+    cJSON_AddStringToObject(m, "cpu", cpu);
+    cJSON_AddNumberToObject(m, "cores", omp_get_num_procs());
+    cJSON_AddNumberToObject(m, "threads", ws_threads_get());
+    cJSON_AddStringToObject(m, "openblas", openblas_get_config());
+    cJSON_AddStringToObject(m, "kernels", openblas_get_corename());
+    cJSON_AddItemToObject(m, "load_average", bench_number(load[0]));
+    return m;
+}
+
+static void free_ctx(bench_ctx *ctx) {
+    if (ctx->have_scene) ws_scene_free(&ctx->scene);
+    clip_model_free(ctx->model);
+    ws_curves_free(&ctx->sketch);
+}
 
 int cmd_bench(int argc, char **argv) {
-    static const struct {
-        const char *name;
-        int (*run)(int argc, char **argv);
-        const char *summary;
-    } parts[] = {
-        {"clip", cmd_bench_clip, "CLIP forward and forward+backward against the GEMM floor"},
+    bench_ctx ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.rounds = 3;
+    ctx.batch = 5;
+    ctx.aug_bank = 8;
+    ctx.scene_dir = "../shared/scenes/rose";
+    ctx.weights_f32 = "weights/random-f32.bin";
+    ctx.weights_f16 = "weights/random-f16.bin";
+    ctx.exe = "/proc/self/exe";
+    const ws_arg args[] = {
+        {"--json", WS_ARG_FLAG, &ctx.json, 0, "one JSON object instead of tables"},
+        {"--threads", WS_ARG_INT, &ctx.threads, 0, "threads, 0 = one per core [0]"},
+        {"--rounds", WS_ARG_INT, &ctx.rounds, 0, "timed rounds; the best counts [3]"},
+        {"--batch", WS_ARG_INT, &ctx.batch, 0, "clip: images per pass [5, a default step's]"},
+        {"--scene", WS_ARG_STRING, &ctx.scene_dir, 0, "scene of splat, step, approx, memory [../shared/scenes/rose]"},
+        {"--weights", WS_ARG_STRING, &ctx.weights, 0, "CLIP weights [none: ViT-B/32, random weights]"},
+        {"--weights-f32", WS_ARG_STRING, &ctx.weights_f32, 0,
+         "random weights as f32 (tools/make_random_weights.py) [weights/random-f32.bin]"},
+        {"--weights-f16", WS_ARG_STRING, &ctx.weights_f16, 0, "the same as f16 [weights/random-f16.bin]"},
+        {"--aug-bank", WS_ARG_INT, &ctx.aug_bank, 0, "approx: transforms per view of the bank row [8]"},
     };
-    int nparts = (int)(sizeof parts / sizeof parts[0]);
-    if (argc >= 1)
-        for (int i = 0; i < nparts; i++)
-            if (!strcmp(argv[0], parts[i].name)) return parts[i].run(argc - 1, argv + 1);
-    int help = argc >= 1 && (!strcmp(argv[0], "--help") || !strcmp(argv[0], "-h"));
-    FILE *out = help ? stdout : stderr;
-    if (argc >= 1 && !help) fprintf(stderr, "wiresketch: bench %s: unknown part\n", argv[0]);
-    fprintf(out, "usage: wiresketch bench PART [options]   (PART --help for details)\n\nparts:\n");
-    for (int i = 0; i < nparts; i++) fprintf(out, "  %-6s %s\n", parts[i].name, parts[i].summary);
-    return help ? 0 : 2;
+    const ws_command_spec spec = {
+        "bench [clip|splat|step|approx|memory] [options]",
+        "Speed against the hardware's floor and error against run time; every part without PART.",
+        args, sizeof args / sizeof args[0], 0, 1};
+    const char *pos[1];
+    int npos, help;
+    ws_status st;
+    ws_status_clear(&st);
+    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
+    if (help) {
+        printf("\nparts:\n");
+        for (int i = 0; i < NPARTS; i++) printf("  %-8s %s\n", parts[i].name, parts[i].summary);
+        return 0;
+    }
+    int only = -1;
+    for (int i = 0; npos && i < NPARTS; i++)
+        if (!strcmp(pos[0], parts[i].name)) only = i;
+    if (npos && only < 0) {
+        ws_fail(&st, WS_EUSAGE, "bench %s: unknown part (clip, splat, step, approx or memory)", pos[0]);
+        return ws_cli_fail(&st);
+    }
+    if (ctx.batch < 1 || ctx.threads < 0 || ctx.rounds < 1 || ctx.aug_bank < 4) {
+        ws_fail(&st, WS_EUSAGE, "bench: --batch and --rounds must be at least 1, --threads at least 0, "
+                                "--aug-bank at least 4");
+        return ws_cli_fail(&st);
+    }
+    ws_threads_set(ctx.threads);
+    cJSON *out = cJSON_CreateObject(), *m = machine();
+    cJSON_AddItemToObject(out, "machine", m);
+    if (!ctx.json)
+        printf("machine: %s, %d cores, %d threads; %s; kernels %s; load average %.2f at the start\n",
+               cJSON_GetObjectItem(m, "cpu")->valuestring, omp_get_num_procs(), ws_threads_get(),
+               openblas_get_config(), openblas_get_corename(),
+               cJSON_GetObjectItem(m, "load_average")->valuedouble);
+    int rc = WS_OK;
+    for (int i = 0; i < NPARTS && !rc; i++)
+        if (only < 0 || only == i) rc = parts[i].run(&ctx, out, &st);
+    if (!rc && ctx.json) {
+        char *text = cJSON_Print(out);
+        if (text) printf("%s\n", text);
+        free(text);
+    }
+    cJSON_Delete(out);
+    free_ctx(&ctx);
+    return rc ? ws_cli_fail(&st) : 0;
 }

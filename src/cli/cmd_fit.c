@@ -49,6 +49,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
+        {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
+         "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
         {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
         {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
         {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},

@@ -39,7 +39,7 @@ static void fuzz_write(const char *name, const uint8_t *data, size_t size, char 
  * checksum in the last 4 bytes, so that mutations reach the parser behind
  * the check instead of all failing at it (the check itself is covered by
  * the unit and regression tests). Returns a copy to free. */
-static uint8_t *fuzz_fix_crc(const uint8_t *data, size_t size) {
+static inline uint8_t *fuzz_fix_crc(const uint8_t *data, size_t size) {
     uint8_t *copy = malloc(size ? size : 1);
     if (!copy) abort();
     memcpy(copy, data, size);

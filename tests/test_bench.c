@@ -1,0 +1,269 @@
+/* test_bench.c: the augmentation bank (its cache changes no bit, a resumed
+ * fit with a bank ends bit-identical, bad sizes are refused), the step's
+ * timers (they change no bit and account for the step), and the
+ * measurements of `wiresketch bench` on a small scene and a small random
+ * CLIP of the real architecture: errors that shrink as they must, zero
+ * errors where the approximation is exact, and the command's JSON (of its
+ * quickest part, CLIP at batch 1). */
+#include <cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include "bench.h"
+#include "check.h"
+#include "synth.h"
+#include "threads.h"
+#include "wiresketch.h"
+
+static char bin[512], tmp[256];
+
+/* A 6-block ViT at 64 x 64 (17 tokens of width 64): blocks 2 and 3 of the
+ * default loss exist, and a step takes milliseconds. */
+static const wf_arch small_arch = {64, 6, 4, 16, 64, 32};
+
+static int run(const char *args) {
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
+    int rc = system(cmd);
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+static char *slurp(const char *path) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    static char buf[1 << 20];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    return buf;
+}
+
+static int same_files(const char *a, const char *b) {
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "cmp -s %s %s", a, b);
+    return system(cmd) == 0;
+}
+
+/* The loss and gradient of one training step on view 0 from rng state rng0. */
+static double step_loss(ws_step *s, const ws_curves *c, const ws_rng *rng0, double *grad) {
+    ws_status st = {0};
+    ws_rng rng = *rng0;
+    double loss = NAN;
+    const int view = 0;
+    if (ws_step_batch(s, c, &view, 1, &rng, &loss, grad, &st)) fprintf(stderr, "step: %s\n", st.msg);
+    return loss;
+}
+
+static ws_loss_options options(const clip_model *m, int bank, uint64_t seed) {
+    ws_loss_options lo;
+    ws_loss_options_default(&lo);
+    lo.model = m;
+    lo.aug_bank = bank;
+    lo.aug_seed = seed;
+    return lo;
+}
+
+static void test_bank_and_timing(const ws_scene *scene, const clip_model *m, const ws_curves *c) {
+    ws_status st = {0};
+    ws_splat_options so;
+    ws_splat_options_default(&so);
+    ws_loss *loss = NULL;
+    ws_loss_options bad = options(m, 2, 0);
+    CHECK(ws_loss_create(&loss, &bad, scene, &st) == WS_EUSAGE &&
+              !strcmp(st.msg, "--aug-bank: 2 is not 0 or in 4..4096 (a step uses --num-aug 4 distinct "
+                              "transforms of the bank)"),
+          "a bank smaller than --num-aug: %s", st.msg);
+    ws_loss_free(loss);
+
+    size_t bytes = (size_t)c->n * 12 * sizeof(double);
+    double *g[4];
+    for (int k = 0; k < 4; k++) g[k] = malloc(bytes);
+    ws_step s[3];
+    memset(s, 0, sizeof s);
+    ws_loss_options lo[3] = {options(m, 6, 5), options(m, 6, 5), options(m, 6, 6)};
+    for (int k = 0; k < 3; k++)
+        CHECK(ws_step_init(&s[k], scene, &lo[k], &so, c->n, &st) == WS_OK, "step: %s", st.msg);
+    ws_rng rng0;
+    ws_rng_seed(&rng0, 8);
+    /* the first step fills view 0's bank, the second reads it */
+    double cold = step_loss(&s[0], c, &rng0, g[0]), warm = step_loss(&s[0], c, &rng0, g[1]);
+    CHECK(isfinite(cold) && cold == warm && !memcmp(g[0], g[1], bytes),
+          "a banked step from its cache differs from the step that filled it: %.17g %.17g", cold, warm);
+    double again = step_loss(&s[1], c, &rng0, g[2]), other = step_loss(&s[2], c, &rng0, g[3]);
+    CHECK(again == cold && !memcmp(g[2], g[0], bytes), "the same bank seed gave another step");
+    CHECK(other != cold, "another bank seed gave the same loss %.17g", other);
+    size_t features = 2 * 17 * 64 + 32; /* blocks 2 and 3, and the embedding */
+    CHECK(ws_loss_bank_bytes(s[0].loss) == (size_t)scene->split[WS_TRAIN].n * 6 * features * sizeof(float),
+          "bank of %zu bytes", ws_loss_bank_bytes(s[0].loss));
+    /* another rng state draws other transforms of the bank */
+    ws_rng rng1;
+    ws_rng_seed(&rng1, 9);
+    CHECK(step_loss(&s[0], c, &rng1, g[3]) != cold, "another rng state picked the same transforms");
+
+    /* timers change no bit and account for the step */
+    ws_step_timing t;
+    memset(&t, 0, sizeof t);
+    ws_step_set_timing(&s[0], &t);
+    double t0 = ws_seconds(), timed = step_loss(&s[0], c, &rng0, g[3]), total = ws_seconds() - t0;
+    ws_step_set_timing(&s[0], NULL);
+    CHECK(timed == cold && !memcmp(g[3], g[0], bytes), "timing changed the step");
+    double parts = 0;
+    for (int k = 0; k < WS_TIME_TOTAL; k++) parts += t.seconds[k];
+    CHECK(t.seconds[WS_TIME_SPLAT] > 0 && t.seconds[WS_TIME_AUGMENT] > 0 &&
+              t.seconds[WS_TIME_CLIP_FORWARD] > 0 && t.seconds[WS_TIME_CLIP_BACKWARD] > 0 &&
+              t.seconds[WS_TIME_CLIP_PHOTO] == 0 && parts <= total,
+          "timed parts: splat %g augment %g forward %g photo %g backward %g, sum %g of %g",
+          t.seconds[WS_TIME_SPLAT], t.seconds[WS_TIME_AUGMENT], t.seconds[WS_TIME_CLIP_FORWARD],
+          t.seconds[WS_TIME_CLIP_PHOTO], t.seconds[WS_TIME_CLIP_BACKWARD], parts, total);
+    for (int k = 0; k < 3; k++) ws_step_free(&s[k]);
+    for (int k = 0; k < 4; k++) free(g[k]);
+}
+
+static void test_splat_measure(const ws_scene *scene) {
+    ws_status st = {0};
+    ws_bench_splat_row r;
+    const ws_camera *cam = &scene->split[WS_TRAIN].views[0].cam;
+    CHECK(ws_bench_splat(cam, scene->center, 500, 1, &r, &st) == WS_OK, "splat bench: %s", st.msg);
+    int ex = WS_BENCH_CUTOFFS - 1;
+    CHECK(r.alpha_max[ex] == 0 && r.grad_max[ex] == 0, "the exact sum has an error against itself");
+    for (int k = 1; k < ex; k++)
+        CHECK(r.alpha_max[k] < r.alpha_max[k - 1] && r.grad_mean[k] < r.grad_mean[k - 1] &&
+                  r.pixel_visits[k] > r.pixel_visits[k - 1],
+              "cut-off %g: error or visits not monotonic", ws_bench_cutoffs[k]);
+    CHECK(r.alpha_max[3] < 1e-3 && r.grad_mean[2] < 3e-2, "4 and 5 sigma errors %g %g", r.grad_mean[2],
+          r.alpha_max[3]);
+    CHECK(r.pixel_visits[ex] == 500.0 * 64 * 64, "exact visits %g", r.pixel_visits[ex]);
+}
+
+static void test_step_and_approx(const ws_scene *scene, const clip_model *m, const ws_curves *c) {
+    ws_status st = {0};
+    ws_bench_step_result r;
+    CHECK(ws_bench_step(scene, m, c, 1, &r, &st) == WS_OK, "step bench: %s", st.msg);
+    double parts = 0;
+    for (int k = 0; k < WS_TIME_TOTAL; k++) parts += r.best.seconds[k];
+    CHECK(r.floor > 0 && r.gaussians > 100 && parts <= r.best.seconds[WS_TIME_TOTAL] && parts > 0,
+          "step: floor %g, %d Gaussians, parts %g of %g", r.floor, r.gaussians, parts,
+          r.best.seconds[WS_TIME_TOTAL]);
+
+    ws_bench_approx_row rows[32];
+    int n = 0;
+    ws_bench_approx_input in = {scene, m, NULL, NULL, c, 1, 4};
+    CHECK(ws_bench_approx(&in, rows, 32, &n, &st) == WS_OK, "approx bench: %s", st.msg);
+    static const char *const names[] = {"cutoff", "cutoff", "cutoff", "cutoff", "culling", "clip_stop",
+                                        "photo_cache", "aug_bank", "threads", "num_aug", "num_aug", "num_aug"};
+    CHECK(n == 12, "%d rows", n);
+    for (int i = 0; i < n && i < 12; i++) CHECK(!strcmp(rows[i].name, names[i]), "row %d is %s", i, rows[i].name);
+    if (n != 12) return;
+    for (int k = 1; k < 4; k++)
+        CHECK(rows[k].grad_error < rows[k - 1].grad_error && rows[k].loss_error < rows[k - 1].loss_error,
+              "cut-off rows: errors not falling");
+    CHECK(rows[3].grad_error < 1e-3, "5 sigma: gradient error %g", rows[3].grad_error);
+    /* stopping after the last block read and caching change nothing */
+    CHECK(rows[5].loss_error == 0 && rows[5].grad_error == 0, "stopping CLIP early: %g %g",
+          rows[5].loss_error, rows[5].grad_error);
+    CHECK(rows[6].loss_error == 0 && rows[6].grad_error == 0, "the photo cache: %g %g", rows[6].loss_error,
+          rows[6].grad_error);
+    CHECK(rows[7].bytes > 0 && isnan(rows[7].loss_error), "the bank row");
+    CHECK(rows[8].grad_error < 1e-5, "threads: gradient error %g", rows[8].grad_error);
+    for (int i = 0; i < n; i++)
+        CHECK(rows[i].step_exact > 0 && rows[i].step_approx > 0 && rows[i].part_exact >= 0,
+              "row %d (%s) has no times", i, rows[i].name);
+}
+
+/* fit --aug-bank: a resumed run ends bit-identical; the bank is used. */
+static void test_fit_with_bank(void) {
+    char args[2048], weights[300], a[300], b[300];
+    snprintf(weights, sizeof weights, "%s/tiny.bin", tmp);
+    snprintf(args, sizeof args,
+             "python3 tools/convert_weights.py tests/fixtures/clip_tiny/clip_tiny_state_dict.pt %s >/dev/null",
+             weights);
+    CHECK(system(args) == 0, "converting the tiny model failed");
+#define FIT_BANK "fit %s/scene --size 64 --weights %s --clip-conv-layer-weights 1 1 --length 0.3 " \
+                 "--inner-steps 3 --threads 1 --seed 3 --quiet --eval-every 0"
+    const char *const variants[] = {"--aug-bank 5 --max-steps 6", "--aug-bank 5 --max-steps 3",
+                                    "--max-steps 6"};
+    const char *const dirs[] = {"bank", "bank_resumed", "fresh"};
+    for (int k = 0; k < 3; k++) {
+        snprintf(args, sizeof args, FIT_BANK " --out %s/%s %s", tmp, weights, tmp, dirs[k], variants[k]);
+        CHECK(run(args) == 0, "fit %s failed", dirs[k]);
+    }
+    snprintf(args, sizeof args, "fit --resume %s/bank_resumed --max-steps 6", tmp);
+    CHECK(run(args) == 0, "resume failed");
+    snprintf(a, sizeof a, "%s/bank/curves.json", tmp);
+    snprintf(b, sizeof b, "%s/bank_resumed/curves.json", tmp);
+    CHECK(same_files(a, b), "a resumed fit with an augmentation bank differs from an uninterrupted one");
+    snprintf(b, sizeof b, "%s/fresh/curves.json", tmp);
+    CHECK(!same_files(a, b), "the bank made no difference");
+    snprintf(args, sizeof args, FIT_BANK " --out %s/bad --aug-bank 3", tmp, weights, tmp);
+    char path[300];
+    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
+    CHECK(run(args) == 2 && strstr(slurp(path), "--aug-bank: 3 is not 0 or in 4..4096"),
+          "bad --aug-bank: %s", slurp(path));
+}
+
+static void test_command(void) {
+    char path[300];
+    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
+    CHECK(run("bench nope") == 2 && strstr(slurp(path), "bench nope: unknown part"), "unknown part: %s",
+          slurp(path));
+    CHECK(run("bench --help") == 0, "bench --help");
+    CHECK(run("bench clip --json --rounds 1 --batch 1") == 0, "bench clip --json failed: %s", slurp(path));
+    snprintf(path, sizeof path, "%s/stdout.txt", tmp);
+    cJSON *j = cJSON_Parse(slurp(path));
+    cJSON *clip = cJSON_GetObjectItem(j, "clip"), *machine = cJSON_GetObjectItem(j, "machine");
+    CHECK(cJSON_IsString(cJSON_GetObjectItem(machine, "kernels")), "no machine description");
+    static const char *const keys[] = {"forward", "forward_backward", "floor_forward",
+                                       "floor_forward_backward", "ratio_forward_backward"};
+    for (int k = 0; k < 5; k++) {
+        cJSON *x = cJSON_GetObjectItem(clip, keys[k]);
+        CHECK(cJSON_IsNumber(x) && x->valuedouble > 0, "clip.%s missing", keys[k]);
+    }
+    CHECK(cJSON_GetArraySize(j) == 2, "bench clip printed more than the machine and its part");
+    cJSON_Delete(j);
+}
+
+int main(void) {
+    const char *build = getenv("BUILD");
+    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_bench_XXXXXX");
+    if (!mkdtemp(tmp)) return 1;
+    /* one thread: this process cannot make OpenMP's idle threads sleep
+     * (OMP_WAIT_POLICY is read before main), and spinning ones would take
+     * most of the time of the many small steps below */
+    ws_threads_set(1);
+    char dir[300];
+    snprintf(dir, sizeof dir, "%s/scene", tmp);
+    ws_status st = {0};
+    ws_synth_options syn;
+    ws_synth_options_default(&syn);
+    syn.size = 64;
+    syn.views[WS_TRAIN] = 6;
+    syn.views[WS_VAL] = 0;
+    syn.views[WS_TEST] = 1;
+    ws_scene scene;
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 64;
+    clip_model *m = NULL;
+    ws_curves c = {0};
+    int rc = ws_synth_write("trefoil", dir, &syn, &st);
+    if (!rc) rc = ws_scene_load(&scene, dir, &so, &st);
+    if (!rc) rc = clip_model_random(&m, &small_arch, 2, &st);
+    if (!rc) rc = ws_bench_sketch(&c, 8, scene.center, 0.5, 1.0, 1, &st);
+    CHECK(rc == WS_OK, "setup: %s", st.msg);
+    if (rc) return check_summary();
+    test_bank_and_timing(&scene, m, &c);
+    test_splat_measure(&scene);
+    test_step_and_approx(&scene, m, &c);
+    test_fit_with_bank();
+    test_command();
+    ws_curves_free(&c);
+    clip_model_free(m);
+    ws_scene_free(&scene);
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
+    if (!check_failed && system(cmd) != 0) return 1;
+    return check_summary();
+}
