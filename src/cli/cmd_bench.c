@@ -1,5 +1,5 @@
 /* cmd_bench.c: `wiresketch bench [PART] [--json]`: the benchmarks, one part
- * per concern (bench_parts.h); without PART every part runs, in one process
+ * per concern (cli_bench.h); without PART every part runs, in one process
  * on the same inputs. They print tables; nothing here is a test. */
 #include <cblas.h>
 #include <math.h>
@@ -8,26 +8,26 @@
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
-#include "bench_parts.h"
+#include "cli_bench.h"
 #include "commands.h"
 #include "threads.h"
 
 static const struct {
     const char *name;
-    int (*run)(bench_ctx *ctx, cJSON *out, ws_status *st);
+    int (*run)(ws_cli_bench *ctx, cJSON *out, ws_status *st);
     const char *summary;
 } parts[] = {
-    {"clip", bench_part_clip, "CLIP forward and forward+backward against the GEMM floor"},
-    {"splat", bench_part_splat, "splatting time and error for 1k, 10k, 100k Gaussians and each cut-off"},
-    {"step", bench_part_step, "where the time of a default training step goes"},
-    {"approx", bench_part_approx, "error against run time of every approximation"},
-    {"memory", bench_part_memory, "peak memory of a default fit (a child process)"},
+    {"clip", ws_cli_bench_clip, "CLIP forward and forward+backward against the GEMM floor"},
+    {"splat", ws_cli_bench_splat, "splatting time and error for 1k, 10k, 100k Gaussians and each cut-off"},
+    {"step", ws_cli_bench_step, "where the time of a default training step goes"},
+    {"approx", ws_cli_bench_approx, "error against run time of every approximation"},
+    {"memory", ws_cli_bench_memory, "peak memory of a default fit (a child process)"},
 };
 enum { NPARTS = sizeof parts / sizeof parts[0] };
 
-cJSON *bench_number(double x) { return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull(); }
+cJSON *ws_cli_bench_number(double x) { return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull(); }
 
-int bench_scene(bench_ctx *ctx, ws_status *st) {
+int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st) {
     if (ctx->have_scene) return WS_OK;
     ws_scene_options so;
     ws_scene_options_default(&so);
@@ -36,18 +36,18 @@ int bench_scene(bench_ctx *ctx, ws_status *st) {
     return WS_OK;
 }
 
-int bench_model(bench_ctx *ctx, ws_status *st) {
+int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st) {
     if (ctx->model) return WS_OK;
     static const wf_arch vit_b32 = {768, 12, 12, 32, 224, 512};
     return ctx->weights ? clip_model_load(&ctx->model, ctx->weights, st)
                         : clip_model_random(&ctx->model, &vit_b32, 1, st);
 }
 
-int bench_sketch(bench_ctx *ctx, ws_status *st) {
+int ws_cli_bench_sketch(ws_cli_bench *ctx, ws_status *st) {
     if (ctx->sketch.n) return WS_OK;
     /* 25 curves of ~1 unit around the centre: about 2,000 Gaussians, the
      * size a default fit's sketch grows to */
-    return bench_scene(ctx, st) || ws_bench_sketch(&ctx->sketch, 25, ctx->scene.center, 0.8, 1.05, 1, st)
+    return ws_cli_bench_scene(ctx, st) || ws_bench_sketch(&ctx->sketch, 25, ctx->scene.center, 0.8, 1.05, 1, st)
                ? st->code
                : WS_OK;
 }
@@ -73,18 +73,18 @@ static cJSON *machine(void) {
     cJSON_AddNumberToObject(m, "threads", ws_threads_get());
     cJSON_AddStringToObject(m, "openblas", openblas_get_config());
     cJSON_AddStringToObject(m, "kernels", openblas_get_corename());
-    cJSON_AddItemToObject(m, "load_average", bench_number(load[0]));
+    cJSON_AddItemToObject(m, "load_average", ws_cli_bench_number(load[0]));
     return m;
 }
 
-static void free_ctx(bench_ctx *ctx) {
+static void free_ctx(ws_cli_bench *ctx) {
     if (ctx->have_scene) ws_scene_free(&ctx->scene);
     clip_model_free(ctx->model);
     ws_curves_free(&ctx->sketch);
 }
 
 int cmd_bench(int argc, char **argv) {
-    bench_ctx ctx;
+    ws_cli_bench ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.rounds = 3;
     ctx.batch = 5;

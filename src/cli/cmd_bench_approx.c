@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>
-#include "bench_parts.h"
+#include "cli_bench.h"
 
 enum { MAX_ROWS = 32 };
 
@@ -17,8 +17,8 @@ static void error_text(double e, char text[16]) {
         snprintf(text, 16, "%.1e", e);
 }
 
-int bench_part_approx(bench_ctx *ctx, cJSON *out, ws_status *st) {
-    if (bench_scene(ctx, st) || bench_model(ctx, st) || bench_sketch(ctx, st)) return st->code;
+int ws_cli_bench_approx(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
+    if (ws_cli_bench_scene(ctx, st) || ws_cli_bench_model(ctx, st) || ws_cli_bench_sketch(ctx, st)) return st->code;
     int pair = access(ctx->weights_f32, R_OK) == 0 && access(ctx->weights_f16, R_OK) == 0;
     ws_bench_approx_input in = {&ctx->scene, ctx->model, pair ? ctx->weights_f32 : NULL,
                                 pair ? ctx->weights_f16 : NULL, &ctx->sketch, ctx->rounds, ctx->aug_bank};
@@ -33,13 +33,13 @@ int bench_part_approx(bench_ctx *ctx, cJSON *out, ws_status *st) {
         cJSON_AddStringToObject(o, "setting", r->setting);
         cJSON_AddStringToObject(o, "exact", r->exact);
         cJSON_AddStringToObject(o, "part", r->part);
-        cJSON_AddItemToObject(o, "loss_error", bench_number(r->loss_error));
-        cJSON_AddItemToObject(o, "grad_error", bench_number(r->grad_error));
+        cJSON_AddItemToObject(o, "loss_error", ws_cli_bench_number(r->loss_error));
+        cJSON_AddItemToObject(o, "grad_error", ws_cli_bench_number(r->grad_error));
         cJSON_AddNumberToObject(o, "part_exact", r->part_exact);
         cJSON_AddNumberToObject(o, "part_approx", r->part_approx);
         cJSON_AddNumberToObject(o, "step_exact", r->step_exact);
         cJSON_AddNumberToObject(o, "step_approx", r->step_approx);
-        cJSON_AddItemToObject(o, "speedup", bench_number(r->step_exact / r->step_approx));
+        cJSON_AddItemToObject(o, "speedup", ws_cli_bench_number(r->step_exact / r->step_approx));
         cJSON_AddNumberToObject(o, "bytes", r->bytes);
         cJSON_AddStringToObject(o, "note", r->note);
         cJSON_AddItemToArray(j, o);

@@ -4,13 +4,13 @@
  * default step (the unaugmented stroke image and 4 augmentations). */
 #include <stdio.h>
 #include <stdlib.h>
-#include "bench_parts.h"
+#include "cli_bench.h"
 #include "clip_bench.h"
 #include "commands.h"
 
-int bench_part_clip(bench_ctx *ctx, cJSON *out, ws_status *st) {
+int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     clip_bench_result r;
-    if (bench_model(ctx, st) || clip_bench_run(ctx->model, ctx->batch, ctx->rounds, &r, st)) return st->code;
+    if (ws_cli_bench_model(ctx, st) || clip_bench_run(ctx->model, ctx->batch, ctx->rounds, &r, st)) return st->code;
     const wf_arch *a = clip_model_arch(ctx->model);
     cJSON *j = cJSON_AddObjectToObject(out, "clip");
     cJSON_AddStringToObject(j, "weights", ctx->weights ? ctx->weights : "random");

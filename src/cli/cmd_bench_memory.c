@@ -9,10 +9,10 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include "bench_parts.h"
+#include "cli_bench.h"
 
 /* Runs `exe fit scene --out dir/fit ...` with weights; *kb its peak RSS. */
-static int child_fit(const bench_ctx *ctx, const char *weights, const char *dir, long *kb,
+static int child_fit(const ws_cli_bench *ctx, const char *weights, const char *dir, long *kb,
                      ws_status *st) {
     char out[300], log[300];
     snprintf(out, sizeof out, "%s/fit", dir);
@@ -44,7 +44,7 @@ static int child_fit(const bench_ctx *ctx, const char *weights, const char *dir,
     return WS_OK;
 }
 
-int bench_part_memory(bench_ctx *ctx, cJSON *out, ws_status *st) {
+int ws_cli_bench_memory(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     const char *files[2] = {ctx->weights_f32, ctx->weights_f16}, *names[2] = {"f32", "f16"};
     cJSON *j = cJSON_AddObjectToObject(out, "memory");
     if (!ctx->json) printf("\n## Peak memory of a default fit\n\n");
@@ -62,7 +62,7 @@ int bench_part_memory(bench_ctx *ctx, cJSON *out, ws_status *st) {
         if (rc) return rc;
         cJSON_AddNumberToObject(j, names[k], 1024.0 * kb);
         if (!ctx->json)
-            printf("`fit %s --weights %s --max-steps 5`: peak resident memory **%.0f MB** (%.2f GiB)\n",
+            printf("- `fit %s --weights %s --max-steps 5`: peak resident memory **%.0f MB** (%.2f GiB)\n",
                    ctx->scene_dir, files[k], kb * 1024 / 1e6, kb / 1048576.0);
     }
     return WS_OK;

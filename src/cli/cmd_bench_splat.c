@@ -3,11 +3,11 @@
  * against the exact sum (src/bench.h). */
 #include <math.h>
 #include <stdio.h>
-#include "bench_parts.h"
+#include "cli_bench.h"
 
-int bench_part_splat(bench_ctx *ctx, cJSON *out, ws_status *st) {
+int ws_cli_bench_splat(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     static const int counts[] = {1000, 10000, 100000};
-    if (bench_scene(ctx, st)) return st->code;
+    if (ws_cli_bench_scene(ctx, st)) return st->code;
     const ws_camera *cam = &ctx->scene.split[WS_TRAIN].views[0].cam;
     cJSON *j = cJSON_AddArrayToObject(out, "splat");
     if (!ctx->json) {

@@ -1,11 +1,11 @@
 /* cmd_bench_step.c: `wiresketch bench step`: where the time of one default
  * training step goes, against the GEMM floor of its CLIP work (src/bench.h). */
 #include <stdio.h>
-#include "bench_parts.h"
+#include "cli_bench.h"
 
-int bench_part_step(bench_ctx *ctx, cJSON *out, ws_status *st) {
+int ws_cli_bench_step(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     ws_bench_step_result r;
-    if (bench_scene(ctx, st) || bench_model(ctx, st) || bench_sketch(ctx, st) ||
+    if (ws_cli_bench_scene(ctx, st) || ws_cli_bench_model(ctx, st) || ws_cli_bench_sketch(ctx, st) ||
         ws_bench_step(&ctx->scene, ctx->model, &ctx->sketch, ctx->rounds, &r, st))
         return st->code;
     const double *t = r.best.seconds, total = t[WS_TIME_TOTAL];

@@ -1,12 +1,12 @@
-/* bench_parts.h: the parts of `wiresketch bench` (cmd_bench.c runs them).
+/* cli_bench.h: the parts of `wiresketch bench` (cmd_bench.c runs them).
  *
  * Each part measures through the library (nn/clip_bench.h, src/bench.h),
  * prints its table (Markdown, so that it pastes into the README) unless
  * JSON was asked for, and adds its results to one JSON object under its
  * own key. Inputs are made once and shared, so that every part of one run
  * measures the same scene, sketch and model. */
-#ifndef WS_BENCH_PARTS_H
-#define WS_BENCH_PARTS_H
+#ifndef WS_CLI_BENCH_H
+#define WS_CLI_BENCH_H
 #include <cJSON.h>
 #include "bench.h"
 #include "clip.h"
@@ -24,21 +24,21 @@ typedef struct {
     int have_scene;
     clip_model *model;
     ws_curves sketch;
-} bench_ctx;
+} ws_cli_bench;
 
 /* The scene, the model and the sketch of 25 curves (about 2,000
  * Gaussians), made on first use. */
-int bench_scene(bench_ctx *ctx, ws_status *st);
-int bench_model(bench_ctx *ctx, ws_status *st);
-int bench_sketch(bench_ctx *ctx, ws_status *st);
+int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st);
+int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st);
+int ws_cli_bench_sketch(ws_cli_bench *ctx, ws_status *st);
 
-int bench_part_clip(bench_ctx *ctx, cJSON *out, ws_status *st);
-int bench_part_splat(bench_ctx *ctx, cJSON *out, ws_status *st);
-int bench_part_step(bench_ctx *ctx, cJSON *out, ws_status *st);
-int bench_part_approx(bench_ctx *ctx, cJSON *out, ws_status *st);
-int bench_part_memory(bench_ctx *ctx, cJSON *out, ws_status *st);
+int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st);
+int ws_cli_bench_splat(ws_cli_bench *ctx, cJSON *out, ws_status *st);
+int ws_cli_bench_step(ws_cli_bench *ctx, cJSON *out, ws_status *st);
+int ws_cli_bench_approx(ws_cli_bench *ctx, cJSON *out, ws_status *st);
+int ws_cli_bench_memory(ws_cli_bench *ctx, cJSON *out, ws_status *st);
 
 /* A JSON number, null when not finite (JSON has no NaN). */
-cJSON *bench_number(double x);
+cJSON *ws_cli_bench_number(double x);
 
 #endif
