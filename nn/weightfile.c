@@ -47,7 +47,7 @@ struct wf_file {
     wf_tensor *tensors;
     void *map;
     size_t map_bytes;
-    float *widened; /* every f16 tensor as f32, one block */
+    float *widened; /* a file with f16 tensors: every tensor as f32, one block */
 };
 
 static float half_to_float(uint16_t h) {
@@ -246,17 +246,25 @@ static int check_crc(wf_file *f, ws_status *st) {
     return WS_OK;
 }
 
-/* Points every tensor at its f32 values (widening f16 into one block) and
- * refuses NaN or Inf anywhere. */
+/* Points every tensor at its f32 values and refuses NaN or Inf anywhere.
+ * An all-f32 file is used in place (in its mapping); a file with f16
+ * tensors is widened whole into one block, f32 tensors copied beside them,
+ * so that the mapping can be dropped and the f16 file costs no more memory
+ * than its f32 values. */
 static int load_values(wf_file *f, const uint64_t *offsets, ws_status *st) {
-    uint64_t widened_numel = 0;
-    for (int i = 0; i < f->count; i++)
-        if (f->tensors[i].dtype == WF_F16) widened_numel += (uint64_t)f->tensors[i].numel;
-    if (widened_numel > SIZE_MAX / sizeof(float))
-        return ws_fail(st, WS_EINPUT, "%s: too large to widen on this machine", f->path);
-    if (widened_numel) {
-        f->widened = ws_malloc((size_t)widened_numel * sizeof(float), "widened f16 weights", st);
-        if (!f->widened) return st->code;
+    uint64_t total_numel = 0; /* each tensor rounded up to 16 floats: 64-byte aligned starts */
+    int any_f16 = 0;
+    for (int i = 0; i < f->count; i++) {
+        total_numel += ((uint64_t)f->tensors[i].numel + 15) / 16 * 16;
+        any_f16 |= f->tensors[i].dtype == WF_F16;
+    }
+    if (any_f16) {
+        if (total_numel > SIZE_MAX / sizeof(float))
+            return ws_fail(st, WS_EINPUT, "%s: too large to widen on this machine", f->path);
+        void *block = NULL;
+        if (posix_memalign(&block, 64, (size_t)total_numel * sizeof(float)) != 0)
+            return ws_fail(st, WS_ENOMEM, "out of memory widening the f16 weights of %s", f->path);
+        f->widened = block;
     }
     float *next = f->widened;
     for (int i = 0; i < f->count; i++) {
@@ -265,15 +273,20 @@ static int load_values(wf_file *f, const uint64_t *offsets, ws_status *st) {
         if (t->dtype == WF_F16) {
             for (int64_t k = 0; k < t->numel; k++)
                 next[k] = half_to_float((uint16_t)(src[2 * k] | src[2 * k + 1] << 8));
-            t->data = next;
-            next += t->numel;
-        } else {
-            t->data = (const float *)src; /* 64-byte aligned in a page-aligned mapping */
+        } else if (any_f16) {
+            memcpy(next, src, (size_t)t->numel * sizeof(float));
         }
+        /* f32 in place: 64-byte aligned in a page-aligned mapping */
+        t->data = any_f16 ? next : (const float *)src;
+        if (any_f16) next += (t->numel + 15) / 16 * 16;
         for (int64_t k = 0; k < t->numel; k++)
             if (!isfinite(t->data[k]))
                 return ws_fail(st, WS_EINPUT, "%s: tensor %s has a non-finite value at index %lld", f->path,
                                t->name, (long long)k);
+    }
+    if (any_f16) {
+        munmap(f->map, f->map_bytes);
+        f->map = NULL;
     }
     return WS_OK;
 }
