@@ -177,8 +177,8 @@ static void clip_part_free(clip_part *c) {
 int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *scene,
                    ws_status *st) {
     *out = NULL;
-    if (opt->num_aug < 0 || opt->num_aug > 64)
-        return ws_fail(st, WS_EUSAGE, "--num-aug: %d is not in 0..64", opt->num_aug);
+    if (opt->num_aug < 0 || opt->num_aug > WS_LOSS_MAX_AUG)
+        return ws_fail(st, WS_EUSAGE, "--num-aug: %d is not in 0..%d", opt->num_aug, WS_LOSS_MAX_AUG);
     if (opt->aug_bank < 0 || opt->aug_bank > 4096 || (opt->aug_bank > 0 && opt->aug_bank < opt->num_aug))
         return ws_fail(st, WS_EUSAGE,
                        "--aug-bank: %d is not 0 or in %d..4096 (a step uses --num-aug %d distinct "
@@ -388,7 +388,7 @@ static int clip_view(ws_loss *L, const ws_view *v, int split, int view, int n, d
                      double *dalpha, ws_status *st) {
     clip_part *c = &L->clip;
     size_t pixels = (size_t)L->W * L->H, image = 3 * pixels;
-    const float *targets[65];
+    const float *targets[1 + WS_LOSS_MAX_AUG];
     if (photo_features(L, v, split, view, &targets[0], st)) return st->code;
     to_rgb(L->alpha_f, pixels, c->strokes);
     double t0 = ws_time_start(L->timing);

@@ -31,6 +31,7 @@
 struct clip_model;
 
 #define WS_LOSS_MAX_LAYERS 64
+#define WS_LOSS_MAX_AUG 64 /* augmentations per view and step at the most */
 
 typedef struct {
     const char *weights_path;  /* CLIP weight file; needed when a CLIP term is on */
