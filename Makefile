@@ -79,8 +79,9 @@ fuzz: fuzz-build
 	    echo "fuzz_$$t: $(FUZZ_SECONDS) s" && \
 	    dict=tests/fuzz/$$t.dict; case $$t in scene|curves) dict=tests/fuzz/json.dict;; esac; \
 	    OMP_NUM_THREADS=1 build/fuzz/fuzz_$$t build/fuzz/corpus/$$t tests/fuzz/corpus/$$t \
-	        $$([ -f $$dict ] && echo -dict=$$dict) -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=4096 -max_len=65536 \
-	        -artifact_prefix=build/fuzz/findings/$$t/ -print_final_stats=1 2>build/fuzz/fuzz_$$t.log; \
+	        $$([ -f $$dict ] && echo -dict=$$dict) -max_total_time=$(FUZZ_SECONDS) -timeout=10 \
+	        -rss_limit_mb=4096 -max_len=65536 -artifact_prefix=build/fuzz/findings/$$t/ \
+	        2>build/fuzz/fuzz_$$t.log; \
 	    rc=$$?; grep -E '^#[0-9]+[[:space:]]+DONE' build/fuzz/fuzz_$$t.log; \
 	    if [ $$rc -ne 0 ]; then tail -n 40 build/fuzz/fuzz_$$t.log; exit 1; fi; \
 	done

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """make_fuzz_corpus.py: rewrites the fuzzers' seed corpora, tests/fuzz/corpus/.
 
-usage: python3 tools/make_fuzz_corpus.py [--wiresketch build/wiresketch]
+usage: python3 tools/make_fuzz_corpus.py [--wiresketch build/wiresketch] [--out DIR]
 
 Small real files of every kind the fuzz targets read (kept small: the
 corpus is committed):
@@ -254,9 +254,12 @@ def fit_corpus(ws, scene, tmp):
 
 
 def main():
+    global CORPUS
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--wiresketch", default=os.path.join(ROOT, "build", "wiresketch"))
+    ap.add_argument("--out", default=CORPUS, help="corpus directory [tests/fuzz/corpus]")
     args = ap.parse_args()
+    CORPUS = args.out
     for kind in ("scene", "png", "weights", "curves", "checkpoint", "ply"):
         shutil.rmtree(os.path.join(CORPUS, kind), ignore_errors=True)
         os.makedirs(os.path.join(CORPUS, kind))

@@ -17,14 +17,23 @@
 #include "status.h"
 #include "threads.h"
 
-/* The private directory, made by fuzz_setup(). */
+/* The private directory of this process, made by fuzz_setup(). */
 static char fuzz_dir[256];
 
+static void fuzz_cleanup(void) {
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", fuzz_dir);
+    if (system(cmd) != 0) fprintf(stderr, "fuzz: cannot remove %s\n", fuzz_dir);
+}
+
+/* Makes the private directory, removed again when the fuzzer exits (one
+ * that crashed leaves it, with the input beside the crash report). */
 static void fuzz_setup(const char *target) {
     struct stat sb;
     const char *base = stat("/dev/shm", &sb) == 0 && S_ISDIR(sb.st_mode) ? "/dev/shm" : "/tmp";
     snprintf(fuzz_dir, sizeof fuzz_dir, "%s/ws_fuzz_%s_XXXXXX", base, target);
     if (!mkdtemp(fuzz_dir)) abort();
+    atexit(fuzz_cleanup);
     ws_threads_set(1);
 }
 
