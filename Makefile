@@ -58,7 +58,7 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a $(HEADERS)
 test: all $(TEST_BIN)
 	@BUILD=$(BUILD) bash tests/run.sh $(TEST_BIN)
 
-# Fuzzing (clang + libFuzzer; tools/setup_fuzz.sh installs them). The
+# Fuzzing (clang + libFuzzer; `bash tools/setup.sh fuzz` installs them). The
 # library is rebuilt with clang and coverage into build/fuzz; each target
 # runs FUZZ_SECONDS on its seed corpus, with tests/fuzz/TARGET.dict (or
 # json.dict) as dictionary (new inputs land in build/fuzz/corpus/TARGET,

@@ -105,31 +105,36 @@ int ws_aug_sample(ws_aug_params *p, ws_rng *rng, int width, int height, ws_statu
     /* RandomPerspective.get_params: dx, dy = how far a corner may move in. */
     int dx = (int)(WS_AUG_DISTORTION * (width / 2));
     int dy = (int)(WS_AUG_DISTORTION * (height / 2));
-    int corner[4][2];
-    corner[0][0] = randint(rng, 0, dx + 1);
-    corner[0][1] = randint(rng, 0, dy + 1);
-    corner[1][0] = randint(rng, width - dx - 1, width);
-    corner[1][1] = randint(rng, 0, dy + 1);
-    corner[2][0] = randint(rng, width - dx - 1, width);
-    corner[2][1] = randint(rng, height - dy - 1, height);
-    corner[3][0] = randint(rng, 0, dx + 1);
-    corner[3][1] = randint(rng, height - dy - 1, height);
     /* RandomResizedCrop.get_params with scale (0.8, 0.8), ratio (1, 1): torch
      * draws the scale as a float32, and Python's round() is half-to-even
      * (lrint under the default rounding mode). Every one of its 10 attempts
      * is the same square, so one attempt and then its fallback suffice. */
     int side = (int)lrint(sqrt((double)width * height * (double)(float)WS_AUG_CROP_SCALE));
-    int top, left, ch, cw;
-    if (side > 0 && side <= width && side <= height) {
-        ch = cw = side;
-        top = randint(rng, 0, height - side + 1);
-        left = randint(rng, 0, width - side + 1);
-    } else {
-        ch = cw = width < height ? width : height;
-        top = (height - ch) / 2;
-        left = (width - cw) / 2;
+    /* In a tiny image the corners can fall on a line (no homography): such
+     * a draw is drawn again, as a fit must not stop on a random draw. */
+    for (int attempt = 0;; attempt++) {
+        int corner[4][2];
+        corner[0][0] = randint(rng, 0, dx + 1);
+        corner[0][1] = randint(rng, 0, dy + 1);
+        corner[1][0] = randint(rng, width - dx - 1, width);
+        corner[1][1] = randint(rng, 0, dy + 1);
+        corner[2][0] = randint(rng, width - dx - 1, width);
+        corner[2][1] = randint(rng, height - dy - 1, height);
+        corner[3][0] = randint(rng, 0, dx + 1);
+        corner[3][1] = randint(rng, height - dy - 1, height);
+        int top, left, ch, cw;
+        if (side > 0 && side <= width && side <= height) {
+            ch = cw = side;
+            top = randint(rng, 0, height - side + 1);
+            left = randint(rng, 0, width - side + 1);
+        } else {
+            ch = cw = width < height ? width : height;
+            top = (height - ch) / 2;
+            left = (width - cw) / 2;
+        }
+        int rc = ws_aug_params_init(p, width, height, (const int(*)[2])corner, top, left, ch, cw, st);
+        if (rc == WS_OK || attempt == 99) return rc;
     }
-    return ws_aug_params_init(p, width, height, (const int(*)[2])corner, top, left, ch, cw, st);
 }
 
 int ws_aug_workspace_create(ws_aug_workspace **out, int width, int height, int channels,

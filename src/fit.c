@@ -125,9 +125,18 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
  * per_view (n, or NULL) receives each view's loss. */
 static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_status *st) {
     ws_step *p = &r->step;
-    if (ws_curves_sample(&r->s.curves, &p->gaussians, st)) return st->code;
-    return ws_split_loss(p->loss, p->splat, &p->splat_opt, &r->scene, split, &p->gaussians,
-                         r->s.curves.thickness, p->alpha, per_view, mean, st);
+    int rc = ws_curves_sample(&r->s.curves, &p->gaussians, st);
+    if (!rc)
+        rc = ws_split_loss(p->loss, p->splat, &p->splat_opt, &r->scene, split, &p->gaussians,
+                           r->s.curves.thickness, p->alpha, per_view, mean, st);
+    if (rc != WS_ENUMERIC) return rc;
+    /* A non-finite evaluation is reported and recorded as NaN: it must not
+     * cost the run its outputs. */
+    fprintf(stderr, "\nwiresketch: %s loss not finite (%s)\n", ws_split_names[split], st->msg);
+    ws_status_clear(st);
+    *mean = NAN;
+    for (int v = 0; per_view && v < r->scene.split[split].n; v++) per_view[v] = NAN;
+    return WS_OK;
 }
 
 static int append_log(ws_fit_state *s, const ws_log_row *row, ws_status *st) {
@@ -313,7 +322,13 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
         if (r->s.n_train != r->scene.split[WS_TRAIN].n)
             return ws_fail(st, WS_EINPUT, "%s: made for %d training views, the scene has %d", path,
                            r->s.n_train, r->scene.split[WS_TRAIN].n);
-    } else if (init_state(r, st) || save_checkpoint(r, argv, argc, st)) {
+        int nb = (r->s.n_train + o->batch_size - 1) / o->batch_size;
+        if (r->s.epoch < o->epochs && (r->s.batch_in_epoch >= nb || r->s.step_in_batch >= o->inner_steps))
+            return ws_fail(st, WS_EUSAGE,
+                           "%s: stopped at batch %d, step %d of its epoch, which --batch-size %d and "
+                           "--inner-steps %d do not have; resume with the run's own values",
+                           path, r->s.batch_in_epoch, r->s.step_in_batch, o->batch_size, o->inner_steps);
+    } else if (init_state(r, st)) {
         return st->code;
     }
     ws_splat_options splat_opt;
@@ -326,7 +341,9 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
         !(r->backup = ws_malloc(3 * np * sizeof(double), "control point backup", st)))
         return st->code;
-    return WS_OK;
+    /* The first checkpoint only once everything loaded: a bad weight file
+     * leaves no checkpoint behind. */
+    return resume ? WS_OK : save_checkpoint(r, argv, argc, st);
 }
 
 int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int resume,

@@ -188,6 +188,25 @@ static void test_bad_input(void) {
     snprintf(args, sizeof args, "fit %s/scene --out %s/d --size 64 --weights %s/none.bin", tmp, tmp, tmp);
     CHECK(run(args) == 1 && stderr_has("none.bin: no CLIP weight file") && stderr_has("--loss edges"),
           "missing weights not explained");
+    /* A stored position that other schedule options do not have is refused,
+     * not run on zero views forever. */
+    snprintf(args, sizeof args, FIT " --out %s/h --max-steps 23", tmp, tmp);
+    CHECK(run(args) == 0, "fit of 23 steps failed");
+    snprintf(args, sizeof args, "fit --resume %s/h --inner-steps 2", tmp);
+    CHECK(run(args) == 2 && stderr_has("h/checkpoint.bin: stopped at batch 4, step 3 of its epoch, which "
+                                       "--batch-size 1 and --inner-steps 2 do not have"),
+          "resume with a schedule that does not fit");
+    /* A bad weight file stops the fit before its first checkpoint. */
+    snprintf(path, sizeof path, "%s/garbage.bin", tmp);
+    FILE *g = fopen(path, "w");
+    if (g) {
+        fputs("not a weight file", g);
+        fclose(g);
+    }
+    snprintf(args, sizeof args, "fit %s/scene --out %s/i --size 64 --weights %s", tmp, tmp, path);
+    char ckpt[400];
+    snprintf(ckpt, sizeof ckpt, "%s/i/checkpoint.bin", tmp);
+    CHECK(run(args) == 1 && access(ckpt, F_OK) != 0, "a bad weight file left a checkpoint");
     snprintf(args, sizeof args, "fit --resume %s/nowhere", tmp);
     CHECK(run(args) == 1 && stderr_has("nowhere/checkpoint.bin: no checkpoint to resume from"),
           "resume without a checkpoint");

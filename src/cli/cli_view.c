@@ -2,7 +2,6 @@
 #include <stddef.h>
 #include "cli_view.h"
 
-#define MAX_SIZE 4096
 
 int ws_cli_require(const char *value, const char *option, ws_status *st) {
     if (!value) return ws_fail(st, WS_EUSAGE, "%s: required (see --help)", option);
@@ -11,8 +10,8 @@ int ws_cli_require(const char *value, const char *option, ws_status *st) {
 
 int ws_cli_load_split(const char *dir, int size, int load_images, const char *split_name,
                       ws_scene *scene, int *split, ws_status *st) {
-    if (size < 1 || size > MAX_SIZE)
-        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [1, %d]", size, MAX_SIZE);
+    if (size < 1 || size > WS_CLI_MAX_SIZE)
+        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [1, %d]", size, WS_CLI_MAX_SIZE);
     *split = ws_split_index(split_name);
     if (*split < 0)
         return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);

@@ -7,6 +7,7 @@
 #include <string.h>
 #include "args.h"
 #include "cli_loss.h"
+#include "cli_view.h"
 #include "commands.h"
 #include "evaluate.h"
 #include "threads.h"
@@ -99,6 +100,10 @@ int cmd_eval(int argc, char **argv) {
     if (help) return 0;
     if (!curves_path) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
+        return ws_cli_fail(&st);
+    }
+    if (size < 1 || size > WS_CLI_MAX_SIZE) {
+        ws_fail(&st, WS_EUSAGE, "--size: %d is not in [1, %d]", size, WS_CLI_MAX_SIZE);
         return ws_cli_fail(&st);
     }
     if (ws_cli_choose_loss(loss_name, edges_weight, &lo, &st)) return ws_cli_fail(&st);

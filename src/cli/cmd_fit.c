@@ -8,6 +8,7 @@
 #include "args.h"
 #include "checkpoint.h"
 #include "cli_loss.h"
+#include "cli_view.h"
 #include "commands.h"
 #include "fit.h"
 #include "threads.h"
@@ -78,6 +79,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         memset(opt->loss.layer_weights, 0, sizeof opt->loss.layer_weights);
         memcpy(opt->loss.layer_weights, layers.v, layers.n * sizeof(double));
     }
+    if (opt->size < 1 || opt->size > WS_CLI_MAX_SIZE)
+        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [1, %d]", opt->size, WS_CLI_MAX_SIZE);
     if (opt->max_steps < 0 || opt->threads < 0 || opt->eval_every < 0 || opt->snapshot_every < 0 ||
         !(opt->checkpoint_minutes > 0))
         return ws_fail(st, WS_EUSAGE, "fit: --max-steps, --threads, --eval-every and --snapshot-every "
