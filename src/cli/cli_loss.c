@@ -3,7 +3,13 @@
 #include <unistd.h>
 #include "cli_loss.h"
 
-int ws_cli_choose_loss(const char *name, double edges_weight, ws_loss_options *lo, ws_status *st) {
+int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
+                       ws_loss_options *lo, ws_status *st) {
+    if (layers && layers->n) {
+        lo->n_layer_weights = layers->n;
+        memset(lo->layer_weights, 0, sizeof lo->layer_weights);
+        memcpy(lo->layer_weights, layers->v, layers->n * sizeof(double));
+    }
     int clip = !strcmp(name, "clip") || !strcmp(name, "clip+edges");
     if (!clip) lo->conv_weight = lo->fc_weight = lo->global_weight = 0;
     if (!strcmp(name, "edges") || !strcmp(name, "clip+edges"))

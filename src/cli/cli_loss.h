@@ -1,13 +1,16 @@
 /* cli_loss.h: the --loss choice that fit, eval and grad share. */
 #ifndef WS_CLI_LOSS_H
 #define WS_CLI_LOSS_H
+#include "args.h"
 #include "loss.h"
 
 /* Sets lo's term weights for --loss NAME: clip (the CLIP terms as lo has
  * them), edges (the edge loss alone, weight edges_weight), clip+edges, or
- * l2 (the pixel loss alone). Then checks that a CLIP weight file exists when
+ * l2 (the pixel loss alone); layers (--clip-conv-layer-weights, or NULL),
+ * when given, replaces the default layer weights. Then checks that a CLIP weight file exists when
  * a CLIP term is on, with a message that says how to get one and how to run
  * without. */
-int ws_cli_choose_loss(const char *name, double edges_weight, ws_loss_options *lo, ws_status *st);
+int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
+                       ws_loss_options *lo, ws_status *st);
 
 #endif

@@ -8,10 +8,18 @@ int ws_cli_require(const char *value, const char *option, ws_status *st) {
     return WS_OK;
 }
 
+/* The largest --size any command takes (pixels a side). */
+#define MAX_SIZE 4096
+
+int ws_cli_check_size(int size, ws_status *st) {
+    if (size < 1 || size > MAX_SIZE)
+        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [1, %d]", size, MAX_SIZE);
+    return WS_OK;
+}
+
 int ws_cli_load_split(const char *dir, int size, int load_images, const char *split_name,
                       ws_scene *scene, int *split, ws_status *st) {
-    if (size < 1 || size > WS_CLI_MAX_SIZE)
-        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [1, %d]", size, WS_CLI_MAX_SIZE);
+    if (ws_cli_check_size(size, st)) return st->code;
     *split = ws_split_index(split_name);
     if (*split < 0)
         return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);

@@ -6,8 +6,9 @@
 #include "scene.h"
 #include "status.h"
 
-/* The largest --size any command takes (pixels a side). */
-#define WS_CLI_MAX_SIZE 4096
+/* Fails with WS_EUSAGE "--size: N is not in [1, 4096]" for a working
+ * resolution no command takes. */
+int ws_cli_check_size(int size, ws_status *st);
 
 /* Fails with WS_EUSAGE "OPTION: required" when value is NULL. */
 int ws_cli_require(const char *value, const char *option, ws_status *st);

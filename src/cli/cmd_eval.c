@@ -102,11 +102,8 @@ int cmd_eval(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
         return ws_cli_fail(&st);
     }
-    if (size < 1 || size > WS_CLI_MAX_SIZE) {
-        ws_fail(&st, WS_EUSAGE, "--size: %d is not in [1, %d]", size, WS_CLI_MAX_SIZE);
+    if (ws_cli_check_size(size, &st) || ws_cli_choose_loss(loss_name, edges_weight, NULL, &lo, &st))
         return ws_cli_fail(&st);
-    }
-    if (ws_cli_choose_loss(loss_name, edges_weight, &lo, &st)) return ws_cli_fail(&st);
     char scene_points[4200], scene_curves[4200];
     ws_scene_ground_truth(pos[0], scene_points, scene_curves);
     ws_threads_set(threads);

@@ -74,18 +74,12 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
     opt->seed = (uint64_t)(unsigned)seed;
-    if (layers.n) {
-        opt->loss.n_layer_weights = layers.n;
-        memset(opt->loss.layer_weights, 0, sizeof opt->loss.layer_weights);
-        memcpy(opt->loss.layer_weights, layers.v, layers.n * sizeof(double));
-    }
-    if (opt->size < 1 || opt->size > WS_CLI_MAX_SIZE)
-        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [1, %d]", opt->size, WS_CLI_MAX_SIZE);
+    if (ws_cli_check_size(opt->size, st)) return st->code;
     if (opt->max_steps < 0 || opt->threads < 0 || opt->eval_every < 0 || opt->snapshot_every < 0 ||
         !(opt->checkpoint_minutes > 0))
         return ws_fail(st, WS_EUSAGE, "fit: --max-steps, --threads, --eval-every and --snapshot-every "
                                       "must be >= 0, --checkpoint-minutes > 0");
-    return ws_cli_choose_loss(loss_name, edges_weight, &opt->loss, st);
+    return ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st);
 }
 
 /* The arguments of a resumed run: those its checkpoint stored, then the

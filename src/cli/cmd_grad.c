@@ -90,14 +90,9 @@ int cmd_grad(int argc, char **argv) {
     ws_status_clear(&st);
     if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
     if (help) return 0;
-    if (layers.n) {
-        lo.n_layer_weights = layers.n;
-        memset(lo.layer_weights, 0, sizeof lo.layer_weights);
-        memcpy(lo.layer_weights, layers.v, layers.n * sizeof(double));
-    }
     lo.global_weight = 0; /* it compares augmented items only */
     if (ws_cli_require(curves_path, "--curves", &st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &lo, &st))
+        ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st))
         return ws_cli_fail(&st);
     ws_threads_set(threads);
     ws_curves curves = {0};
