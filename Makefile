@@ -8,7 +8,7 @@
 CC       ?= cc
 OPT      ?= -O2
 CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT) -g -Wall -Wextra \
-            -Wno-unused-parameter -fopenmp -Isrc -Inn \
+            -Wno-unused-parameter -fopenmp -Isrc -I. \
             $(shell pkg-config --cflags openblas libpng zlib libcjson)
 LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson) -lgif -lm -fopenmp
 
@@ -26,13 +26,13 @@ CFLAGS   += -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer 
 endif
 BUILD    ?= build
 
-LIB_SRC   := $(wildcard src/*.c) $(wildcard nn/*.c)
+LIB_SRC   := $(filter-out src/cli/%,$(wildcard src/*/*.c)) $(wildcard nn/*.c nn/*/*.c)
 CLI_SRC   := $(wildcard src/cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
 LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
 CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
-HEADERS   := $(wildcard src/*.h) $(wildcard nn/*.h) $(wildcard src/cli/*.h) tests/check.h
+HEADERS   := $(wildcard src/*.h src/*/*.h nn/*.h nn/*/*.h) tests/check.h
 
 .PHONY: all test clean bench demo fuzz fuzz-build
 all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example

@@ -16,7 +16,7 @@
 #include "matmul.h"
 #include "normalise.h"
 #include "residual.h"
-#include "rng.h"
+#include "base/rng.h"
 #include "tape.h"
 
 /* MAX_TOKENS keeps every size of a run (rows of a batch, T x T attention

@@ -7,7 +7,7 @@
 #define WS_CLIP_H
 #include <stddef.h>
 #include <stdint.h>
-#include "status.h"
+#include "base/status.h"
 #include "weightfile.h"
 
 typedef struct clip_model clip_model;

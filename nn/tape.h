@@ -10,7 +10,7 @@
  * parameters are plain constant arrays and never receive a gradient. */
 #ifndef NN_TAPE_H
 #define NN_TAPE_H
-#include "status.h"
+#include "base/status.h"
 #include "tensor.h"
 
 typedef struct nn_op nn_op;

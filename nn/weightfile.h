@@ -9,7 +9,7 @@
 #ifndef WS_WEIGHTFILE_H
 #define WS_WEIGHTFILE_H
 #include <stdint.h>
-#include "status.h"
+#include "base/status.h"
 
 enum { WF_F32 = 0, WF_F16 = 1 };
 

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "augment.h"
+#include "render/augment.h"
 #include "check.h"
 
 #define FIXTURE "tests/fixtures/augment_torchvision.txt"

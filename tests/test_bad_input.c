@@ -23,7 +23,7 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "check.h"
-#include "checkpoint.h"
+#include "fit/checkpoint.h"
 
 static char bin[512], tmp[256];
 

@@ -11,10 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include "bench.h"
+#include "bench/bench.h"
 #include "check.h"
-#include "synth.h"
-#include "threads.h"
+#include "synth/synth.h"
+#include "base/threads.h"
 #include "wiresketch.h"
 
 static char bin[512], tmp[256];

@@ -12,8 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
-#include "clip.h"
-#include "rng.h"
+#include "nn/clip.h"
+#include "nn/base/rng.h"
 
 enum { MAX_BLOCKS = 12 };
 

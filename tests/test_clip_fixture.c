@@ -20,11 +20,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "bytes.h"
+#include "nn/base/bytes.h"
 #include "check.h"
-#include "clip.h"
-#include "image.h"
-#include "weightfile.h"
+#include "nn/clip.h"
+#include "io/image.h"
+#include "nn/weightfile.h"
 
 #define FIXTURE "tests/fixtures/clip_tiny"
 

@@ -6,7 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "curves.h"
+#include "render/curves.h"
 
 static char tmpdir[256];
 

@@ -6,8 +6,8 @@
 #include <string.h>
 #include <time.h>
 #include "check.h"
-#include "edges.h"
-#include "rng.h"
+#include "render/edges.h"
+#include "nn/base/rng.h"
 
 static double now(void) {
     struct timespec ts;

@@ -13,7 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "check.h"
-#include "checkpoint.h"
+#include "fit/checkpoint.h"
 
 static char bin[600], dirname_of_bin[512], tmp[256];
 

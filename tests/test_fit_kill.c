@@ -18,7 +18,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "check.h"
-#include "checkpoint.h"
+#include "fit/checkpoint.h"
 
 static char bin[512], tmp[256], dir[300], ckpt[400];
 

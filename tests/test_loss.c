@@ -12,7 +12,7 @@
 #include <unistd.h>
 #include "check.h"
 #include "wiresketch.h"
-#include "synth.h"
+#include "synth/synth.h"
 
 typedef struct {
     ws_scene scene;

@@ -8,8 +8,8 @@
 #include <time.h>
 #include <unistd.h>
 #include "check.h"
-#include "metrics.h"
-#include "rng.h"
+#include "metrics/metrics.h"
+#include "nn/base/rng.h"
 
 #define ROSE "../shared/scenes/rose/gt_points.ply"
 

@@ -9,18 +9,18 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "activation.h"
-#include "attention.h"
+#include "nn/activation.h"
+#include "nn/attention.h"
 #include "check.h"
-#include "embed.h"
-#include "fastmath.h"
-#include "layernorm.h"
-#include "matmul.h"
-#include "normalise.h"
-#include "residual.h"
-#include "rng.h"
-#include "similarity.h"
-#include "tape.h"
+#include "nn/embed.h"
+#include "nn/fastmath.h"
+#include "nn/layernorm.h"
+#include "nn/matmul.h"
+#include "nn/normalise.h"
+#include "nn/residual.h"
+#include "nn/base/rng.h"
+#include "nn/similarity.h"
+#include "nn/tape.h"
 
 static ws_rng rng;
 

@@ -14,13 +14,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
-#include "checkpoint.h"
-#include "clip.h"
-#include "curves.h"
-#include "image.h"
-#include "outfile.h"
-#include "pointcloud.h"
-#include "scene.h"
+#include "fit/checkpoint.h"
+#include "nn/clip.h"
+#include "render/curves.h"
+#include "io/image.h"
+#include "base/outfile.h"
+#include "io/pointcloud.h"
+#include "io/scene.h"
 
 /* A scene directory with train/r_0.png .. train/r_2.png, as fuzz_scene.c
  * makes it; each scene input is copied in as its transforms_train.json. */

@@ -10,13 +10,13 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include "bytes.h"
+#include "nn/base/bytes.h"
 #include "check.h"
-#include "curves.h"
-#include "image.h"
-#include "loss_l2.h"
-#include "scene.h"
-#include "splat.h"
+#include "render/curves.h"
+#include "io/image.h"
+#include "objective/loss_l2.h"
+#include "io/scene.h"
+#include "render/splat.h"
 
 #define SCENE "../shared/scenes/rose"
 

@@ -8,9 +8,9 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "gif.h"
-#include "report.h"
-#include "turntable.h"
+#include "io/gif.h"
+#include "io/report.h"
+#include "io/turntable.h"
 
 static char dir[64];
 

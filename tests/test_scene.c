@@ -14,8 +14,8 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "check.h"
-#include "image.h"
-#include "scene.h"
+#include "io/image.h"
+#include "io/scene.h"
 
 static char tmp[256];
 
@@ -221,7 +221,7 @@ static void test_real_scenes(void) {
     rc = ws_scene_load(&sc, "../shared/scenes/duck", &opt, &st);
     CHECK(rc == WS_OK, "duck: %s", st.msg);
     if (rc) return;
-    CHECK(sc.split[WS_TRAIN].n == 97, "duck train %d", sc.split[WS_TRAIN].n);
+    CHECK(sc.split[WS_TRAIN].n == 96, "duck train %d", sc.split[WS_TRAIN].n);
     const int duck[2][3] = {{10536, 11386, 11905},
                             {26544, 21111, 20947}}; /* 16-bit, independent decode */
     for (int s = 0; s < 2; s++)

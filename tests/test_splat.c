@@ -8,11 +8,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "bytes.h"
+#include "nn/base/bytes.h"
 #include "check.h"
-#include "curves.h"
-#include "loss_l2.h"
-#include "splat.h"
+#include "render/curves.h"
+#include "objective/loss_l2.h"
+#include "render/splat.h"
 
 /* A camera at `eye` looking at `target` (+y up), width x height. */
 static ws_camera look_at(const double eye[3], const double target[3], int width, int height) {

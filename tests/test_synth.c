@@ -10,9 +10,9 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "curves.h"
-#include "scene.h"
-#include "synth.h"
+#include "render/curves.h"
+#include "io/scene.h"
+#include "synth/synth.h"
 
 static char tmp[256];
 

@@ -9,9 +9,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
-#include "bytes.h"
+#include "nn/base/bytes.h"
 #include "check.h"
-#include "weightfile.h"
+#include "nn/weightfile.h"
 
 /* The file layout of weights/README.md, as offsets into a file. */
 enum { HEADER = 40, ENTRY = 120, E_NAME = 0, E_DTYPE = 64, E_NDIM = 68, E_SHAPE = 72, E_OFFSET = 104,

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
+#include "cli/args.h"
 
 /* Option names compare with '_' and '-' treated alike. */
 static int same_name(const char *a, const char *b) {

@@ -8,7 +8,7 @@
  * `--help` prints the usage built from the table and sets *help. */
 #ifndef WS_ARGS_H
 #define WS_ARGS_H
-#include "status.h"
+#include "nn/base/status.h"
 
 typedef enum {
     WS_ARG_FLAG,      /* int, set to 1 when present */

@@ -8,8 +8,8 @@
 #ifndef WS_CLI_BENCH_H
 #define WS_CLI_BENCH_H
 #include <cJSON.h>
-#include "bench.h"
-#include "clip.h"
+#include "bench/bench.h"
+#include "nn/clip.h"
 
 typedef struct {
     /* options */

@@ -1,7 +1,7 @@
 /* cli_loss.c: the --loss choice (see cli_loss.h). */
 #include <string.h>
 #include <unistd.h>
-#include "cli_loss.h"
+#include "cli/cli_loss.h"
 
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
                        ws_loss_options *lo, ws_status *st) {

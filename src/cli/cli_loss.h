@@ -1,8 +1,8 @@
 /* cli_loss.h: the --loss choice that fit, eval and grad share. */
 #ifndef WS_CLI_LOSS_H
 #define WS_CLI_LOSS_H
-#include "args.h"
-#include "loss.h"
+#include "cli/args.h"
+#include "objective/loss.h"
 
 /* Sets lo's term weights for --loss NAME: clip (the CLIP terms as lo has
  * them), edges (the edge loss alone, weight edges_weight), clip+edges, or

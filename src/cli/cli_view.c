@@ -1,6 +1,6 @@
 /* cli_view.c: shared scene/split/view options (see cli_view.h). */
 #include <stddef.h>
-#include "cli_view.h"
+#include "cli/cli_view.h"
 
 
 int ws_cli_require(const char *value, const char *option, ws_status *st) {

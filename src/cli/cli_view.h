@@ -3,8 +3,8 @@
  * everywhere. */
 #ifndef WS_CLI_VIEW_H
 #define WS_CLI_VIEW_H
-#include "scene.h"
-#include "status.h"
+#include "io/scene.h"
+#include "nn/base/status.h"
 
 /* Fails with WS_EUSAGE "--size: N is not in [1, 4096]" for a working
  * resolution no command takes. */

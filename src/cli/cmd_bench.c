@@ -7,10 +7,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
-#include "cli_bench.h"
-#include "commands.h"
-#include "threads.h"
+#include "cli/args.h"
+#include "cli/cli_bench.h"
+#include "cli/commands.h"
+#include "base/threads.h"
 
 static const struct {
     const char *name;

@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>
-#include "cli_bench.h"
+#include "cli/cli_bench.h"
 
 enum { MAX_ROWS = 32 };
 

@@ -4,9 +4,9 @@
  * default step (the unaugmented stroke image and 4 augmentations). */
 #include <stdio.h>
 #include <stdlib.h>
-#include "cli_bench.h"
-#include "clip_bench.h"
-#include "commands.h"
+#include "cli/cli_bench.h"
+#include "bench/clip_bench.h"
+#include "cli/commands.h"
 
 int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     clip_bench_result r;

@@ -9,7 +9,7 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include "cli_bench.h"
+#include "cli/cli_bench.h"
 
 /* Runs `exe fit scene --out dir/fit ...` with weights; *kb its peak RSS. */
 static int child_fit(const ws_cli_bench *ctx, const char *weights, const char *dir, long *kb,

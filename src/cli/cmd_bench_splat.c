@@ -3,7 +3,7 @@
  * against the exact sum (src/bench.h). */
 #include <math.h>
 #include <stdio.h>
-#include "cli_bench.h"
+#include "cli/cli_bench.h"
 
 int ws_cli_bench_splat(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     static const int counts[] = {1000, 10000, 100000};

@@ -1,7 +1,7 @@
 /* cmd_bench_step.c: `wiresketch bench step`: where the time of one default
  * training step goes, against the GEMM floor of its CLIP work (src/bench.h). */
 #include <stdio.h>
-#include "cli_bench.h"
+#include "cli/cli_bench.h"
 
 int ws_cli_bench_step(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     ws_bench_step_result r;

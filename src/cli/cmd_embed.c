@@ -4,11 +4,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
-#include "clip.h"
-#include "cli_view.h"
-#include "commands.h"
-#include "image.h"
+#include "cli/args.h"
+#include "nn/clip.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "io/image.h"
 
 /* Images per forward pass: batched GEMMs, bounded memory. */
 #define EMBED_BATCH 8

@@ -5,12 +5,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
-#include "cli_loss.h"
-#include "cli_view.h"
-#include "commands.h"
-#include "evaluate.h"
-#include "threads.h"
+#include "cli/args.h"
+#include "cli/cli_loss.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "objective/evaluate.h"
+#include "base/threads.h"
 
 static void print_number(const char *key, double v) {
     if (isfinite(v))

@@ -1,10 +1,10 @@
 /* cmd_export.c: `wiresketch export`: a sketch as OBJ, PLY and SVG files. */
 #include <stdio.h>
-#include "args.h"
-#include "cli_view.h"
-#include "commands.h"
-#include "curves.h"
-#include "export.h"
+#include "cli/args.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "render/curves.h"
+#include "io/export.h"
 
 /* The SVG of the sketch seen from view `view` of a split of the scene. */
 static int export_svg(const char *path, const ws_curves *curves, const char *scene_dir,

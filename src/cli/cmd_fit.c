@@ -5,13 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "args.h"
-#include "checkpoint.h"
-#include "cli_loss.h"
-#include "cli_view.h"
-#include "commands.h"
-#include "fit.h"
-#include "threads.h"
+#include "cli/args.h"
+#include "fit/checkpoint.h"
+#include "cli/cli_loss.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "fit/fit.h"
+#include "base/threads.h"
 
 static void request_stop(int sig) {
     (void)sig;

@@ -7,14 +7,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "args.h"
-#include "cli_loss.h"
-#include "cli_view.h"
-#include "commands.h"
-#include "curves.h"
-#include "loss.h"
-#include "splat.h"
-#include "threads.h"
+#include "cli/args.h"
+#include "cli/cli_loss.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "render/curves.h"
+#include "objective/loss.h"
+#include "render/splat.h"
+#include "base/threads.h"
 
 /* Loss and dL/dP (curves->n x 4 x 3) of view `view` of `split`. */
 static int view_gradient(const ws_curves *curves, const ws_scene *scene, int split, int view,

@@ -3,13 +3,13 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include "cli_view.h"
-#include "commands.h"
-#include "args.h"
-#include "curves.h"
-#include "image.h"
-#include "outfile.h"
-#include "splat.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "cli/args.h"
+#include "render/curves.h"
+#include "io/image.h"
+#include "base/outfile.h"
+#include "render/splat.h"
 
 /* Splats every view of `split` and writes OUT/<view name>.png. */
 static int render_split(const ws_curves *curves, const ws_split *split, const char *out_dir,

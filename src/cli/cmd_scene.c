@@ -1,9 +1,9 @@
 /* cmd_scene.c: `wiresketch scene NAME --out DIR`: a synthetic test scene
  * (NeRF layout) with its ground-truth curves (see synth.h). */
 #include <stdio.h>
-#include "args.h"
-#include "commands.h"
-#include "synth.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "synth/synth.h"
 
 int cmd_scene(int argc, char **argv) {
     ws_synth_options opt;

@@ -1,5 +1,5 @@
 /* commands.c: the table of commands (see commands.h). */
-#include "commands.h"
+#include "cli/commands.h"
 
 const ws_command ws_commands[] = {
     {"fit", cmd_fit, "fit 3D curves to a multi-view scene: the main job"},

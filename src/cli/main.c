@@ -5,7 +5,7 @@
 #include <string.h>
 #include <strings.h>
 #include <unistd.h>
-#include "commands.h"
+#include "cli/commands.h"
 
 static void usage(FILE *out) {
     fprintf(out, "usage: wiresketch COMMAND [options]   (wiresketch COMMAND --help for details)\n\n"

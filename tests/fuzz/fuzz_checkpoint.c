@@ -3,7 +3,7 @@
  * (fuzz_fix_crc) so that mutations reach the fields behind it.
  * Seeds: tests/fuzz/corpus/checkpoint (checkpoints of short fits). */
 #include <math.h>
-#include "checkpoint.h"
+#include "fit/checkpoint.h"
 #include "fuzz_input.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {

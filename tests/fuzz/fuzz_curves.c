@@ -2,7 +2,7 @@
  * reader of a curve file does next, sampling it into Gaussians.
  * Seeds: tests/fuzz/corpus/curves. */
 #include <math.h>
-#include "curves.h"
+#include "render/curves.h"
 #include "fuzz_input.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {

@@ -14,8 +14,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
-#include "status.h"
-#include "threads.h"
+#include "nn/base/status.h"
+#include "base/threads.h"
 
 /* The private directory of this process, made by fuzz_setup(). */
 static char fuzz_dir[256];

@@ -4,7 +4,7 @@
  * extra properties, lists and a face element). */
 #include <math.h>
 #include "fuzz_input.h"
-#include "pointcloud.h"
+#include "io/pointcloud.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
     fuzz_setup("ply");

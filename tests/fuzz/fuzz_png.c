@@ -4,7 +4,7 @@
  * without tRNS, low bit depths, interlaced). */
 #include <math.h>
 #include "fuzz_input.h"
-#include "image.h"
+#include "io/image.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
     fuzz_setup("png");

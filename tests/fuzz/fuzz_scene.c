@@ -5,8 +5,8 @@
  * scene's transforms cut down to a few frames, and variants). */
 #include <math.h>
 #include "fuzz_input.h"
-#include "outfile.h"
-#include "scene.h"
+#include "base/outfile.h"
+#include "io/scene.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
     fuzz_setup("scene");

@@ -6,7 +6,7 @@
  * Seeds: tests/fuzz/corpus/weights (tiny f32 and f16 models from
  * tools/make_fuzz_corpus.py). */
 #include <math.h>
-#include "clip.h"
+#include "nn/clip.h"
 #include "fuzz_input.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {

@@ -1,0 +1,90 @@
+/* clip_bench.c: timing of the image tower against its GEMM floor (clip_bench.h). */
+#include <cblas.h>
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <time.h>
+#include "bench/clip_bench.h"
+#include "nn/parallel.h"
+#include "nn/base/rng.h"
+
+enum { SEEDED_BLOCKS = 2 }; /* blocks 2 and 3, when the model has them */
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static float *random_floats(size_t n, ws_rng *rng, double lo, double hi, ws_status *st) {
+    float *x = ws_malloc(n * sizeof *x, "benchmark inputs", st);
+    if (x)
+        for (size_t i = 0; i < n; i++) x[i] = (float)(lo + (hi - lo) * ws_rng_uniform(rng));
+    return x;
+}
+
+int clip_bench_run(const clip_model *m, int batch, int rounds, clip_bench_result *res,
+                   ws_status *st) {
+    const wf_arch *a = clip_model_arch(m);
+    if (rounds < 1) return ws_fail(st, WS_EUSAGE, "clip bench: rounds %d must be at least 1", rounds);
+    clip_run *run;
+    clip_run_options opt = {batch, a->layers - 1, 1, 1};
+    if (clip_run_create(&run, m, &opt, st)) return st->code;
+    int tokens = 1 + (a->resolution / a->patch) * (a->resolution / a->patch);
+    size_t pixels = (size_t)batch * 3 * a->resolution * a->resolution;
+    size_t hidden = (size_t)batch * tokens * a->width;
+    ws_rng rng;
+    ws_rng_seed(&rng, 1);
+    const float **d_hidden = ws_calloc((size_t)a->layers, sizeof *d_hidden, "benchmark seeds", st);
+    float *images = random_floats(pixels, &rng, 0, 1, st);
+    float *d_images = ws_malloc(pixels * sizeof *d_images, "benchmark gradients", st);
+    float *d_embedding = random_floats((size_t)batch * a->output_dim, &rng, -1, 1, st);
+    float *d_blocks = random_floats(SEEDED_BLOCKS * hidden, &rng, -1e-3, 1e-3, st);
+    int rc = WS_OK;
+    if (!d_hidden || !images || !d_images || !d_embedding || !d_blocks) {
+        rc = st->code;
+        goto done;
+    }
+    for (int k = 0; k < SEEDED_BLOCKS && 2 + k < a->layers; k++) d_hidden[2 + k] = d_blocks + k * hidden;
+
+    *res = (clip_bench_result){.batch = batch, .rounds = rounds, .threads = omp_get_max_threads()};
+    res->forward = res->forward_backward = res->floor_forward = res->floor_forward_backward = INFINITY;
+    /* one unmeasured round: page faults of the arena, OpenBLAS's threads */
+    for (int r = -1; r < rounds; r++) {
+        double t0 = now();
+        if (clip_forward(run, images, st)) {
+            rc = st->code;
+            goto done;
+        }
+        double t1 = now();
+        if (clip_backward(run, d_hidden, d_embedding, d_images, st)) {
+            rc = st->code;
+            goto done;
+        }
+        double t2 = now();
+        clip_gemm_floor(run, 0);
+        double t3 = now();
+        clip_gemm_floor(run, 1);
+        double t4 = now();
+        if (r < 0) continue;
+        res->forward = fmin(res->forward, t1 - t0);
+        res->forward_backward = fmin(res->forward_backward, t2 - t0);
+        res->floor_forward = fmin(res->floor_forward, t3 - t2);
+        res->floor_forward_backward = fmin(res->floor_forward_backward, t4 - t2);
+    }
+    res->arena_bytes = clip_run_bytes(run);
+    struct rusage ru;
+    res->peak_rss_kb = getrusage(RUSAGE_SELF, &ru) ? -1 : ru.ru_maxrss;
+    snprintf(res->blas_core, sizeof res->blas_core, "%s", openblas_get_corename());
+    res->nn_parallel = nn_fork((size_t)-1);
+done:
+    clip_run_free(run);
+    free(d_hidden);
+    free(images);
+    free(d_images);
+    free(d_embedding);
+    free(d_blocks);
+    return rc;
+}

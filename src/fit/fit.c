@@ -1,0 +1,371 @@
+/* fit.c: the optimisation loop of `wiresketch fit` (see fit.h).
+ *
+ * One step: the batch's loss and gradient (step.h: sample the curves into
+ * Gaussians; for each view of the batch, splat, take the loss and its
+ * gradient, splat backward, curve backward; average over the batch); refuse
+ * the step if anything is not finite; Adam. The state that decides the
+ * trajectory (control points, Adam moments, rng, position in the schedule)
+ * lives in ws_fit_state and is what a checkpoint stores, so a resumed run
+ * takes exactly the same steps. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "fit/checkpoint.h"
+#include "objective/evaluate.h"
+#include "fit/fit.h"
+#include "fit/fit_outputs.h"
+#include "base/outfile.h"
+#include "io/scene.h"
+#include "objective/step.h"
+
+volatile sig_atomic_t ws_fit_stop_requested = 0;
+
+void ws_fit_options_default(ws_fit_options *o) {
+    memset(o, 0, sizeof *o);
+    ws_loss_options_default(&o->loss);
+    o->size = 224;
+    o->batch_size = 1;
+    o->epochs = 10;
+    o->inner_steps = 30;
+    o->n_curves = 25;
+    o->eval_every = 10;
+    o->threads = 0;
+    o->learning_rate = 0.005;
+    o->thickness = 0.02;
+    o->radius = 0.8;
+    o->length = 0.02;
+    o->overlap = 0.6;
+    o->cutoff = 4.0;
+    o->seed = 0;
+    o->checkpoint_minutes = 5.0;
+    o->snapshot_every = 30;
+}
+
+void ws_fit_state_free(ws_fit_state *s) {
+    free(s->order);
+    ws_curves_free(&s->curves);
+    ws_adam_free(&s->adam);
+    free(s->log);
+    free(s->snapshots);
+    memset(s, 0, sizeof *s);
+}
+
+static double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* Everything one fit process holds. */
+typedef struct {
+    const ws_fit_options *opt;
+    ws_scene scene;
+    ws_step step;             /* loss, splatting and their buffers */
+    double *grad;             /* curves x 12 */
+    double *backup;           /* 3 x curves x 12: P, Adam m and v before an update */
+    ws_fit_state s;
+    double start;             /* now_seconds() when this process began fitting */
+} fit_run;
+
+static double elapsed(const fit_run *r) { return r->s.elapsed + now_seconds() - r->start; }
+
+static void shuffle(int *order, int n, ws_rng *rng) {
+    for (int i = 0; i < n; i++) order[i] = i;
+    for (int i = n - 1; i > 0; i--) {
+        int j = (int)ws_rng_below(rng, (uint64_t)i + 1);
+        int t = order[i];
+        order[i] = order[j];
+        order[j] = t;
+    }
+}
+
+/* One Adam step on the views of a batch. A non-finite loss or gradient is
+ * reported and the step refused: the control points and moments stay. */
+static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws_status *st) {
+    int np = r->s.curves.n * 12;
+    int rc = ws_step_batch(&r->step, &r->s.curves, views, nviews, &r->s.rng, loss, r->grad, st);
+    if (rc && rc != WS_ENUMERIC) return rc;
+    int finite = !rc && isfinite(*loss);
+    for (int i = 0; i < np && finite; i++) finite = isfinite(r->grad[i]);
+    if (!finite) {
+        r->s.skipped_steps++;
+        *loss = NAN;
+        fprintf(stderr, "\nwiresketch: step %ld: non-finite loss or gradient (%s); step skipped\n",
+                r->s.global_step, rc ? st->msg : "in the gradient");
+        ws_status_clear(st);
+        return WS_OK;
+    }
+    /* An update that leaves curves too long to sample (a huge step) is
+     * undone, so the state always holds curves every later step, the
+     * evaluation and the outputs can use. */
+    ws_adam *adam = &r->s.adam;
+    memcpy(r->backup, r->s.curves.P, np * sizeof(double));
+    memcpy(r->backup + np, adam->m, np * sizeof(double));
+    memcpy(r->backup + 2 * np, adam->v, np * sizeof(double));
+    ws_adam_update(adam, r->s.curves.P, r->grad);
+    rc = ws_curves_sample(&r->s.curves, &r->step.gaussians, st);
+    if (rc == WS_ENUMERIC) {
+        memcpy(r->s.curves.P, r->backup, np * sizeof(double));
+        memcpy(adam->m, r->backup + np, np * sizeof(double));
+        memcpy(adam->v, r->backup + 2 * np, np * sizeof(double));
+        adam->step--;
+        r->s.skipped_steps++;
+        fprintf(stderr, "\nwiresketch: step %ld: the update made the curves unusable (%s); step undone\n",
+                r->s.global_step, st->msg);
+        ws_status_clear(st);
+        return WS_OK;
+    }
+    return rc;
+}
+
+/* The mean loss of a split's views, item 0 only (NaN for an empty split);
+ * per_view (n, or NULL) receives each view's loss. */
+static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_status *st) {
+    ws_step *p = &r->step;
+    int rc = ws_curves_sample(&r->s.curves, &p->gaussians, st);
+    if (!rc)
+        rc = ws_split_loss(p->loss, p->splat, &p->splat_opt, &r->scene, split, &p->gaussians,
+                           r->s.curves.thickness, p->alpha, per_view, mean, st);
+    if (rc != WS_ENUMERIC) return rc;
+    /* A non-finite evaluation is reported and recorded as NaN: it must not
+     * cost the run its outputs. */
+    fprintf(stderr, "\nwiresketch: %s loss not finite (%s)\n", ws_split_names[split], st->msg);
+    ws_status_clear(st);
+    *mean = NAN;
+    for (int v = 0; per_view && v < r->scene.split[split].n; v++) per_view[v] = NAN;
+    return WS_OK;
+}
+
+static int append_log(ws_fit_state *s, const ws_log_row *row, ws_status *st) {
+    if (s->nlog == s->caplog) {
+        int cap = s->caplog ? 2 * s->caplog : 1024;
+        ws_log_row *grown = realloc(s->log, (size_t)cap * sizeof *grown);
+        if (!grown) return ws_fail(st, WS_ENOMEM, "out of memory growing the training log");
+        s->log = grown;
+        s->caplog = cap;
+    }
+    s->log[s->nlog++] = *row;
+    return WS_OK;
+}
+
+/* Keeps the control points for a frame of evolution.gif. */
+static int snapshot(ws_fit_state *s, ws_status *st) {
+    size_t np = (size_t)s->curves.n * 12;
+    if (s->nsnap == s->capsnap) {
+        int cap = s->capsnap ? 2 * s->capsnap : 64;
+        double *grown = realloc(s->snapshots, (size_t)cap * np * sizeof(double));
+        if (!grown) return ws_fail(st, WS_ENOMEM, "out of memory keeping curve snapshots");
+        s->snapshots = grown;
+        s->capsnap = cap;
+    }
+    memcpy(s->snapshots + (size_t)s->nsnap++ * np, s->curves.P, np * sizeof(double));
+    return WS_OK;
+}
+
+static long total_steps(const fit_run *r) {
+    int n = r->scene.split[WS_TRAIN].n, bs = r->opt->batch_size;
+    long steps = (long)r->opt->epochs * ((n + bs - 1) / bs) * r->opt->inner_steps;
+    return r->opt->max_steps > 0 && r->opt->max_steps < steps ? r->opt->max_steps : steps;
+}
+
+/* h:mm:ss of a duration in seconds. */
+static void clock_text(double seconds, char text[32]) {
+    long t = (long)(seconds + 0.5);
+    snprintf(text, 32, "%ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
+}
+
+/* The progress line on stderr: rewritten in place on a terminal, a line
+ * every 10 seconds otherwise (logs stay readable); a last line at the end. */
+static void progress(fit_run *r, double loss, double rate_start, long steps_this_run, int final) {
+    static double last_print;
+    double t = now_seconds();
+    int tty = isatty(2);
+    if (r->opt->quiet || (!final && t - last_print < (tty ? 0.2 : 10.0))) return;
+    last_print = t;
+    double rate = steps_this_run / fmax(t - rate_start, 1e-9);
+    char left[32], spent[32];
+    clock_text(rate > 0 ? (total_steps(r) - r->s.global_step) / rate : 0, left);
+    clock_text(elapsed(r), spent);
+    if (final) {
+        fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
+                tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
+        return;
+    }
+    int nb = (r->scene.split[WS_TRAIN].n + r->opt->batch_size - 1) / r->opt->batch_size;
+    fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
+            tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1, nb,
+            r->s.global_step, total_steps(r), loss, rate, spent, left, tty ? "   " : "\n");
+    fflush(stderr);
+}
+
+/* The state of a new fit: random (or given) curves, fresh Adam, first order. */
+static int init_state(fit_run *r, ws_status *st) {
+    const ws_fit_options *o = r->opt;
+    ws_fit_state *s = &r->s;
+    ws_rng_seed(&s->rng, o->seed);
+    if (o->init_curves) {
+        if (ws_curves_load(o->init_curves, &s->curves, st)) return st->code;
+        ws_gaussians g = {0};
+        int rc = ws_curves_sample(&s->curves, &g, st);
+        ws_gaussians_free(&g);
+        if (rc) {
+            char why[sizeof st->msg];
+            snprintf(why, sizeof why, "%s", st->msg);
+            return ws_fail(st, WS_EINPUT, "%s: %s", o->init_curves, why);
+        }
+    } else if (ws_curves_init_random(&s->curves, o->n_curves, r->scene.center, o->radius, o->length,
+                                     o->thickness, o->overlap, &s->rng, st)) {
+        return st->code;
+    }
+    s->n_train = r->scene.split[WS_TRAIN].n;
+    s->order = ws_malloc((size_t)s->n_train * sizeof(int), "view order", st);
+    if (!s->order || ws_adam_init(&s->adam, s->curves.n * 12, o->learning_rate, st)) return st->code;
+    shuffle(s->order, s->n_train, &s->rng);
+    return snapshot(s, st);
+}
+
+static int save_checkpoint(fit_run *r, const char *const *argv, int argc, ws_status *st) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/checkpoint.bin", r->opt->out_dir);
+    ws_fit_state *s = &r->s;
+    double before = s->elapsed;
+    s->elapsed = elapsed(r);
+    int rc = ws_checkpoint_save(path, s, argc, argv, st);
+    s->elapsed = before;
+    return rc;
+}
+
+/* Marks the step as taken and moves through the schedule: end of batch
+ * (validation), end of epoch (a new order). Nothing here draws from the rng
+ * except the shuffle, which happens at the same point of every run. */
+static int advance(fit_run *r, double loss, ws_status *st) {
+    const ws_fit_options *o = r->opt;
+    ws_fit_state *s = &r->s;
+    s->global_step++;
+    s->step_in_batch++;
+    ws_log_row row = {s->global_batch, s->global_step, elapsed(r), loss, NAN};
+    if (s->step_in_batch == o->inner_steps) {
+        s->step_in_batch = 0;
+        s->batch_in_epoch++;
+        s->global_batch++;
+        if (o->eval_every > 0 && s->global_batch % o->eval_every == 0 &&
+            evaluate(r, WS_VAL, &row.val_loss, NULL, st))
+            return st->code;
+        int nb = (s->n_train + o->batch_size - 1) / o->batch_size;
+        if (s->batch_in_epoch == nb) {
+            s->batch_in_epoch = 0;
+            s->epoch++;
+            if (s->epoch < o->epochs) shuffle(s->order, s->n_train, &s->rng);
+        }
+    }
+    if (append_log(s, &row, st)) return st->code;
+    if (o->snapshot_every > 0 && s->global_step % o->snapshot_every == 0) return snapshot(s, st);
+    return WS_OK;
+}
+
+static int run_schedule(fit_run *r, const char *const *argv, int argc, int *interrupted,
+                        ws_status *st) {
+    const ws_fit_options *o = r->opt;
+    ws_fit_state *s = &r->s;
+    double rate_start = now_seconds(), last_checkpoint = rate_start;
+    long steps_this_run = 0;
+    double loss = NAN;
+    while (s->epoch < o->epochs && !(o->max_steps > 0 && s->global_step >= o->max_steps)) {
+        if (ws_fit_stop_requested) {
+            *interrupted = 1;
+            break;
+        }
+        int first = s->batch_in_epoch * o->batch_size;
+        int nviews = s->n_train - first < o->batch_size ? s->n_train - first : o->batch_size;
+        if (train_step(r, s->order + first, nviews, &loss, st) || advance(r, loss, st)) return st->code;
+        steps_this_run++;
+        progress(r, loss, rate_start, steps_this_run, 0);
+        if (now_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
+            if (save_checkpoint(r, argv, argc, st)) return st->code;
+            last_checkpoint = now_seconds();
+        }
+    }
+    progress(r, loss, rate_start, steps_this_run, 1);
+    return WS_OK;
+}
+
+static void fit_run_free(fit_run *r) {
+    ws_step_free(&r->step);
+    free(r->grad);
+    free(r->backup);
+    ws_fit_state_free(&r->s);
+    ws_scene_free(&r->scene);
+}
+
+static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int argc, ws_status *st) {
+    const ws_fit_options *o = r->opt;
+    if (o->batch_size < 1 || o->epochs < 0 || o->inner_steps < 1 || o->n_curves < 1 ||
+        !(o->thickness > 0) || !(o->overlap >= 0 && o->overlap < 1) || !(o->learning_rate > 0))
+        return ws_fail(st, WS_EUSAGE,
+                       "fit: batch-size, inner-steps, n-curves, thickness and learning-rate must be "
+                       "positive, epochs >= 0 and overlap in [0, 1)");
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = o->size;
+    if (ws_scene_load(&r->scene, o->scene_dir, &so, st)) return st->code;
+    if (ws_mkdir(o->out_dir, st)) return st->code;
+    if (resume) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/checkpoint.bin", o->out_dir);
+        int ac;
+        char **av;
+        if (ws_checkpoint_load(path, &r->s, &ac, &av, st)) return st->code;
+        ws_checkpoint_free_args(ac, av);
+        if (r->s.n_train != r->scene.split[WS_TRAIN].n)
+            return ws_fail(st, WS_EINPUT, "%s: made for %d training views, the scene has %d", path,
+                           r->s.n_train, r->scene.split[WS_TRAIN].n);
+        int nb = (r->s.n_train + o->batch_size - 1) / o->batch_size;
+        if (r->s.epoch < o->epochs && (r->s.batch_in_epoch >= nb || r->s.step_in_batch >= o->inner_steps))
+            return ws_fail(st, WS_EUSAGE,
+                           "%s: stopped at batch %d, step %d of its epoch, which --batch-size %d and "
+                           "--inner-steps %d do not have; resume with the run's own values",
+                           path, r->s.batch_in_epoch, r->s.step_in_batch, o->batch_size, o->inner_steps);
+    } else if (init_state(r, st)) {
+        return st->code;
+    }
+    ws_splat_options splat_opt;
+    ws_splat_options_default(&splat_opt);
+    splat_opt.cutoff = o->cutoff;
+    ws_loss_options lo = o->loss;
+    lo.aug_seed = o->seed; /* an augmentation bank follows the run's seed */
+    size_t np = (size_t)r->s.curves.n * 12;
+    if (ws_step_init(&r->step, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
+    if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
+        !(r->backup = ws_malloc(3 * np * sizeof(double), "control point backup", st)))
+        return st->code;
+    /* The first checkpoint only once everything loaded: a bad weight file
+     * leaves no checkpoint behind. */
+    return resume ? WS_OK : save_checkpoint(r, argv, argc, st);
+}
+
+int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int resume,
+           int *interrupted, ws_status *st) {
+    fit_run r;
+    memset(&r, 0, sizeof r);
+    r.opt = opt;
+    *interrupted = 0;
+    r.start = now_seconds();
+    int rc = fit_run_setup(&r, resume, argv, argc, st);
+    if (!rc) rc = run_schedule(&r, argv, argc, interrupted, st);
+    if (!rc) rc = save_checkpoint(&r, argv, argc, st);
+    double test_loss = NAN, *test_losses = NULL;
+    if (!rc && !*interrupted) {
+        test_losses = ws_calloc(r.scene.split[WS_TEST].n + 1, sizeof(double), "test losses", st);
+        rc = test_losses ? evaluate(&r, WS_TEST, &test_loss, test_losses, st) : st->code;
+    }
+    if (!rc) {
+        r.s.elapsed = elapsed(&r);
+        rc = ws_fit_write_outputs(opt, &r.scene, &r.s, test_losses, test_loss, st);
+    }
+    free(test_losses);
+    fit_run_free(&r);
+    return rc;
+}

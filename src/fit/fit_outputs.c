@@ -1,0 +1,212 @@
+/* fit_outputs.c: the output directory of a fit (see fit_outputs.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "objective/evaluate.h"
+#include "io/export.h"
+#include "fit/fit_outputs.h"
+#include "io/gif.h"
+#include "io/image.h"
+#include "base/outfile.h"
+#include "io/report.h"
+#include "io/turntable.h"
+
+#define TURNTABLE_FRAMES 72
+#define EVOLUTION_DELAY_CS 10
+
+/* dir/name in dst (PATH_BYTES); returns dst so that calls nest. */
+#define PATH_BYTES 4600
+static const char *join(char *dst, const char *dir, const char *name) {
+    snprintf(dst, PATH_BYTES, "%s/%s", dir, name);
+    return dst;
+}
+
+static int write_log(const char *path, const ws_fit_state *s, ws_status *st) {
+    ws_outfile f;
+    if (ws_outfile_open(&f, path, st)) return st->code;
+    fprintf(f.fp, "batch,step,seconds,train_loss,val_loss\n");
+    for (int i = 0; i < s->nlog; i++) {
+        const ws_log_row *r = &s->log[i];
+        fprintf(f.fp, "%d,%ld,%.3f,%.9g,", r->batch, r->step, r->seconds, r->train_loss);
+        if (isfinite(r->val_loss)) fprintf(f.fp, "%.9g", r->val_loss);
+        fputc('\n', f.fp);
+    }
+    return ws_outfile_commit(&f, st);
+}
+
+/* Writes a renderer's gray sketch as an 8-bit PNG. */
+static int write_gray_png(const char *path, const ws_sketch_renderer *r, ws_status *st) {
+    ws_image img;
+    if (ws_image_alloc(&img, r->width, r->height, 1, st)) return st->code;
+    for (int i = 0; i < r->width * r->height; i++) img.data[i] = r->gray[i] / 255.0f;
+    int rc = ws_png_write(path, &img, st);
+    ws_image_free(&img);
+    return rc;
+}
+
+/* test/NAME.png (the sketch) and test/NAME_photo.png for every test view;
+ * fills the report's view list (paths relative to the output directory). */
+static int write_tests(const char *out, const ws_scene *scene, const ws_curves *c,
+                       ws_sketch_renderer *r, const double *losses, ws_report_view *views,
+                       char (*paths)[2][300], ws_status *st) {
+    const ws_split *test = &scene->split[WS_TEST];
+    if (test->n == 0) return WS_OK;
+    char dir[PATH_BYTES], path[PATH_BYTES];
+    join(dir, out, "test");
+    if (ws_mkdir(dir, st)) return st->code;
+    for (int v = 0; v < test->n; v++) {
+        const ws_view *view = &test->views[v];
+        snprintf(paths[v][0], 300, "test/%s.png", view->name);
+        snprintf(paths[v][1], 300, "test/%s_photo.png", view->name);
+        if (ws_sketch_render(r, c, &view->cam, st) || write_gray_png(join(path, out, paths[v][0]), r, st) ||
+            ws_png_write(join(path, out, paths[v][1]), &view->photo, st))
+            return st->code;
+        views[v] = (ws_report_view){view->name, paths[v][0], paths[v][1], losses ? losses[v] : NAN};
+    }
+    return WS_OK;
+}
+
+/* evolution.gif: the sketch at every snapshot, seen from the first test
+ * view (or the first training view). */
+static int write_evolution(const char *path, const ws_scene *scene, const ws_fit_state *s,
+                           ws_sketch_renderer *r, ws_status *st) {
+    const ws_split *sp = scene->split[WS_TEST].n ? &scene->split[WS_TEST] : &scene->split[WS_TRAIN];
+    ws_curves frame = s->curves;
+    ws_gif gif;
+    if (ws_gif_open(&gif, path, r->width, r->height, 1, EVOLUTION_DELAY_CS, st)) return st->code;
+    for (int k = 0; k < s->nsnap; k++) {
+        frame.P = s->snapshots + (size_t)k * s->curves.n * 12;
+        if (ws_sketch_render(r, &frame, &sp->views[0].cam, st) || ws_gif_add_frame(&gif, r->gray, st)) {
+            ws_gif_abort(&gif);
+            return st->code;
+        }
+    }
+    return ws_gif_commit(&gif, st);
+}
+
+/* metrics.json: the numbers of the report, for scripts. */
+static int write_metrics(const char *path, const ws_fit_state *s, double test_loss, const ws_quality *q,
+                         ws_status *st) {
+    ws_outfile f;
+    if (ws_outfile_open(&f, path, st)) return st->code;
+    fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"seconds\": %.3f", s->global_step,
+            s->skipped_steps, s->elapsed);
+    if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
+    if (q->have_surface)
+        fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g", q->surface.mean, q->surface.p90);
+    if (q->have_curves)
+        fprintf(f.fp, ", \"chamfer\": %.9g, \"fscore\": %.9g", q->curves.chamfer, q->curves.fscore);
+    fprintf(f.fp, "}\n");
+    return ws_outfile_commit(&f, st);
+}
+
+static int write_report(const char *path, const ws_fit_options *opt, const ws_scene *scene,
+                        const ws_fit_state *s, const ws_report_view *views, double test_loss,
+                        const ws_quality *q, ws_status *st) {
+    int nval = 0;
+    long *steps = ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(long), "report", st);
+    double *losses = steps ? ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(double), "report", st) : NULL;
+    if (!losses) {
+        free(steps);
+        return st->code;
+    }
+    long *val_steps = steps + s->nlog + 1;
+    double *val_losses = losses + s->nlog + 1;
+    for (int i = 0; i < s->nlog; i++) {
+        steps[i] = s->log[i].step;
+        losses[i] = s->log[i].train_loss;
+        if (isfinite(s->log[i].val_loss)) {
+            val_steps[nval] = s->log[i].step;
+            val_losses[nval++] = s->log[i].val_loss;
+        }
+    }
+    char text[12][64];
+    snprintf(text[0], 64, "%d", s->curves.n);
+    snprintf(text[1], 64, "%ld (%ld skipped)", s->global_step, s->skipped_steps);
+    snprintf(text[2], 64, "%.6g", test_loss);
+    snprintf(text[3], 64, "%g", opt->learning_rate);
+    snprintf(text[4], 64, "%g / %g", s->curves.thickness, s->curves.overlap);
+    snprintf(text[5], 64, "%d", opt->loss.num_aug);
+    snprintf(text[6], 64, "%g", opt->cutoff);
+    snprintf(text[7], 64, "%llu", (unsigned long long)opt->seed);
+    const char *loss_name = ws_loss_uses_clip(&opt->loss) ? (opt->loss.edges_weight ? "clip+edges" : "clip")
+                                                          : "edges";
+    ws_report_item settings[] = {
+        {"loss", loss_name},        {"curves", text[0]},          {"learning rate", text[3]},
+        {"thickness / overlap", text[4]}, {"augmentations", text[5]}, {"cut-off (sigmas)", text[6]},
+        {"seed", text[7]},
+    };
+    ws_report_item metrics[6] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
+    int nmetrics = 2;
+    if (q->have_surface) {
+        snprintf(text[8], 64, "%.5f", q->surface.mean);
+        snprintf(text[9], 64, "%.5f", q->surface.p90);
+        metrics[nmetrics++] = (ws_report_item){"surface distance, mean / diagonal", text[8]};
+        metrics[nmetrics++] = (ws_report_item){"surface distance, 90th percentile / diagonal", text[9]};
+    }
+    if (q->have_curves) {
+        snprintf(text[10], 64, "%.5f", q->curves.chamfer);
+        snprintf(text[11], 64, "%.4f", q->curves.fscore);
+        metrics[nmetrics++] = (ws_report_item){"curve Chamfer / diagonal", text[10]};
+        metrics[nmetrics++] = (ws_report_item){"curve F-score at 1% of the diagonal", text[11]};
+    }
+    ws_report_image images[] = {{"turntable", "turntable.gif"}, {"evolution during the fit", "evolution.gif"}};
+    ws_report rep = {0};
+    rep.title = "wiresketch fit";
+    rep.scene_path = scene->dir;
+    rep.settings = settings;
+    rep.n_settings = (int)(sizeof settings / sizeof settings[0]);
+    rep.metrics = metrics;
+    rep.n_metrics = nmetrics;
+    rep.train_step = steps;
+    rep.train_loss = losses;
+    rep.n_train = s->nlog;
+    rep.val_step = val_steps;
+    rep.val_loss = val_losses;
+    rep.n_val = nval;
+    rep.tests = views;
+    rep.n_tests = views ? scene->split[WS_TEST].n : 0;
+    rep.images = images;
+    rep.n_images = 2;
+    rep.wall_seconds = s->elapsed;
+    rep.curves = &s->curves;
+    int rc = ws_report_write(path, &rep, st);
+    free(steps);
+    free(losses);
+    return rc;
+}
+
+int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
+                         const double *test_losses, double test_loss, ws_status *st) {
+    const char *out = opt->out_dir;
+    char path[PATH_BYTES];
+    ws_sketch_renderer r;
+    if (ws_sketch_renderer_init(&r, scene->width, scene->height, st)) return st->code;
+    int ntest = scene->split[WS_TEST].n;
+    ws_report_view *views = ws_calloc(ntest ? ntest : 1, sizeof *views, "report", st);
+    char(*paths)[2][300] = views ? ws_malloc((size_t)(ntest ? ntest : 1) * sizeof *paths, "report", st) : NULL;
+    int rc = paths ? WS_OK : st->code;
+    double distance = ws_turntable_distance(&scene->split[WS_TRAIN], scene->center);
+    char gt_points[4200], gt_curves[4200];
+    ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
+    ws_quality q;
+    if (!rc) rc = ws_quality_measure(&s->curves, gt_points, gt_curves, &q, st);
+    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, test_loss, &q, st);
+    if (!rc) rc = ws_curves_save(join(path, out, "curves.json"), &s->curves, st);
+    if (!rc) rc = ws_export_obj(join(path, out, "curves.obj"), &s->curves, st);
+    if (!rc) rc = ws_export_ply(join(path, out, "curves.ply"), &s->curves, st);
+    if (!rc) rc = write_log(join(path, out, "log.csv"), s, st);
+    if (!rc) rc = write_tests(out, scene, &s->curves, &r, test_losses, views, paths, st);
+    if (!rc) rc = write_evolution(join(path, out, "evolution.gif"), scene, s, &r, st);
+    if (!rc)
+        rc = ws_turntable_gif(join(path, out, "turntable.gif"), &s->curves, scene->center, distance,
+                              scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
+    if (!rc)
+        rc = write_report(join(path, out, "report.html"), opt, scene, s, ntest ? views : NULL, test_loss,
+                          &q, st);
+    free(views);
+    free(paths);
+    ws_sketch_renderer_free(&r);
+    return rc;
+}

@@ -1,0 +1,15 @@
+/* fit_outputs.h: what `wiresketch fit` leaves in its output directory:
+ * curves.json/.obj/.ply, log.csv, test/ (each test view's sketch render and
+ * its photo), turntable.gif, evolution.gif, metrics.json and report.html.
+ * Every file is written to a temporary name and renamed. */
+#ifndef WS_FIT_OUTPUTS_H
+#define WS_FIT_OUTPUTS_H
+#include "fit/fit.h"
+#include "io/scene.h"
+
+/* test_losses: one per test view (NULL: not evaluated, e.g. after an
+ * interruption); test_loss: their mean (NaN: not evaluated). */
+int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
+                         const double *test_losses, double test_loss, ws_status *st);
+
+#endif

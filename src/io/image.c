@@ -1,0 +1,347 @@
+/* image.c: float images, PNG input/output through libpng, resampling (see image.h).
+ *
+ * libpng reports errors by calling an error function that must not return.
+ * Ours records libpng's reason and longjmps back into the one small "stage"
+ * function that made the libpng call; each stage has its own setjmp and
+ * modifies no local variable after it, so nothing is indeterminate after the
+ * jump, and all allocation happens outside the stages. A corrupt file thus
+ * becomes "PATH: truncated or corrupt PNG (libpng's reason)", never a crash. */
+#include <errno.h>
+#include <math.h>
+#include <png.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include "io/image.h"
+#include "base/outfile.h"
+
+/* The largest PNG we agree to decode, checked right after the header is
+ * read and before anything the size of the image is allocated: at most
+ * 8 bytes per pixel (16-bit RGBA), so 512 MB of decoded samples. */
+#define MAX_PNG_SIDE 32768
+#define MAX_PNG_PIXELS (64u * 1024u * 1024u)
+
+int ws_image_alloc(ws_image *img, int width, int height, int channels, ws_status *st) {
+    img->data = NULL;
+    img->width = img->height = img->channels = 0;
+    if (width <= 0 || height <= 0 || channels <= 0)
+        return ws_fail(st, WS_EINTERNAL, "image size %d x %d x %d is not positive", width, height,
+                       channels);
+    img->data = ws_malloc((size_t)width * height * channels * sizeof(float), "an image", st);
+    if (!img->data) return st->code;
+    img->width = width;
+    img->height = height;
+    img->channels = channels;
+    return WS_OK;
+}
+
+void ws_image_free(ws_image *img) {
+    free(img->data);
+    img->data = NULL;
+    img->width = img->height = img->channels = 0;
+}
+
+/* ---------------------------------------------------------------- libpng glue */
+
+typedef struct {
+    FILE *fp;
+    char reason[256]; /* libpng's last error message */
+} png_io;
+
+static void on_png_error(png_structp png, png_const_charp msg) {
+    png_io *io = png_get_error_ptr(png);
+    snprintf(io->reason, sizeof io->reason, "%s", msg);
+    png_longjmp(png, 1);
+}
+
+/* Warnings (bad ancillary chunks, gamma oddities) do not stop a decode. */
+static void on_png_warning(png_structp png, png_const_charp msg) {}
+
+/* Our own read function, so that a short file says so instead of libpng's
+ * generic "Read Error". */
+static void on_png_read(png_structp png, png_bytep data, size_t length) {
+    png_io *io = png_get_io_ptr(png);
+    if (fread(data, 1, length, io->fp) == length) return;
+    if (ferror(io->fp)) png_error(png, strerror(errno ? errno : EIO));
+    png_error(png, "unexpected end of file");
+}
+
+/* Stage 1: the chunks up to the image data. */
+static int read_info_stage(png_structp png, png_infop info) {
+    if (setjmp(png_jmpbuf(png))) return -1;
+    png_set_sig_bytes(png, 8);
+    png_read_info(png, info);
+    return 0;
+}
+
+/* Stage 2: the transformations that give 8- or 16-bit gray, gray+alpha, RGB
+ * or RGBA samples (palette expanded, low bit depths widened to 8, a tRNS
+ * chunk made an alpha channel). */
+static int transform_stage(png_structp png, png_infop info) {
+    if (setjmp(png_jmpbuf(png))) return -1;
+    png_set_expand(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    return 0;
+}
+
+/* Stage 3: every row, then the chunks after the image (so that a file cut
+ * off after its pixel data is reported too). */
+static int read_pixels_stage(png_structp png, png_infop info, png_bytepp rows) {
+    if (setjmp(png_jmpbuf(png))) return -1;
+    png_read_image(png, rows);
+    png_read_end(png, NULL);
+    return 0;
+}
+
+/* Decoded samples (interleaved, `channels` of 8 or 16 bits) to a planar
+ * 3-channel float image; gray is copied to R, G and B, and alpha a
+ * composites: out = a * c + (1 - a) * bg on the stored values, no gamma. */
+static void samples_to_rgb(png_bytepp rows, int width, int height, int channels, int depth,
+                           const float background[3], ws_image *out) {
+    const double scale = depth == 16 ? 1.0 / 65535.0 : 1.0 / 255.0;
+    const int has_alpha = channels == 2 || channels == 4, colour = channels >= 3;
+    const size_t plane = (size_t)width * height;
+    for (int i = 0; i < height; i++) {
+        const png_byte *row = rows[i];
+        for (int j = 0; j < width; j++) {
+            double v[4];
+            for (int c = 0; c < channels; c++) {
+                const png_byte *s = row + ((size_t)j * channels + c) * (depth / 8);
+                v[c] = (depth == 16 ? (s[0] << 8 | s[1]) : s[0]) * scale;
+            }
+            double a = has_alpha ? v[channels - 1] : 1.0;
+            for (int c = 0; c < 3; c++) {
+                double value = v[colour ? c : 0];
+                out->data[c * plane + (size_t)i * width + j] =
+                    (float)(a * value + (1.0 - a) * background[c]);
+            }
+        }
+    }
+}
+
+/* Decodes an open file whose 8 signature bytes were consumed into a
+ * 3-channel image at the file's size. */
+static int decode_png(FILE *fp, const char *path, const float background[3], ws_image *out,
+                      ws_status *st) {
+    png_io io = {fp, ""};
+    png_structp png =
+        png_create_read_struct(PNG_LIBPNG_VER_STRING, &io, on_png_error, on_png_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    png_bytep pixels = NULL;
+    png_bytepp rows = NULL;
+    int rc = WS_OK;
+    if (!info) {
+        rc = ws_fail(st, WS_ENOMEM, "%s: out of memory creating a PNG decoder", path);
+        goto done;
+    }
+    png_set_read_fn(png, &io, on_png_read);
+    if (read_info_stage(png, info)) {
+        rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt PNG (%s)", path, io.reason);
+        goto done;
+    }
+    const uint32_t file_w = png_get_image_width(png, info),
+                   file_h = png_get_image_height(png, info);
+    if (file_w > MAX_PNG_SIDE || file_h > MAX_PNG_SIDE ||
+        (uint64_t)file_w * file_h > MAX_PNG_PIXELS) {
+        rc = ws_fail(st, WS_EINPUT, "%s: image too large (%u x %u pixels)", path, file_w, file_h);
+        goto done;
+    }
+    const int width = (int)file_w, height = (int)file_h;
+    if (transform_stage(png, info)) {
+        rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt PNG (%s)", path, io.reason);
+        goto done;
+    }
+    const int channels = png_get_channels(png, info), depth = png_get_bit_depth(png, info);
+    if (channels < 1 || channels > 4 || (depth != 8 && depth != 16)) {
+        rc = ws_fail(st, WS_EINPUT, "%s: unsupported PNG layout (%d channels of %d bits)", path,
+                     channels, depth);
+        goto done;
+    }
+    const size_t rowbytes = png_get_rowbytes(png, info);
+    pixels = ws_malloc(rowbytes * height, path, st);
+    rows = pixels ? ws_malloc(sizeof *rows * height, path, st) : NULL;
+    if (!rows) {
+        rc = st->code;
+        goto done;
+    }
+    for (int i = 0; i < height; i++) rows[i] = pixels + rowbytes * i;
+    if (read_pixels_stage(png, info, rows)) {
+        rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt PNG (%s)", path, io.reason);
+        goto done;
+    }
+    if ((rc = ws_image_alloc(out, width, height, 3, st))) goto done;
+    samples_to_rgb(rows, width, height, channels, depth, background, out);
+done:
+    png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
+    free(rows);
+    free(pixels);
+    return rc;
+}
+
+int ws_png_read(const char *path, int width, int height, const float background[3], ws_image *out,
+                ws_status *st) {
+    *out = (ws_image){0};
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return ws_fail(st, WS_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    png_byte sig[8];
+    size_t got = fread(sig, 1, sizeof sig, fp);
+    int rc;
+    if (got < sizeof sig && ferror(fp))
+        rc = ws_fail(st, WS_EINPUT, "%s: cannot read: %s", path, strerror(errno));
+    else if (got < sizeof sig || png_sig_cmp(sig, 0, sizeof sig))
+        rc = ws_fail(st, WS_EINPUT, "%s: not a PNG file", path);
+    else
+        rc = decode_png(fp, path, background, out, st);
+    fclose(fp);
+    if (rc || width <= 0 || height <= 0 || (out->width == width && out->height == height))
+        return rc;
+    ws_image full = *out;
+    rc = ws_image_resample(&full, width, height, out, st);
+    ws_image_free(&full);
+    return rc;
+}
+
+/* Stage of the writer: everything from the header to the end chunk. */
+static int write_stage(png_structp png, png_infop info, const ws_image *img, png_bytep row,
+                       FILE *fp) {
+    if (setjmp(png_jmpbuf(png))) return -1;
+    const int w = img->width, h = img->height, nc = img->channels;
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, w, h, 8, nc == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int i = 0; i < h; i++) {
+        for (int j = 0; j < w; j++)
+            for (int c = 0; c < nc; c++) {
+                float v = img->data[((size_t)c * h + i) * w + j];
+                v = v > 0 ? (v < 1 ? v : 1) : 0; /* also maps NaN to 0 */
+                row[j * nc + c] = (png_byte)(255.0f * v + 0.5f);
+            }
+        png_write_row(png, row);
+    }
+    png_write_end(png, info);
+    return 0;
+}
+
+int ws_png_write(const char *path, const ws_image *img, ws_status *st) {
+    if (img->channels != 1 && img->channels != 3)
+        return ws_fail(st, WS_EINTERNAL, "%s: cannot write a %d-channel image as PNG", path,
+                       img->channels);
+    png_bytep row = ws_malloc((size_t)img->width * img->channels, path, st);
+    if (!row) return st->code;
+    png_io io = {NULL, ""};
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, &io, on_png_error, on_png_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    ws_outfile f;
+    int rc = WS_OK;
+    if (!info)
+        rc = ws_fail(st, WS_ENOMEM, "%s: out of memory creating a PNG encoder", path);
+    else if (!(rc = ws_outfile_open(&f, path, st))) {
+        if (write_stage(png, info, img, row, f.fp)) {
+            ws_outfile_abort(&f);
+            rc = ws_fail(st, WS_EIO, "%s: cannot write PNG (%s)", path, io.reason);
+        } else {
+            rc = ws_outfile_commit(&f, st);
+        }
+    }
+    png_destroy_write_struct(png ? &png : NULL, info ? &info : NULL);
+    free(row);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- resampling */
+
+/* One axis of a separable resampling: output sample o is
+ * sum_k weight[o * taps + k] * input[first[o] + k]. */
+typedef struct {
+    int taps;
+    int *first;
+    float *weight;
+} axis_filter;
+
+/* Shrinking (or same size): output pixel o covers the input interval
+ * [o s, (o + 1) s), s = in / out; each input pixel weighs its overlap / s.
+ * Enlarging: bilinear at x = (o + 1/2) / (out / in) - 1/2 (pixel centres
+ * aligned, as PIL and torchvision do), clamped at the borders. */
+static int axis_filter_build(axis_filter *f, int in, int out, ws_status *st) {
+    f->taps = in >= out ? (in + out - 1) / out + 1 : 2;
+    f->first = ws_malloc(sizeof *f->first * out, "a resampling filter", st);
+    f->weight = f->first
+                    ? ws_calloc((size_t)out * f->taps, sizeof *f->weight, "a resampling filter", st)
+                    : NULL;
+    if (!f->weight) {
+        free(f->first);
+        return st->code;
+    }
+    const double s = (double)in / out;
+    for (int o = 0; o < out; o++) {
+        float *w = f->weight + (size_t)o * f->taps;
+        if (in >= out) {
+            double lo = o * s, hi = (o + 1) * s;
+            int k0 = (int)floor(lo);
+            f->first[o] = k0;
+            for (int k = 0; k < f->taps && k0 + k < in; k++) {
+                double overlap = fmin(hi, k0 + k + 1) - fmax(lo, k0 + k);
+                w[k] = overlap > 0 ? (float)(overlap / s) : 0.0f;
+            }
+        } else {
+            double x = fmin(fmax((o + 0.5) * s - 0.5, 0.0), in - 1.0);
+            int k0 = (int)floor(x);
+            if (k0 > in - 2) k0 = in > 1 ? in - 2 : 0;
+            f->first[o] = k0;
+            w[0] = (float)(1.0 - (x - k0));
+            if (in > 1) w[1] = (float)(x - k0);
+        }
+    }
+    return WS_OK;
+}
+
+static void axis_filter_free(axis_filter *f) {
+    free(f->first);
+    free(f->weight);
+}
+
+int ws_image_resample(const ws_image *in, int width, int height, ws_image *out, ws_status *st) {
+    out->data = NULL;
+    if (width <= 0 || height <= 0)
+        return ws_fail(st, WS_EINTERNAL, "resample: size %d x %d is not positive", width, height);
+    axis_filter fx, fy;
+    if (axis_filter_build(&fx, in->width, width, st)) return st->code;
+    if (axis_filter_build(&fy, in->height, height, st)) {
+        axis_filter_free(&fx);
+        return st->code;
+    }
+    const int nc = in->channels, w0 = in->width, h0 = in->height;
+    ws_image tmp = {0}; /* horizontal pass: nc x h0 x width */
+    int rc = ws_image_alloc(&tmp, width, h0, nc, st);
+    if (!rc) rc = ws_image_alloc(out, width, height, nc, st);
+    if (!rc) {
+        for (int r = 0; r < nc * h0; r++) {
+            const float *src = in->data + (size_t)r * w0;
+            for (int o = 0; o < width; o++) {
+                const float *w = fx.weight + (size_t)o * fx.taps;
+                double sum = 0;
+                for (int k = 0; k < fx.taps && fx.first[o] + k < w0; k++)
+                    sum += w[k] * src[fx.first[o] + k];
+                tmp.data[(size_t)r * width + o] = (float)sum;
+            }
+        }
+        for (int c = 0; c < nc; c++)
+            for (int o = 0; o < height; o++) {
+                const float *w = fy.weight + (size_t)o * fy.taps;
+                float *dst = out->data + ((size_t)c * height + o) * width;
+                for (int j = 0; j < width; j++) dst[j] = 0;
+                for (int k = 0; k < fy.taps && fy.first[o] + k < h0; k++) {
+                    const float *src = tmp.data + ((size_t)c * h0 + fy.first[o] + k) * width;
+                    for (int j = 0; j < width; j++) dst[j] += w[k] * src[j];
+                }
+            }
+    }
+    ws_image_free(&tmp);
+    axis_filter_free(&fx);
+    axis_filter_free(&fy);
+    return rc;
+}

@@ -1,0 +1,34 @@
+/* image.h: float images and PNG input/output.
+ *
+ * A ws_image is planar (channel-major): pixel (row i, column j) of channel c
+ * is data[(c * height + i) * width + j], values in [0, 1]. Photos are always
+ * 3 channels (RGB); stroke images are 1 channel (alpha). */
+#ifndef WS_IMAGE_H
+#define WS_IMAGE_H
+#include "nn/base/status.h"
+
+typedef struct {
+    int width, height, channels;
+    float *data;
+} ws_image;
+
+int ws_image_alloc(ws_image *img, int width, int height, int channels, ws_status *st);
+void ws_image_free(ws_image *img);
+
+/* Reads a PNG: 8- or 16-bit; gray, gray+alpha, RGB, RGBA or palette. Alpha
+ * is composited onto `background` (RGB in [0,1]); the result is 3 channels,
+ * resampled to width x height when the file has another size (width = 0
+ * keeps the file's size). Every failure names the file: "PATH: not a PNG
+ * file", "PATH: truncated or corrupt PNG (...)", "PATH: cannot open: ...". */
+int ws_png_read(const char *path, int width, int height, const float background[3],
+                ws_image *out, ws_status *st);
+
+/* Writes a 1- or 3-channel image as an 8-bit gray or RGB PNG, each value
+ * round(255 * clamp(v, 0, 1)), through a temporary file (outfile.h). */
+int ws_png_write(const char *path, const ws_image *img, ws_status *st);
+
+/* Resamples `in` to width x height into `out` (allocated here): area
+ * averaging when shrinking, bilinear when enlarging, per axis. */
+int ws_image_resample(const ws_image *in, int width, int height, ws_image *out, ws_status *st);
+
+#endif

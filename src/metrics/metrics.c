@@ -1,0 +1,135 @@
+/* metrics.c: surface distance, curve Chamfer and F-score (see metrics.h).
+ *
+ * Evaluation runs a few times per fit, so scratch buffers are allocated per
+ * call; sums run serially in index order so the result never depends on the
+ * thread count. */
+#include <math.h>
+#include <stdlib.h>
+#include "metrics/metrics.h"
+
+int ws_surface_gt_init(ws_surface_gt *gt, const ws_pointcloud *pc, ws_status *st) {
+    gt->diagonal = ws_points_diagonal(pc->xyz, pc->n);
+    if (ws_nearest_build(&gt->tree, pc->xyz, pc->n, st)) return st->code;
+    if (!(gt->diagonal > 0)) {
+        ws_nearest_free(&gt->tree);
+        return ws_fail(st, WS_EINPUT, "ground-truth points: the bounding box has a zero diagonal");
+    }
+    return WS_OK;
+}
+
+void ws_surface_gt_free(ws_surface_gt *gt) { ws_nearest_free(&gt->tree); }
+
+/* Fails unless n >= 1 and all n points are finite; `what` names the set. */
+static int check_points(const double *xyz, int n, const char *what, ws_status *st) {
+    if (n < 1) return ws_fail(st, WS_EINPUT, "%s: no points to measure", what);
+    for (int i = 0; i < n * 3; i++)
+        if (!isfinite(xyz[i])) return ws_fail(st, WS_ENUMERIC, "%s: point %d is not finite", what, i / 3);
+    return WS_OK;
+}
+
+static int compare_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double mean_of(const double *v, int n) {
+    double sum = 0;
+    for (int i = 0; i < n; i++) sum += v[i];
+    return sum / n;
+}
+
+int ws_surface_distance(const ws_surface_gt *gt, const ws_gaussians *g, ws_surface_metrics *m,
+                        ws_status *st) {
+    if (check_points(g->mu, g->n, "surface distance: Gaussian centres", st)) return st->code;
+    double *d = ws_malloc((size_t)g->n * sizeof(double), "surface distances", st);
+    if (!d) return st->code;
+    ws_nearest_query(&gt->tree, g->mu, g->n, d, NULL);
+    m->n = g->n;
+    m->mean = mean_of(d, g->n) / gt->diagonal;
+    qsort(d, (size_t)g->n, sizeof(double), compare_double);
+    long long rank = (9LL * g->n + 9) / 10; /* ceil(0.9 n), 1-based */
+    m->p90 = d[rank - 1] / gt->diagonal;
+    free(d);
+    return WS_OK;
+}
+
+/* Distances from each of the nfrom points to the nearest of the nto points,
+ * summarised as their mean and the fraction within tau. */
+static int directed_distance(const double *from, int nfrom, const double *to, int nto, double tau,
+                             double *mean, double *within, ws_status *st) {
+    ws_nearest tree;
+    if (ws_nearest_build(&tree, to, nto, st)) return st->code;
+    double *d = ws_malloc((size_t)nfrom * sizeof(double), "curve distances", st);
+    if (!d) {
+        ws_nearest_free(&tree);
+        return st->code;
+    }
+    ws_nearest_query(&tree, from, nfrom, d, NULL);
+    int close = 0;
+    for (int i = 0; i < nfrom; i++) close += d[i] <= tau;
+    *mean = mean_of(d, nfrom);
+    *within = (double)close / nfrom;
+    free(d);
+    ws_nearest_free(&tree);
+    return WS_OK;
+}
+
+/* Samples curves c at arc-length spacing h: ws_curves_sample spaces its
+ * Gaussians 2 * thickness * (1 - overlap) apart. */
+static int sample_dense(const ws_curves *c, double h, ws_gaussians *g, ws_status *st) {
+    ws_curves dense = *c;
+    dense.thickness = h / 2;
+    dense.overlap = 0;
+    return ws_curves_sample(&dense, g, st);
+}
+
+/* D: the diagonal of the bounding box of the curves evaluated at the
+ * WS_ARC_SAMPLES uniform parameter values of their arc-length tables. */
+static double curves_diagonal(const ws_curves *c) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int ci = 0; ci < c->n; ci++)
+        for (int k = 0; k < WS_ARC_SAMPLES; k++) {
+            double p[3];
+            ws_curve_point(c, ci, (double)k / (WS_ARC_SAMPLES - 1), p);
+            for (int a = 0; a < 3; a++) {
+                lo[a] = fmin(lo[a], p[a]);
+                hi[a] = fmax(hi[a], p[a]);
+            }
+        }
+    return hypot(hypot(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+}
+
+int ws_curve_metrics_compute(const ws_curves *result, const ws_curves *gt, ws_curve_metrics *m,
+                             ws_status *st) {
+    if (result->n < 1) return ws_fail(st, WS_EINPUT, "curve metrics: the result has no curves");
+    if (gt->n < 1) return ws_fail(st, WS_EINPUT, "curve metrics: the ground truth has no curves");
+    /* Finite control points give finite samples. */
+    if (check_points(result->P, result->n * 4, "curve metrics: result control points", st) ||
+        check_points(gt->P, gt->n * 4, "curve metrics: ground-truth control points", st))
+        return st->code;
+    /* A curve whose control points coincide still spreads its samples by
+     * rounding: a diagonal at rounding level of the coordinates is zero. */
+    double D = curves_diagonal(gt), scale = 0;
+    for (int i = 0; i < gt->n * 12; i++) scale = fmax(scale, fabs(gt->P[i]));
+    if (!(D > 1e-12 * scale))
+        return ws_fail(st, WS_EINPUT, "curve metrics: the ground-truth curves have a zero-diagonal bounding box");
+    m->diagonal = D;
+    m->spacing = D / WS_METRIC_SAMPLES_PER_DIAGONAL;
+    m->threshold = WS_METRIC_FSCORE_THRESHOLD * D;
+    ws_gaussians rs = {0}, gs = {0};
+    double mean_r, mean_g;
+    int rc = sample_dense(result, m->spacing, &rs, st) ||
+             sample_dense(gt, m->spacing, &gs, st) ||
+             directed_distance(rs.mu, rs.n, gs.mu, gs.n, m->threshold, &mean_r, &m->precision, st) ||
+             directed_distance(gs.mu, gs.n, rs.mu, rs.n, m->threshold, &mean_g, &m->recall, st);
+    if (!rc) {
+        m->n_result = rs.n;
+        m->n_gt = gs.n;
+        m->chamfer = (mean_r + mean_g) / (2 * D);
+        double pr = m->precision + m->recall;
+        m->fscore = pr > 0 ? 2 * m->precision * m->recall / pr : 0;
+    }
+    ws_gaussians_free(&rs);
+    ws_gaussians_free(&gs);
+    return rc ? st->code : WS_OK;
+}

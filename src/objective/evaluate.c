@@ -1,0 +1,64 @@
+/* evaluate.c: loss over a split and distance to the ground truth (see
+ * evaluate.h). */
+#include <math.h>
+#include <stdio.h>
+#include <unistd.h>
+#include "objective/evaluate.h"
+#include "io/pointcloud.h"
+
+int ws_split_loss(ws_loss *loss, ws_splat *splat, const ws_splat_options *so, const ws_scene *scene,
+                  int split, const ws_gaussians *g, double radius, double *alpha, double *per_view,
+                  double *mean, ws_status *st) {
+    const ws_split *sp = &scene->split[split];
+    *mean = NAN;
+    if (sp->n == 0) return WS_OK;
+    double sum = 0;
+    for (int v = 0; v < sp->n; v++) {
+        double l;
+        if (ws_splat_forward(splat, &sp->views[v].cam, g->mu, g->n, radius, so, alpha, st) ||
+            ws_loss_view(loss, split, v, alpha, 0, NULL, &l, NULL, st))
+            return st->code;
+        if (per_view) per_view[v] = l;
+        sum += l;
+    }
+    *mean = sum / sp->n;
+    return WS_OK;
+}
+
+static int surface(const ws_curves *c, const char *path, ws_surface_metrics *m, ws_status *st) {
+    ws_pointcloud pc = {0};
+    ws_surface_gt gt = {0};
+    ws_gaussians g = {0};
+    int rc = ws_pointcloud_load_ply(path, &pc, st);
+    if (!rc) rc = ws_surface_gt_init(&gt, &pc, st);
+    if (!rc) rc = ws_curves_sample(c, &g, st);
+    if (!rc) rc = ws_surface_distance(&gt, &g, m, st);
+    ws_gaussians_free(&g);
+    ws_surface_gt_free(&gt);
+    ws_pointcloud_free(&pc);
+    return rc;
+}
+
+static int curve_distance(const ws_curves *c, const char *path, ws_curve_metrics *m, ws_status *st) {
+    ws_curves gt = {0};
+    int rc = ws_curves_load(path, &gt, st);
+    if (!rc) rc = ws_curve_metrics_compute(c, &gt, m, st);
+    ws_curves_free(&gt);
+    return rc;
+}
+
+int ws_quality_measure(const ws_curves *c, const char *gt_points, const char *gt_curves,
+                       ws_quality *q, ws_status *st) {
+    q->have_surface = gt_points && *gt_points;
+    q->have_curves = gt_curves && *gt_curves;
+    if (q->have_surface && surface(c, gt_points, &q->surface, st)) return st->code;
+    if (q->have_curves && curve_distance(c, gt_curves, &q->curves, st)) return st->code;
+    return WS_OK;
+}
+
+void ws_scene_ground_truth(const char *scene_dir, char *gt_points, char *gt_curves) {
+    snprintf(gt_points, 4200, "%s/gt_points.ply", scene_dir);
+    if (access(gt_points, R_OK) != 0) gt_points[0] = '\0';
+    snprintf(gt_curves, 4200, "%s/gt_curves.json", scene_dir);
+    if (access(gt_curves, R_OK) != 0) gt_curves[0] = '\0';
+}

@@ -1,0 +1,76 @@
+/* loss.h: the loss of one view (SPEC section 6) and its gradient.
+ *
+ * Terms, each with its own weight (0 = off):
+ * - CLIP geometric: conv_weight * sum_l layer_weights[l] * mean over items,
+ *   tokens and channels of (h_l(S_a) - h_l(T_a))^2;
+ * - CLIP fc: fc_weight * mean over items of (1 - cos(e(S_a), e(T_a)));
+ * - CLIP global: global_weight * sum over a = 1..A of (1 - cos(e(S_a), e(T_0)));
+ * - edges: edges_weight * the weight-free edge loss (edges.h) of item 0;
+ * - l2: l2_weight * mean over pixels and channels of (S_0 - T_0)^2.
+ * S_a, T_a: the stroke image and the photo under augmentation a (a = 0:
+ * none). One CLIP forward and backward per stroke image; the photo's
+ * features are computed without a tape, item 0's once per view (cached).
+ *
+ * Augmentation bank (aug_bank = N > 0): each training view gets N fixed
+ * transforms, transform k of view v drawn from a generator seeded by
+ * (aug_seed, v, k), so a resumed run needs nothing stored; each step uses
+ * A distinct ones of them, chosen with the run's generator. The photo's
+ * features under the N transforms are computed the first time the view is
+ * used (in batches of A, always the same, so the bits do not depend on
+ * when) and kept: N x (features of one image) per training view. Other
+ * splits draw fresh transforms. */
+#ifndef WS_LOSS_H
+#define WS_LOSS_H
+#include <stddef.h>
+#include <stdint.h>
+#include "nn/base/rng.h"
+#include "io/scene.h"
+#include "nn/base/status.h"
+#include "base/timing.h"
+
+struct clip_model;
+
+#define WS_LOSS_MAX_LAYERS 64
+#define WS_LOSS_MAX_AUG 64 /* augmentations per view and step at the most */
+
+typedef struct {
+    const char *weights_path;  /* CLIP weight file; needed when a CLIP term is on */
+    double conv_weight;        /* clip_conv_loss */
+    int n_layer_weights;
+    double layer_weights[WS_LOSS_MAX_LAYERS]; /* clip_conv_layer_weights, block l */
+    double fc_weight;          /* clip_fc_loss_weight */
+    double global_weight;      /* clip_weight */
+    double edges_weight;
+    double l2_weight;
+    int num_aug;               /* A */
+    int aug_bank;              /* N fixed transforms per training view (0: fresh every step) */
+    uint64_t aug_seed;         /* derives the banked transforms */
+    const struct clip_model *model; /* borrowed; NULL: load weights_path */
+} ws_loss_options;
+
+/* The original's defaults: CLIP terms on, edges and l2 off, A = 4, no bank. */
+void ws_loss_options_default(ws_loss_options *opt);
+/* Does any CLIP term have a non-zero weight? */
+int ws_loss_uses_clip(const ws_loss_options *opt);
+
+typedef struct ws_loss ws_loss;
+
+/* For the scene's views at its working resolution, which must equal the CLIP
+ * model's input resolution when CLIP is used. */
+int ws_loss_create(ws_loss **loss, const ws_loss_options *opt, const ws_scene *scene,
+                   ws_status *st);
+void ws_loss_free(ws_loss *loss);
+
+/* From now on add the time of augmentation and CLIP to t (NULL: stop). */
+void ws_loss_set_timing(ws_loss *loss, ws_step_timing *t);
+/* Bytes of the augmentation bank's photo features (0 without a bank). */
+size_t ws_loss_bank_bytes(const ws_loss *loss);
+
+/* The loss of view `view` of `split` for the stroke image alpha (H x W).
+ * augment: draw A transforms from rng (training); 0: item 0 only
+ * (evaluation), rng unused. dalpha (H x W): overwritten with dL/dalpha, or
+ * NULL for the loss alone. */
+int ws_loss_view(ws_loss *loss, int split, int view, const double *alpha, int augment,
+                 ws_rng *rng, double *value, double *dalpha, ws_status *st);
+
+#endif

@@ -1,0 +1,48 @@
+/* camera.c: pinhole cameras (see camera.h). */
+#include <math.h>
+#include "render/camera.h"
+
+int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x,
+                   int width, int height, const char *what, ws_status *st) {
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            if (!isfinite(c2w[i][j]))
+                return ws_fail(st, WS_EINPUT, "%s: transform_matrix has a non-finite entry", what);
+            cam->c2w[i][j] = c2w[i][j];
+        }
+    if (!(camera_angle_x > 0 && camera_angle_x < M_PI))
+        return ws_fail(st, WS_EINPUT, "%s: camera_angle_x %g is not in (0, pi)", what, camera_angle_x);
+    const double (*a)[4] = c2w;
+    /* Inverse of the 3x3 part by cofactors; the scale of the determinant is
+     * compared with the matrix's own scale so that tiny scenes are not
+     * mistaken for singular ones. */
+    double cof[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            cof[i][j] = a[i1][j1] * a[i2][j2] - a[i1][j2] * a[i2][j1];
+        }
+    double det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
+    double scale = 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) scale = fmax(scale, fabs(a[i][j]));
+    if (!(fabs(det) > 1e-9 * scale * scale * scale) || scale == 0)
+        return ws_fail(st, WS_EINPUT, "%s: transform_matrix is singular (det %g)", what, det);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) cam->R[i][j] = cof[j][i] / det;
+    for (int i = 0; i < 3; i++)
+        cam->t[i] = -(cam->R[i][0] * a[0][3] + cam->R[i][1] * a[1][3] + cam->R[i][2] * a[2][3]);
+    cam->width = width;
+    cam->height = height;
+    cam->focal = 0.5 * width / tan(0.5 * camera_angle_x);
+    return WS_OK;
+}
+
+void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]) {
+    for (int i = 0; i < 3; i++)
+        c[i] = cam->R[i][0] * p[0] + cam->R[i][1] * p[1] + cam->R[i][2] * p[2] + cam->t[i];
+}
+
+void ws_camera_position(const ws_camera *cam, double pos[3]) {
+    for (int i = 0; i < 3; i++) pos[i] = cam->c2w[i][3];
+}

@@ -1,0 +1,31 @@
+/* camera.h: a pinhole camera of a NeRF-synthetic scene (SPEC section 3).
+ *
+ * Blender/OpenGL axes: the camera looks down its -z, +y is up, +x right.
+ * A world point p maps to c = R p + t, depth d = -c_z, and pixel
+ * u = W/2 + f c_x / d (column), v = H/2 - f c_y / d (row); pixel (row i,
+ * column j) sits at (u, v) = (j, i). */
+#ifndef WS_CAMERA_H
+#define WS_CAMERA_H
+#include "nn/base/status.h"
+
+typedef struct {
+    double c2w[4][4]; /* camera-to-world, as in the scene file */
+    double R[3][3];   /* world-to-camera rotation (inverse of c2w's 3x3) */
+    double t[3];      /* world-to-camera translation */
+    double focal;     /* pixels: (width / 2) / tan(camera_angle_x / 2) */
+    int width, height;
+} ws_camera;
+
+/* Builds a camera from a camera-to-world matrix. Fails with WS_EINPUT (the
+ * message starts with `what`, e.g. "transforms_train.json: frame 3") when the
+ * matrix is singular or not finite, or the angle is not in (0, pi). */
+int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x,
+                   int width, int height, const char *what, ws_status *st);
+
+/* Camera-space coordinates c = R p + t. */
+void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]);
+
+/* Camera centre in world space (the translation column of c2w). */
+void ws_camera_position(const ws_camera *cam, double pos[3]);
+
+#endif

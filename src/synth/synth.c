@@ -1,0 +1,506 @@
+/* synth.c: synthetic scenes, rendered by ray-casting tubes (see synth.h).
+ *
+ * A tube is drawn as a chain of capsules (a segment swept by a sphere of the
+ * tube's radius) along a dense polyline of its Bezier curve. Each capsule is
+ * rasterised over its own screen bounding box with a depth buffer, so the
+ * cost follows the pixels the tubes cover, not pixels x capsules. */
+#include <cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "base/outfile.h"
+#include "nn/base/rng.h"
+#include "synth/synth.h"
+
+/* Blender's default camera (50 mm lens on a 36 mm sensor), as in the NeRF
+ * synthetic scenes: about 0.691 radians. */
+#define CAMERA_ANGLE_X (2.0 * atan(18.0 / 50.0))
+/* Camera distance from the object's centre: a 1.5-unit object fills about
+ * half of the view, as in ../shared/scenes, so that the default initial
+ * radius 0.8 and thickness 0.02 of `fit` suit these scenes too. */
+#define CAMERA_DISTANCE 4.0
+/* The object's centre lies off the origin on purpose, so that nothing
+ * downstream can rely on an origin-centred scene unnoticed. */
+static const double OBJECT_CENTER[3] = {0.3, -0.2, 0.5};
+/* rays per pixel: SUPERSAMPLE x SUPERSAMPLE, for smooth silhouettes */
+#define SUPERSAMPLE 3
+#define AMBIENT 0.3
+/* capsules per curve: about one per tube radius of arc length, within bounds */
+#define MIN_CAPSULES_PER_CURVE 8
+#define MAX_CAPSULES_PER_CURVE 512
+
+const char *const ws_synth_names[] = {"trefoil", "chair"};
+const int ws_synth_count = sizeof ws_synth_names / sizeof ws_synth_names[0];
+
+void ws_synth_options_default(ws_synth_options *opt) {
+    opt->views[WS_TRAIN] = 48;
+    opt->views[WS_VAL] = 8;
+    opt->views[WS_TEST] = 8;
+    opt->size = 224;
+    opt->seed = 0;
+}
+
+/* ---------------------------------------------------------------- objects */
+
+static void set_curve(ws_curves *c, int ci, const double P[4][3]) {
+    memcpy(c->P + (size_t)ci * 12, P, 12 * sizeof(double));
+}
+
+/* A straight segment a -> b as a cubic: control points at 0, 1/3, 2/3, 1. */
+static void set_line(ws_curves *c, int ci, const double a[3], const double b[3]) {
+    double P[4][3];
+    for (int j = 0; j < 4; j++)
+        for (int x = 0; x < 3; x++) P[j][x] = a[x] + (b[x] - a[x]) * j / 3.0;
+    set_curve(c, ci, P);
+}
+
+static void lerp3(const double a[3], const double b[3], double s, double out[3]) {
+    for (int x = 0; x < 3; x++) out[x] = a[x] + s * (b[x] - a[x]);
+}
+
+/* The trefoil knot (sin t + 2 sin 2t, cos t - 2 cos 2t, -sin 3t) scaled to
+ * about 1.6 units across, as 12 cubic pieces: each the Hermite cubic of the
+ * knot's points and tangents at its ends (continuous tangents throughout). */
+#define TREFOIL_PIECES 12
+static int make_trefoil(ws_synth_object *obj, ws_status *st) {
+    if (ws_curves_alloc(&obj->curves, TREFOIL_PIECES, st)) return st->code;
+    const double scale = 0.27, dt = 2 * M_PI / TREFOIL_PIECES;
+    for (int k = 0; k < TREFOIL_PIECES; k++) {
+        double P[4][3];
+        for (int end = 0; end < 2; end++) {
+            double t = (k + end) * dt;
+            double p[3] = {sin(t) + 2 * sin(2 * t), cos(t) - 2 * cos(2 * t), -sin(3 * t)};
+            double d[3] = {cos(t) + 4 * cos(2 * t), -sin(t) + 4 * sin(2 * t), -3 * cos(3 * t)};
+            double sign = end ? -1.0 : 1.0; /* P1 = p(a) + dt/3 p'(a), P2 = p(b) - dt/3 p'(b) */
+            for (int x = 0; x < 3; x++) {
+                P[3 * end][x] = scale * p[x];
+                P[1 + end][x] = scale * (p[x] + sign * dt / 3 * d[x]);
+            }
+        }
+        set_curve(&obj->curves, k, P);
+    }
+    obj->curves.thickness = 0.05;
+    const float colour[3] = {0.95f, 0.55f, 0.2f};
+    memcpy(obj->colour, colour, sizeof colour);
+    return WS_OK;
+}
+
+/* A wire chair, z up, its back towards +y: four splayed legs, the seat's
+ * square frame, two side stretchers, two back posts leaning back, a curved
+ * top rail, a middle rail and a centre splat: 15 curves, 1.7 units tall. */
+#define CHAIR_CURVES 15
+static int make_chair(ws_synth_object *obj, ws_status *st) {
+    if (ws_curves_alloc(&obj->curves, CHAIR_CURVES, st)) return st->code;
+    ws_curves *c = &obj->curves;
+    int ci = 0;
+    double seat[4][3], foot[4][3]; /* corners: front-left, front-right, back-right, back-left */
+    const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
+    for (int k = 0; k < 4; k++) {
+        double s[3] = {0.4 * sx[k], 0.4 * sy[k], 0.0}, f[3] = {0.44 * sx[k], 0.44 * sy[k], -0.8};
+        memcpy(seat[k], s, sizeof s);
+        memcpy(foot[k], f, sizeof f);
+        set_line(c, ci++, seat[k], foot[k]);
+    }
+    for (int k = 0; k < 4; k++) set_line(c, ci++, seat[k], seat[(k + 1) % 4]);
+    for (int side = 0; side < 2; side++) { /* left: legs 0 and 3; right: 1 and 2 */
+        double a[3], b[3];
+        lerp3(seat[side ? 1 : 0], foot[side ? 1 : 0], 0.6, a);
+        lerp3(seat[side ? 2 : 3], foot[side ? 2 : 3], 0.6, b);
+        set_line(c, ci++, a, b);
+    }
+    const double post_top[2][3] = {{-0.37, 0.5, 0.85}, {0.37, 0.5, 0.85}};
+    set_line(c, ci++, seat[3], post_top[0]);
+    set_line(c, ci++, seat[2], post_top[1]);
+    const double top[4][3] = {
+        {-0.37, 0.5, 0.85}, {-0.15, 0.62, 0.9}, {0.15, 0.62, 0.9}, {0.37, 0.5, 0.85}};
+    set_curve(c, ci++, top);
+    double mid_l[3], mid_r[3], mid_c[3], top_c[3];
+    lerp3(seat[3], post_top[0], 0.45, mid_l);
+    lerp3(seat[2], post_top[1], 0.45, mid_r);
+    set_line(c, ci++, mid_l, mid_r);
+    lerp3(mid_l, mid_r, 0.5, mid_c);
+    ws_curve_point(c, ci - 2, 0.5, top_c);
+    set_line(c, ci++, mid_c, top_c);
+    c->thickness = 0.03;
+    const float colour[3] = {0.85f, 0.65f, 0.4f};
+    memcpy(obj->colour, colour, sizeof colour);
+    return WS_OK;
+}
+
+/* Moves the curves so that the centre of their bounding box (over dense
+ * samples) is OBJECT_CENTER. */
+static void center_curves(ws_synth_object *obj) {
+    ws_curves *c = &obj->curves;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int ci = 0; ci < c->n; ci++)
+        for (int k = 0; k <= 256; k++) {
+            double p[3];
+            ws_curve_point(c, ci, k / 256.0, p);
+            for (int x = 0; x < 3; x++) {
+                lo[x] = fmin(lo[x], p[x]);
+                hi[x] = fmax(hi[x], p[x]);
+            }
+        }
+    for (int x = 0; x < 3; x++) {
+        double shift = OBJECT_CENTER[x] - 0.5 * (lo[x] + hi[x]);
+        for (int j = 0; j < c->n * 4; j++) c->P[j * 3 + x] += shift;
+        obj->center[x] = OBJECT_CENTER[x];
+    }
+}
+
+/* Capsules along each curve: about one per tube radius of arc length. */
+static int build_capsules(ws_synth_object *obj, ws_status *st) {
+    const ws_curves *c = &obj->curves;
+    int *segments = ws_malloc(sizeof *segments * (c->n ? c->n : 1), "capsule counts", st);
+    if (!segments) return st->code;
+    int total = 0;
+    for (int ci = 0; ci < c->n; ci++) {
+        double L = 0, prev[3], p[3];
+        ws_curve_point(c, ci, 0.0, prev);
+        for (int k = 1; k <= 64; k++) {
+            ws_curve_point(c, ci, k / 64.0, p);
+            L += sqrt((p[0] - prev[0]) * (p[0] - prev[0]) + (p[1] - prev[1]) * (p[1] - prev[1]) +
+                      (p[2] - prev[2]) * (p[2] - prev[2]));
+            memcpy(prev, p, sizeof p);
+        }
+        double m = ceil(L / c->thickness);
+        segments[ci] = m < MIN_CAPSULES_PER_CURVE   ? MIN_CAPSULES_PER_CURVE
+                       : m > MAX_CAPSULES_PER_CURVE ? MAX_CAPSULES_PER_CURVE
+                                                    : (int)m;
+        total += segments[ci];
+    }
+    obj->capsules = ws_malloc(sizeof *obj->capsules * 6 * total, "capsules", st);
+    if (!obj->capsules) {
+        free(segments);
+        return st->code;
+    }
+    double *cap = obj->capsules;
+    for (int ci = 0; ci < c->n; ci++)
+        for (int k = 0; k < segments[ci]; k++, cap += 6) {
+            ws_curve_point(c, ci, (double)k / segments[ci], cap);
+            ws_curve_point(c, ci, (double)(k + 1) / segments[ci], cap + 3);
+        }
+    obj->ncapsules = total;
+    free(segments);
+    return WS_OK;
+}
+
+int ws_synth_object_make(ws_synth_object *obj, const char *name, ws_status *st) {
+    memset(obj, 0, sizeof *obj);
+    int rc;
+    if (!strcmp(name, "trefoil"))
+        rc = make_trefoil(obj, st);
+    else if (!strcmp(name, "chair"))
+        rc = make_chair(obj, st);
+    else
+        return ws_fail(st, WS_EUSAGE, "%s: unknown synthetic scene (trefoil, chair)", name);
+    if (!rc) {
+        center_curves(obj);
+        rc = build_capsules(obj, st);
+    }
+    if (rc) ws_synth_object_free(obj);
+    return rc;
+}
+
+void ws_synth_object_free(ws_synth_object *obj) {
+    ws_curves_free(&obj->curves);
+    free(obj->capsules);
+    obj->capsules = NULL;
+    obj->ncapsules = 0;
+}
+
+/* ---------------------------------------------------------------- rendering */
+
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Nearest t > 0 where the ray t D (from the origin) enters the ball of
+ * centre C and radius r, or INFINITY. |t D - C|^2 = r^2 is
+ * DD t^2 - 2 (D.C) t + (C.C - r^2) = 0. */
+static double ray_ball(const double D[3], double DD, const double C[3], double r) {
+    double b = dot3(D, C), disc = b * b - DD * (dot3(C, C) - r * r);
+    if (disc < 0) return INFINITY;
+    double t = (b - sqrt(disc)) / DD;
+    return t > 0 ? t : INFINITY;
+}
+
+/* Nearest t > 0 where the ray t D enters the capsule of segment A -> A + len
+ * axis (unit axis) and radius r, or INFINITY. The capsule is the union of a
+ * finite solid cylinder and the balls at its ends; the cylinder's flat ends
+ * lie inside the balls, so the first entry is the earliest of: the lateral
+ * surface hit (distance r from the axis line, axial coordinate within
+ * [0, len]) and the two ball hits. With w = t D - A, the lateral surface is
+ * |w|^2 - (w.axis)^2 = r^2, a quadratic a t^2 + 2 b t + c = 0. */
+static double ray_capsule(const double D[3], double DD, const double A[3], const double axis[3],
+                          double len, const double B[3], double r) {
+    double t = fmin(ray_ball(D, DD, A, r), ray_ball(D, DD, B, r));
+    double Du = dot3(D, axis), Au = dot3(A, axis);
+    double a = DD - Du * Du, b = -dot3(D, A) + Du * Au, c = dot3(A, A) - Au * Au - r * r;
+    double disc = b * b - a * c;
+    if (a > 1e-12 * DD && disc >= 0) { /* a = 0: the ray runs along the axis, balls decide */
+        double tl = (-b - sqrt(disc)) / a, y = tl * Du - Au;
+        if (tl > 0 && y >= 0 && y <= len && tl < t) t = tl;
+    }
+    return t;
+}
+
+/* Screen box (high-resolution sample indices) that contains the projection
+ * of the ball (C, r), C in camera space: u = cx + f x / d over the box
+ * [x - r, x + r] x [d - r, d + r], whose extremes are at its corners since
+ * x / d is monotone in each of x and d (d > 0). */
+static void ball_screen_box(const double C[3], double r, double f, double cx, double cy,
+                            double box[4]) {
+    double d = -C[2];
+    for (int k = 0; k < 4; k++) {
+        double x = C[0] + (k & 1 ? r : -r), y = C[1] + (k & 1 ? r : -r), dd = d + (k & 2 ? r : -r);
+        double u = cx + f * x / dd, v = cy - f * y / dd;
+        box[0] = fmin(box[0], u);
+        box[1] = fmax(box[1], u);
+        box[2] = fmin(box[2], v);
+        box[3] = fmax(box[3], v);
+    }
+}
+
+int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
+                    ws_image *img, ws_status *st) {
+    if (supersample < 1 || supersample > 16)
+        return ws_fail(st, WS_EINTERNAL, "synth: supersampling %d is not in [1, 16]", supersample);
+    const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
+    const double r = obj->curves.thickness;
+    /* The fine grid: sample (I, J) sits at low-resolution pixel coordinates
+     * ((I - (ss-1)/2) / ss, (J - (ss-1)/2) / ss), so that the ss x ss samples
+     * of pixel (i, j) are centred on (i, j), the pixel's own position. */
+    const double f2 = cam->focal * ss, cx2 = 0.5 * W * ss + 0.5 * (ss - 1),
+                 cy2 = 0.5 * H * ss + 0.5 * (ss - 1);
+    float *depth = ws_malloc(sizeof *depth * W2 * H2, "a depth buffer", st);
+    float *shade = depth ? ws_calloc((size_t)W2 * H2, sizeof *shade, "a shading buffer", st) : NULL;
+    double *cc =
+        shade ? ws_malloc(sizeof *cc * 6 * obj->ncapsules, "camera-space capsules", st) : NULL;
+    if (!cc || ws_image_alloc(img, W, H, 3, st)) {
+        free(depth);
+        free(shade);
+        free(cc);
+        return st->code;
+    }
+    for (size_t k = 0; k < (size_t)W2 * H2; k++) depth[k] = INFINITY;
+    for (int k = 0; k < 2 * obj->ncapsules; k++)
+        ws_camera_to_cam(cam, obj->capsules + 3 * k, cc + 3 * k);
+    const double light_world[3] = {0.3, -0.5, 0.8};
+    double light[3]; /* unit, in camera space */
+    for (int i = 0; i < 3; i++)
+        light[i] = dot3(cam->R[i], light_world) / sqrt(dot3(light_world, light_world));
+
+    for (int k = 0; k < obj->ncapsules; k++) {
+        const double *A = cc + 6 * k, *B = A + 3;
+        double axis[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, len = sqrt(dot3(axis, axis));
+        for (int x = 0; x < 3; x++) axis[x] = len > 0 ? axis[x] / len : 0;
+        double box[4] = {0, W2 - 1, 0, H2 - 1};
+        if (-A[2] - r > 1e-6 && -B[2] - r > 1e-6) { /* wholly in front: a tight box */
+            box[0] = box[2] = INFINITY;
+            box[1] = box[3] = -INFINITY;
+            ball_screen_box(A, r, f2, cx2, cy2, box);
+            ball_screen_box(B, r, f2, cx2, cy2, box);
+        }
+        int j0 = (int)fmax(0, ceil(box[0])), j1 = (int)fmin(W2 - 1, floor(box[1]));
+        int i0 = (int)fmax(0, ceil(box[2])), i1 = (int)fmin(H2 - 1, floor(box[3]));
+        for (int I = i0; I <= i1; I++)
+            for (int J = j0; J <= j1; J++) {
+                double D[3] = {(J - cx2) / f2, -(I - cy2) / f2, -1.0}; /* depth along D is t */
+                double DD = dot3(D, D);
+                double t = ray_capsule(D, DD, A, axis, len, B, r);
+                size_t at = (size_t)I * W2 + J;
+                if (!(t < depth[at])) continue;
+                depth[at] = (float)t;
+                /* normal: from the nearest axis point to the hit point */
+                double P[3] = {t * D[0], t * D[1], t * D[2]}, y = 0, n[3];
+                for (int x = 0; x < 3; x++) y += (P[x] - A[x]) * axis[x];
+                y = fmin(fmax(y, 0), len);
+                for (int x = 0; x < 3; x++) n[x] = P[x] - (A[x] + y * axis[x]);
+                double nl = sqrt(dot3(n, n));
+                double lambert = nl > 0 ? fmax(0, dot3(n, light) / nl) : 0;
+                shade[at] = (float)(AMBIENT + (1 - AMBIENT) * lambert);
+            }
+    }
+    const size_t plane = (size_t)W * H;
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            double sum = 0;
+            for (int a = 0; a < ss; a++)
+                for (int b = 0; b < ss; b++) sum += shade[(size_t)(i * ss + a) * W2 + j * ss + b];
+            for (int c = 0; c < 3; c++)
+                img->data[c * plane + (size_t)i * W + j] =
+                    (float)(obj->colour[c] * sum / (ss * ss));
+        }
+    free(depth);
+    free(shade);
+    free(cc);
+    return WS_OK;
+}
+
+/* ---------------------------------------------------------------- cameras */
+
+/* Camera-to-world of a camera at `pos` looking at `target`, world z up:
+ * the camera's -z points at the target, its x is horizontal. */
+static void look_at(const double pos[3], const double target[3], double c2w[4][4]) {
+    double z[3], x[3], y[3];
+    for (int i = 0; i < 3; i++) z[i] = pos[i] - target[i];
+    double zl = sqrt(dot3(z, z));
+    for (int i = 0; i < 3; i++) z[i] /= zl;
+    double xl = sqrt(z[0] * z[0] + z[1] * z[1]); /* x = up x z, up = (0, 0, 1) */
+    x[0] = -z[1] / xl;
+    x[1] = z[0] / xl;
+    x[2] = 0;
+    y[0] = z[1] * x[2] - z[2] * x[1];
+    y[1] = z[2] * x[0] - z[0] * x[2];
+    y[2] = z[0] * x[1] - z[1] * x[0];
+    memset(c2w, 0, 16 * sizeof(double));
+    for (int i = 0; i < 3; i++) {
+        c2w[i][0] = x[i];
+        c2w[i][1] = y[i];
+        c2w[i][2] = z[i];
+        c2w[i][3] = pos[i];
+    }
+    c2w[3][3] = 1;
+}
+
+/* A camera on the sphere of CAMERA_DISTANCE around center at height
+ * fraction h = cos(polar angle) in (0, 1) and azimuth phi. h stays below 1
+ * (never straight above) so that "world z up" defines the camera's roll. */
+static void sphere_camera(const double center[3], double h, double phi, double c2w[4][4]) {
+    double ring = sqrt(1 - h * h);
+    double pos[3] = {center[0] + CAMERA_DISTANCE * ring * cos(phi),
+                     center[1] + CAMERA_DISTANCE * ring * sin(phi),
+                     center[2] + CAMERA_DISTANCE * h};
+    look_at(pos, center, c2w);
+}
+
+/* Train: a Fibonacci spiral over the upper hemisphere (equal areas: h
+ * uniform, azimuth stepping by the golden angle), turned by a random
+ * azimuth. Val, test: uniform random points of the hemisphere with h in
+ * [0.05, 0.95]. Draws are in split order from one seeded generator. */
+static void place_cameras(const double center[3], const ws_synth_options *opt,
+                          double (*c2w)[4][4]) {
+    ws_rng rng;
+    ws_rng_seed(&rng, opt->seed);
+    const double golden = M_PI * (3 - sqrt(5.0)), phi0 = 2 * M_PI * ws_rng_uniform(&rng);
+    int v = 0;
+    for (int k = 0; k < opt->views[WS_TRAIN]; k++, v++)
+        sphere_camera(center, 1 - (k + 0.5) / opt->views[WS_TRAIN], phi0 + golden * k, c2w[v]);
+    for (int s = WS_VAL; s < WS_NSPLITS; s++)
+        for (int k = 0; k < opt->views[s]; k++, v++) {
+            double h = 0.05 + 0.9 * ws_rng_uniform(&rng);
+            sphere_camera(center, h, 2 * M_PI * ws_rng_uniform(&rng), c2w[v]);
+        }
+}
+
+/* ---------------------------------------------------------------- files */
+
+static int write_text_file(const char *path, const char *text, ws_status *st) {
+    ws_outfile f;
+    if (ws_outfile_open(&f, path, st)) return st->code;
+    fputs(text, f.fp);
+    return ws_outfile_commit(&f, st);
+}
+
+/* transforms_SPLIT.json of the split's n cameras */
+static int write_transforms(const char *dir, int split, const ws_synth_object *obj,
+                            double (*c2w)[4][4], int n, ws_status *st) {
+    char path[4400];
+    snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[split]);
+    /* each item goes to its parent as soon as it is made (adding fails only
+     * for a NULL item), so a failed allocation leaks nothing */
+    cJSON *root = cJSON_CreateObject(), *frames = NULL;
+    int ok =
+        root && cJSON_AddNumberToObject(root, "camera_angle_x", CAMERA_ANGLE_X) &&
+        cJSON_AddItemToObject(root, "object_position", cJSON_CreateDoubleArray(obj->center, 3)) &&
+        (frames = cJSON_AddArrayToObject(root, "frames"));
+    for (int k = 0; k < n && ok; k++) {
+        char file_path[64];
+        snprintf(file_path, sizeof file_path, "%s/r_%d", ws_split_names[split], k);
+        cJSON *frame = cJSON_CreateObject(), *m = NULL;
+        ok = cJSON_AddItemToArray(frames, frame) &&
+             cJSON_AddStringToObject(frame, "file_path", file_path) &&
+             (m = cJSON_AddArrayToObject(frame, "transform_matrix"));
+        for (int i = 0; i < 4 && ok; i++)
+            ok = cJSON_AddItemToArray(m, cJSON_CreateDoubleArray(c2w[k][i], 4));
+    }
+    char *text = ok ? cJSON_Print(root) : NULL;
+    cJSON_Delete(root);
+    if (!text) return ws_fail(st, WS_ENOMEM, "%s: out of memory building the JSON", path);
+    int rc = write_text_file(path, text, st);
+    cJSON_free(text);
+    return rc;
+}
+
+static int check_options(const ws_synth_options *opt, ws_status *st) {
+    static const char *const option[WS_NSPLITS] = {"--views-train", "--views-val", "--views-test"};
+    for (int s = 0; s < WS_NSPLITS; s++)
+        if (opt->views[s] < (s == WS_TRAIN) || opt->views[s] > 100000)
+            return ws_fail(st, WS_EUSAGE, "%s: %d is not in [%d, 100000]", option[s], opt->views[s],
+                           s == WS_TRAIN);
+    if (opt->size < 8 || opt->size > 4096)
+        return ws_fail(st, WS_EUSAGE, "--size: %d is not in [8, 4096]", opt->size);
+    return WS_OK;
+}
+
+/* Renders and writes every view's PNG, in parallel; the failure of the
+ * lowest view wins. */
+static int write_views(const char *dir, const ws_synth_object *obj, const ws_synth_options *opt,
+                       double (*c2w)[4][4], int total, ws_status *st) {
+    ws_status *status = ws_malloc(sizeof *status * total, "view statuses", st);
+    if (!status) return st->code;
+#pragma omp parallel for schedule(dynamic)
+    for (int v = 0; v < total; v++) {
+        int split = 0, k = v;
+        while (k >= opt->views[split]) k -= opt->views[split++];
+        ws_status *vs = &status[v];
+        ws_status_clear(vs);
+        char path[4400], what[4500];
+        snprintf(path, sizeof path, "%s/rgb/%s/r_%d.png", dir, ws_split_names[split], k);
+        snprintf(what, sizeof what, "%s: camera", path);
+        ws_camera cam;
+        ws_image img = {0};
+        if (!ws_camera_init(&cam, c2w[v], CAMERA_ANGLE_X, opt->size, opt->size, what, vs) &&
+            !ws_synth_render(obj, &cam, SUPERSAMPLE, &img, vs))
+            ws_png_write(path, &img, vs);
+        ws_image_free(&img);
+    }
+    int rc = WS_OK;
+    for (int v = 0; v < total && !rc; v++)
+        if (status[v].code) {
+            *st = status[v];
+            rc = st->code;
+        }
+    free(status);
+    return rc;
+}
+
+int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st) {
+    if (check_options(opt, st)) return st->code;
+    if (strlen(dir) > 4000) return ws_fail(st, WS_EUSAGE, "%s: path too long", dir);
+    ws_synth_object obj;
+    if (ws_synth_object_make(&obj, name, st)) return st->code;
+    char path[4400];
+    int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
+    double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
+    int rc = c2w ? WS_OK : st->code;
+    snprintf(path, sizeof path, "%s/rgb", dir);
+    if (!rc && !(rc = ws_mkdir(dir, st))) rc = ws_mkdir(path, st);
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
+        snprintf(path, sizeof path, "%s/rgb/%s", dir, ws_split_names[s]);
+        if (opt->views[s]) rc = ws_mkdir(path, st);
+    }
+    if (!rc) {
+        place_cameras(obj.center, opt, c2w);
+        rc = write_views(dir, &obj, opt, c2w, total, st);
+    }
+    for (int s = 0, first = 0; s < WS_NSPLITS && !rc; first += opt->views[s++])
+        if (opt->views[s]) rc = write_transforms(dir, s, &obj, c2w + first, opt->views[s], st);
+    snprintf(path, sizeof path, "%s/gt_curves.json", dir);
+    if (!rc) rc = ws_curves_save(path, &obj.curves, st);
+    free(c2w);
+    ws_synth_object_free(&obj);
+    return rc;
+}

@@ -1,0 +1,54 @@
+/* synth.h: synthetic test scenes whose ground truth is exactly a curve file.
+ *
+ * An object is a set of cubic Bezier curves drawn as tubes of one radius
+ * (a trefoil knot, a wire chair). ws_synth_write renders it from cameras on
+ * a sphere around the object into a NeRF-synthetic scene:
+ *   DIR/transforms_{train,val,test}.json  (camera_angle_x, frames[])
+ *   DIR/rgb/{train,val,test}/r_K.png      (RGB, object on black)
+ *   DIR/gt_curves.json                    (the curves, thickness = tube radius)
+ * Train cameras lie on a Fibonacci spiral over the upper hemisphere, val and
+ * test cameras at random (seeded) positions of that hemisphere. Same name,
+ * options and seed give the same bytes. */
+#ifndef WS_SYNTH_H
+#define WS_SYNTH_H
+#include <stdint.h>
+#include "render/camera.h"
+#include "render/curves.h"
+#include "io/image.h"
+#include "io/scene.h"
+#include "nn/base/status.h"
+
+typedef struct {
+    int views[WS_NSPLITS]; /* views per split [48, 8, 8]; 0 leaves val or test out */
+    int size;              /* square image side in pixels [224] */
+    uint64_t seed;         /* camera placement [0] */
+} ws_synth_options;
+
+typedef struct {
+    ws_curves curves; /* the ground truth; thickness = tube radius */
+    double center[3]; /* centre of the curves' bounding box: the cameras look here */
+    float colour[3];  /* albedo times light colour */
+    int ncapsules;    /* the tubes as capsules around a dense polyline */
+    double *capsules; /* ncapsules x 2 endpoints x 3 */
+} ws_synth_object;
+
+/* The objects there are: "trefoil", "chair". */
+extern const char *const ws_synth_names[];
+extern const int ws_synth_count;
+
+void ws_synth_options_default(ws_synth_options *opt);
+
+/* Builds object `name`; fails with WS_EUSAGE for an unknown name. */
+int ws_synth_object_make(ws_synth_object *obj, const char *name, ws_status *st);
+void ws_synth_object_free(ws_synth_object *obj);
+
+/* Renders the object seen by cam into img (allocated here: 3 x cam->height x
+ * cam->width): the nearest tube surface of each of supersample^2 rays per
+ * pixel, Lambert + ambient shaded, averaged; black where no tube is hit. */
+int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
+                    ws_image *img, ws_status *st);
+
+/* Writes the scene of object `name` into directory dir (created if needed). */
+int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st);
+
+#endif
