@@ -12,7 +12,9 @@
 #include "check.h"
 #include "render/curves.h"
 #include "io/scene.h"
+#include "synth/solids.h"
 #include "synth/synth.h"
+#include "io/pointcloud.h"
 
 static char tmp[256];
 
@@ -201,7 +203,7 @@ static void test_errors(void) {
     char dir[512];
     snprintf(dir, sizeof dir, "%s/never", tmp);
     int rc = ws_synth_write("teapot", dir, &opt, &st);
-    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair)"),
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair, cube, dodecahedron, nut)"),
           "unknown name: %s", st.msg);
     opt.views[WS_TRAIN] = 0;
     rc = ws_synth_write("chair", dir, &opt, &st);
@@ -221,6 +223,89 @@ static void test_errors(void) {
     CHECK(rc == WS_EIO && !strcmp(st.msg, want), "missing parent: %s", st.msg);
 }
 
+/* A solid scene: gt_curves.json holds its edges (count given), gt_points.ply
+ * loads, the background is the chosen colour, and the object's outline
+ * (every pixel of the object beside a background pixel) lies within 1.5 px
+ * of a projected edge: the silhouette of these solids is made of their
+ * sharp edges. */
+static void check_solid(const char *name, int edges, int white) {
+    char dir[512], path[600];
+    snprintf(dir, sizeof dir, "%s/%s%s", tmp, name, white ? "_white" : "");
+    ws_status st;
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    opt.views[WS_TRAIN] = 3;
+    opt.views[WS_VAL] = 0;
+    opt.views[WS_TEST] = 1;
+    opt.size = 64;
+    opt.white_background = white;
+    int rc = ws_synth_write(name, dir, &opt, &st);
+    CHECK(rc == WS_OK, "%s: %s", name, st.msg);
+    if (rc) return;
+    ws_curves gt;
+    snprintf(path, sizeof path, "%s/gt_curves.json", dir);
+    rc = ws_curves_load(path, &gt, &st);
+    CHECK(rc == WS_OK && gt.n == edges, "%s: %d edges in gt_curves.json (%s)", name, gt.n, st.msg);
+    if (rc) return;
+    ws_pointcloud pc;
+    snprintf(path, sizeof path, "%s/gt_points.ply", dir);
+    rc = ws_pointcloud_load_ply(path, &pc, &st);
+    CHECK(rc == WS_OK && pc.n == 20000, "%s: gt_points.ply: %s", name, st.msg);
+    if (!rc) ws_pointcloud_free(&pc);
+    ws_scene sc;
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = opt.size;
+    rc = ws_scene_load(&sc, dir, &so, &st);
+    CHECK(rc == WS_OK, "%s load: %s", name, st.msg);
+    if (rc) {
+        ws_curves_free(&gt);
+        return;
+    }
+    const float bg = white ? 1.0f : 0.0f;
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (int k = 0; k < sc.split[s].n; k++) {
+            const ws_view *v = &sc.split[s].views[k];
+            const int W = v->photo.width, H = v->photo.height, S = 400;
+            const float *im = v->photo.data;
+            double *uv = malloc(sizeof *uv * 2 * gt.n * S);
+            for (int ci = 0; ci < gt.n; ci++)
+                for (int t = 0; t < S; t++) {
+                    double p[3], c[3];
+                    ws_curve_point(&gt, ci, t / (S - 1.0), p);
+                    ws_camera_to_cam(&v->cam, p, c);
+                    uv[2 * (ci * S + t)] = W / 2.0 + v->cam.focal * c[0] / -c[2];
+                    uv[2 * (ci * S + t) + 1] = H / 2.0 - v->cam.focal * c[1] / -c[2];
+                }
+            int object = 0, outline = 0, far = 0;
+            for (int i = 1; i + 1 < H; i++)
+                for (int j = 1; j + 1 < W; j++) {
+                    int at = i * W + j;
+                    if (im[at] == bg && im[W * H + at] == bg && im[2 * W * H + at] == bg) continue;
+                    object++;
+                    int beside = 0;
+                    for (int d = 0; d < 4; d++) {
+                        int n = at + (d == 0 ? 1 : d == 1 ? -1 : d == 2 ? W : -W);
+                        beside |= im[n] == bg && im[W * H + n] == bg && im[2 * W * H + n] == bg;
+                    }
+                    if (!beside) continue;
+                    outline++;
+                    double best = INFINITY;
+                    for (int q = 0; q < gt.n * S; q++)
+                        best = fmin(best, hypot(uv[2 * q] - j, uv[2 * q + 1] - i));
+                    far += best > 1.5;
+                }
+            CHECK(object > W * H / 20 && object < W * H / 2, "%s %s: %d object pixels", name,
+                  v->name, object);
+            CHECK(im[0] == bg && im[W * H - 1] == bg, "%s %s: background %g", name, v->name, im[0]);
+            CHECK(outline > 40 && far == 0, "%s %s: %d of %d outline pixels off the edges", name,
+                  v->name, far, outline);
+            free(uv);
+        }
+    ws_scene_free(&sc);
+    ws_curves_free(&gt);
+}
+
 int main(void) {
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_synth_XXXXXX");
     if (!mkdtemp(tmp)) {
@@ -230,6 +315,9 @@ int main(void) {
     const int trefoil_views[3] = {5, 2, 2}, chair_views[3] = {4, 0, 1};
     check_scene("trefoil", "trefoil", trefoil_views, 64);
     check_scene("chair", "chair", chair_views, 96);
+    check_solid("cube", 12, 0);
+    check_solid("dodecahedron", 30, 1);
+    check_solid("nut", 26, 0);
     test_deterministic();
     test_errors();
     nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);

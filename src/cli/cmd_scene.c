@@ -1,6 +1,7 @@
 /* cmd_scene.c: `wiresketch scene NAME --out DIR`: a synthetic test scene
  * (NeRF layout) with its ground-truth curves (see synth.h). */
 #include <stdio.h>
+#include <string.h>
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "synth/synth.h"
@@ -8,7 +9,7 @@
 int cmd_scene(int argc, char **argv) {
     ws_synth_options opt;
     ws_synth_options_default(&opt);
-    const char *out = NULL;
+    const char *out = NULL, *background = "black";
     int seed = 0;
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &out, 0, "directory to write the scene into (required)"},
@@ -17,12 +18,15 @@ int cmd_scene(int argc, char **argv) {
         {"--views-test", WS_ARG_INT, &opt.views[WS_TEST], 0, "test views, 0 for none [8]"},
         {"--size", WS_ARG_INT, &opt.size, 0, "image side in pixels [224]"},
         {"--seed", WS_ARG_INT, &seed, 0, "seed of the camera placement [0]"},
+        {"--background", WS_ARG_STRING, &background, 0, "black or white [black]"},
     };
     const ws_command_spec spec = {
-        "scene NAME --out DIR [options]   (NAME: trefoil or chair)",
-        "Render a synthetic object made of Bezier tubes into a NeRF-synthetic scene:\n"
+        "scene NAME --out DIR [options]   (NAME: trefoil, chair, cube, dodecahedron or nut)",
+        "Render a synthetic object (trefoil, chair: Bezier tubes; cube, dodecahedron,\n"
+        "nut: shaded solids with sharp edges) into a NeRF-synthetic scene:\n"
         "DIR/transforms_{train,val,test}.json, DIR/rgb/SPLIT/r_K.png, and its exact\n"
-        "ground truth DIR/gt_curves.json.",
+        "ground truth DIR/gt_curves.json (the tubes' curves, the solids' sharp edges;\n"
+        "solids also DIR/gt_points.ply).",
         args, sizeof args / sizeof args[0], 1, 1};
     const char *pos[1];
     int npos, help;
@@ -38,6 +42,11 @@ int cmd_scene(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--seed: %d is negative", seed);
         return ws_cli_fail(&st);
     }
+    if (strcmp(background, "black") && strcmp(background, "white")) {
+        ws_fail(&st, WS_EUSAGE, "--background: '%s' is not black or white", background);
+        return ws_cli_fail(&st);
+    }
+    opt.white_background = !strcmp(background, "white");
     opt.seed = (uint64_t)seed;
     if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);
     printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, "

@@ -46,3 +46,9 @@ void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]) {
 void ws_camera_position(const ws_camera *cam, double pos[3]) {
     for (int i = 0; i < 3; i++) pos[i] = cam->c2w[i][3];
 }
+
+void ws_camera_pixel_ray(const ws_camera *cam, double i, double j, double D[3]) {
+    D[0] = (j - 0.5 * cam->width) / cam->focal;
+    D[1] = -(i - 0.5 * cam->height) / cam->focal;
+    D[2] = -1.0;
+}

@@ -28,4 +28,12 @@ void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]);
 /* Camera centre in world space (the translation column of c2w). */
 void ws_camera_position(const ws_camera *cam, double pos[3]);
 
+/* Direction D (camera space, D_z = -1, so that the depth along the ray is
+ * its parameter) of the ray through the image point at row i, column j in
+ * pixel units, where integer (i, j) is the centre of pixel (i, j) under
+ * the convention above, and i + 0.25 lies a quarter pixel below it.
+ * Renderers (synth) cast their rays through it and so follow the
+ * convention wherever it is defined. */
+void ws_camera_pixel_ray(const ws_camera *cam, double i, double j, double D[3]);
+
 #endif

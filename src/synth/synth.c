@@ -11,6 +11,7 @@
 #include <string.h>
 #include "base/outfile.h"
 #include "nn/base/rng.h"
+#include "synth/solids.h"
 #include "synth/synth.h"
 
 /* Blender's default camera (50 mm lens on a 36 mm sensor), as in the NeRF
@@ -29,6 +30,8 @@ static const double OBJECT_CENTER[3] = {0.3, -0.2, 0.5};
 /* capsules per curve: about one per tube radius of arc length, within bounds */
 #define MIN_CAPSULES_PER_CURVE 8
 #define MAX_CAPSULES_PER_CURVE 512
+/* surface points of a solid's gt_points.ply */
+#define GT_POINTS 20000
 
 const char *const ws_synth_names[] = {"trefoil", "chair"};
 const int ws_synth_count = sizeof ws_synth_names / sizeof ws_synth_names[0];
@@ -39,6 +42,7 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->views[WS_TEST] = 8;
     opt->size = 224;
     opt->seed = 0;
+    opt->white_background = 0;
 }
 
 /* ---------------------------------------------------------------- objects */
@@ -264,7 +268,7 @@ static void ball_screen_box(const double C[3], double r, double f, double cx, do
 }
 
 int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
-                    ws_image *img, ws_status *st) {
+                    const float background[3], ws_image *img, ws_status *st) {
     if (supersample < 1 || supersample > 16)
         return ws_fail(st, WS_EINTERNAL, "synth: supersampling %d is not in [1, 16]", supersample);
     const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
@@ -327,11 +331,16 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
             double sum = 0;
+            int miss = 0;
             for (int a = 0; a < ss; a++)
-                for (int b = 0; b < ss; b++) sum += shade[(size_t)(i * ss + a) * W2 + j * ss + b];
+                for (int b = 0; b < ss; b++) {
+                    size_t at = (size_t)(i * ss + a) * W2 + j * ss + b;
+                    sum += shade[at];
+                    miss += isinf(depth[at]);
+                }
             for (int c = 0; c < 3; c++)
                 img->data[c * plane + (size_t)i * W + j] =
-                    (float)(obj->colour[c] * sum / (ss * ss));
+                    (float)((obj->colour[c] * sum + background[c] * miss) / (ss * ss));
         }
     free(depth);
     free(shade);
@@ -405,7 +414,7 @@ static int write_text_file(const char *path, const char *text, ws_status *st) {
 }
 
 /* transforms_SPLIT.json of the split's n cameras */
-static int write_transforms(const char *dir, int split, const ws_synth_object *obj,
+static int write_transforms(const char *dir, int split, const double center[3],
                             double (*c2w)[4][4], int n, ws_status *st) {
     char path[4400];
     snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[split]);
@@ -414,7 +423,7 @@ static int write_transforms(const char *dir, int split, const ws_synth_object *o
     cJSON *root = cJSON_CreateObject(), *frames = NULL;
     int ok =
         root && cJSON_AddNumberToObject(root, "camera_angle_x", CAMERA_ANGLE_X) &&
-        cJSON_AddItemToObject(root, "object_position", cJSON_CreateDoubleArray(obj->center, 3)) &&
+        cJSON_AddItemToObject(root, "object_position", cJSON_CreateDoubleArray(center, 3)) &&
         (frames = cJSON_AddArrayToObject(root, "frames"));
     for (int k = 0; k < n && ok; k++) {
         char file_path[64];
@@ -445,10 +454,18 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
     return WS_OK;
 }
 
+/* What a scene shows: tubes or a solid (the other one NULL). */
+typedef struct {
+    const ws_synth_object *tubes;
+    const ws_solid *solid;
+} scene_object;
+
 /* Renders and writes every view's PNG, in parallel; the failure of the
  * lowest view wins. */
-static int write_views(const char *dir, const ws_synth_object *obj, const ws_synth_options *opt,
+static int write_views(const char *dir, const scene_object *obj, const ws_synth_options *opt,
                        double (*c2w)[4][4], int total, ws_status *st) {
+    const float black[3] = {0, 0, 0}, white[3] = {1, 1, 1};
+    const float *background = opt->white_background ? white : black;
     ws_status *status = ws_malloc(sizeof *status * total, "view statuses", st);
     if (!status) return st->code;
 #pragma omp parallel for schedule(dynamic)
@@ -463,7 +480,8 @@ static int write_views(const char *dir, const ws_synth_object *obj, const ws_syn
         ws_camera cam;
         ws_image img = {0};
         if (!ws_camera_init(&cam, c2w[v], CAMERA_ANGLE_X, opt->size, opt->size, what, vs) &&
-            !ws_synth_render(obj, &cam, SUPERSAMPLE, &img, vs))
+            !(obj->solid ? ws_solid_render(obj->solid, &cam, SUPERSAMPLE, background, &img, vs)
+                         : ws_synth_render(obj->tubes, &cam, SUPERSAMPLE, background, &img, vs)))
             ws_png_write(path, &img, vs);
         ws_image_free(&img);
     }
@@ -480,8 +498,16 @@ static int write_views(const char *dir, const ws_synth_object *obj, const ws_syn
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st) {
     if (check_options(opt, st)) return st->code;
     if (strlen(dir) > 4000) return ws_fail(st, WS_EUSAGE, "%s: path too long", dir);
-    ws_synth_object obj;
-    if (ws_synth_object_make(&obj, name, st)) return st->code;
+    int solid = ws_solid_exists(name), tubes = !strcmp(name, "trefoil") || !strcmp(name, "chair");
+    if (!solid && !tubes)
+        return ws_fail(st, WS_EUSAGE,
+                       "%s: unknown synthetic scene (trefoil, chair, cube, dodecahedron, nut)", name);
+    ws_synth_object obj = {0};
+    ws_solid sol = {0};
+    if (solid ? ws_solid_make(&sol, name, OBJECT_CENTER, st) : ws_synth_object_make(&obj, name, st))
+        return st->code;
+    const scene_object what = {solid ? NULL : &obj, solid ? &sol : NULL};
+    const double *center = solid ? sol.center : obj.center;
     char path[4400];
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
@@ -493,14 +519,17 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         if (opt->views[s]) rc = ws_mkdir(path, st);
     }
     if (!rc) {
-        place_cameras(obj.center, opt, c2w);
-        rc = write_views(dir, &obj, opt, c2w, total, st);
+        place_cameras(center, opt, c2w);
+        rc = write_views(dir, &what, opt, c2w, total, st);
     }
     for (int s = 0, first = 0; s < WS_NSPLITS && !rc; first += opt->views[s++])
-        if (opt->views[s]) rc = write_transforms(dir, s, &obj, c2w + first, opt->views[s], st);
+        if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
-    if (!rc) rc = ws_curves_save(path, &obj.curves, st);
+    if (!rc) rc = ws_curves_save(path, solid ? &sol.edges : &obj.curves, st);
+    snprintf(path, sizeof path, "%s/gt_points.ply", dir);
+    if (!rc && solid) rc = ws_solid_write_points(&sol, path, GT_POINTS, opt->seed, st);
     free(c2w);
     ws_synth_object_free(&obj);
+    ws_solid_free(&sol);
     return rc;
 }

@@ -1,11 +1,14 @@
 /* synth.h: synthetic test scenes whose ground truth is exactly a curve file.
  *
  * An object is a set of cubic Bezier curves drawn as tubes of one radius
- * (a trefoil knot, a wire chair). ws_synth_write renders it from cameras on
+ * (a trefoil knot, a wire chair), or a solid with sharp edges (solids.h: a
+ * cube, a dodecahedron, a nut). ws_synth_write renders it from cameras on
  * a sphere around the object into a NeRF-synthetic scene:
  *   DIR/transforms_{train,val,test}.json  (camera_angle_x, frames[])
- *   DIR/rgb/{train,val,test}/r_K.png      (RGB, object on black)
- *   DIR/gt_curves.json                    (the curves, thickness = tube radius)
+ *   DIR/rgb/{train,val,test}/r_K.png      (RGB, object on black or white)
+ *   DIR/gt_curves.json                    (the tubes' curves, thickness = tube
+ *                                          radius; a solid's sharp edges)
+ *   DIR/gt_points.ply                     (solids: 20,000 surface points)
  * Train cameras lie on a Fibonacci spiral over the upper hemisphere, val and
  * test cameras at random (seeded) positions of that hemisphere. Same name,
  * options and seed give the same bytes. */
@@ -22,6 +25,7 @@ typedef struct {
     int views[WS_NSPLITS]; /* views per split [48, 8, 8]; 0 leaves val or test out */
     int size;              /* square image side in pixels [224] */
     uint64_t seed;         /* camera placement [0] */
+    int white_background;  /* 1: the object on white instead of black [0] */
 } ws_synth_options;
 
 typedef struct {
@@ -44,9 +48,10 @@ void ws_synth_object_free(ws_synth_object *obj);
 
 /* Renders the object seen by cam into img (allocated here: 3 x cam->height x
  * cam->width): the nearest tube surface of each of supersample^2 rays per
- * pixel, Lambert + ambient shaded, averaged; black where no tube is hit. */
+ * pixel, Lambert + ambient shaded, averaged; the background colour where
+ * no tube is hit. */
 int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
-                    ws_image *img, ws_status *st);
+                    const float background[3], ws_image *img, ws_status *st);
 
 /* Writes the scene of object `name` into directory dir (created if needed). */
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st);
