@@ -1,4 +1,4 @@
-/* clip.c: CLIP's image tower on the tape (clip.h, SPEC section 4).
+/* clip.c: CLIP's image tower on the tape (clip.h, METHOD.md section 4).
  *
  * The model is the weights plus a table naming each tensor the way
  * OpenAI's state dict does (without "visual."); loading and random
@@ -23,7 +23,7 @@
  * blocks) far inside int and memory. */
 enum { CHANNELS = 3, MAX_TOKENS = 4096 };
 
-/* CLIP's preprocessing statistics (SPEC section 4). */
+/* CLIP's preprocessing statistics (METHOD.md section 4). */
 static const float clip_mean[CHANNELS] = {0.48145466f, 0.4578275f, 0.40821073f};
 static const float clip_std[CHANNELS] = {0.26862954f, 0.26130258f, 0.27577711f};
 

@@ -1,4 +1,4 @@
-/* clip.h: CLIP's image tower (ViT, SPEC section 4), forward and backward.
+/* clip.h: CLIP's image tower (ViT, METHOD.md section 4), forward and backward.
  *
  * The weights are frozen: only the gradient with respect to the input image
  * is ever computed. A clip_run holds every activation of one batch size and

@@ -1,4 +1,4 @@
-/* similarity.h: the feature comparisons of the loss (SPEC section 6), on
+/* similarity.h: the feature comparisons of the loss (METHOD.md section 6), on
  * float vectors with double accumulation. Only the first argument gets a
  * gradient: the second is a photo's feature, a constant. */
 #ifndef NN_SIMILARITY_H

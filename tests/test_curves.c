@@ -142,7 +142,7 @@ static void test_cap_and_order(void) {
 }
 
 /* dP = sum_k B(t_k) dmu_k against central differences of
- * L(P) = sum_k a_k . mu_k(P) with the t_k held fixed (as SPEC 2 asks). */
+ * L(P) = sum_k a_k . mu_k(P) with the t_k held fixed (as METHOD.md section 2 asks). */
 static void test_backward(void) {
     ws_curves c;
     ws_gaussians g = {0};

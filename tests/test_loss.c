@@ -1,4 +1,4 @@
-/* test_loss.c: the whole loss of SPEC section 6, end to end: control points
+/* test_loss.c: the whole loss of METHOD.md section 6, end to end: control points
  * -> Gaussians -> splatting -> augmentation -> CLIP (the tiny fixture model,
  * converted by tools/convert_weights.py) -> geometric, fc and global terms,
  * and back. The gradient with respect to the control points is checked
@@ -26,7 +26,7 @@ typedef struct {
 /* The loss of view 0 of the training split for curves c; with dP, its
  * gradient. rng0: the augmentation stream, restored for every evaluation.
  * With dP the curves are sampled anew; without, the Gaussians keep the
- * parameters t_k of the last sampling (SPEC 2: the t_k are constants of the
+ * parameters t_k of the last sampling (METHOD.md section 2: the t_k are constants of the
  * backward pass, so the finite differences must hold them too). */
 static double loss_of(setup *s, const ws_curves *c, int augment, const ws_rng *rng0, double *dP) {
     ws_status st = {0};

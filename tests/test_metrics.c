@@ -1,5 +1,5 @@
 /* test_metrics.c: the PLY reader, exact nearest neighbours, surface
- * distance, curve Chamfer and F-score (SPEC section 8). */
+ * distance, curve Chamfer and F-score (METHOD.md section 8). */
 #include <math.h>
 #include <omp.h>
 #include <stdint.h>

@@ -1,7 +1,7 @@
 /* test_splat.c: the splatting rasteriser against a direct summation written
  * here, against the reference fixture of tools/reference_splat.py, its
  * gradients against central finite differences (double), the stiff cases of
- * SPEC 3, and determinism (same bits for 1 and 2 threads). */
+ * METHOD.md section 3, and determinism (same bits for 1 and 2 threads). */
 #include <cJSON.h>
 #include <math.h>
 #include <omp.h>
@@ -39,7 +39,7 @@ static ws_camera look_at(const double eye[3], const double target[3], int width,
     return cam;
 }
 
-/* SPEC 3 written out directly: every Gaussian in front of the camera, every
+/* METHOD.md section 3 written out directly: every Gaussian in front of the camera, every
  * pixel, w = exp(-r^2 / (2 sigma^2)) when r <= cutoff sigma. */
 static void direct_alpha(const ws_camera *cam, const double *mu, int n, double radius,
                          double cutoff, double *alpha) {

@@ -2,7 +2,7 @@
 """Makes tests/fixtures/augment_torchvision.txt: one augmentation computed by
 torchvision itself, for tests/test_augment.c to compare src/augment.c with.
 
-The transform objects of SPEC section 5 are run as they are,
+The transform objects of METHOD.md section 5 are run as they are,
   RandomPerspective(distortion_scale=0.5, p=1, fill=0, bilinear) and
   RandomResizedCrop((H, W), scale=(0.8, 0.8), ratio=(1, 1), bilinear),
 with their get_params replaced by fixed corner points and a fixed crop box,

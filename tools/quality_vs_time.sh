@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Quality against wall time (SPEC sections 7 and 8): fits the shared scenes
+# Quality against wall time (METHOD.md sections 7 and 8): fits the shared scenes
 # rose and duck with the weight-free edge loss at three budgets of schedule
 # (1, 3 and 10 epochs: the last is the original's whole default schedule,
 # 10 x 96 views x 30 steps = 28,800 steps) and tabulates the fit's wall time
@@ -11,7 +11,7 @@
 # The table goes to stdout and to $OUT/table.md; each fit stays in
 # $OUT/SCENE-eEPOCHS (report.html, test renders).
 #
-# Settings: the defaults of SPEC section 7 except --radius 0.5 and
+# Settings: the defaults of METHOD.md section 7 except --radius 0.5 and
 # --length 0.3 (the initial curves start inside these objects, which fill
 # about a third of the frame, and long enough to be seen); chosen on
 # one-epoch runs of both scenes, where they gave the lowest surface

@@ -43,23 +43,24 @@ converter in between.
 
 The reference, in torch float64 with autograd:
   - cameras, photos (PNG via PIL, alpha composited on black, working-size
-    images only), curve sampling (SPEC 2: arc length on 300 uniform samples,
-    spacing 2 thickness (1 - overlap), t_k by inverting the table, t_0 = 0,
-    t_{M-1} = 1, one Gaussian at the arc-length midpoint when M = 1) and the
-    exact dense splat (SPEC 3, every Gaussian on every pixel) are
-    tools/reference_splat.py's, itself checked against `render` and
-    `grad --loss l2`;
+    images only), curve sampling (METHOD.md section 2: arc length on 300
+    uniform samples, spacing 2 thickness (1 - overlap), t_k by inverting the
+    table, t_0 = 0, t_{M-1} = 1, one Gaussian at the arc-length midpoint when
+    M = 1) and the exact dense splat (METHOD.md section 3, every Gaussian on
+    every pixel) are tools/reference_splat.py's, itself checked against
+    `render` and `grad --loss l2`;
   - the stroke image: alpha on black copied to 3 channels;
-  - CLIP's image tower (SPEC 4) written out here as plain tensor algebra on
-    the weights read from the flat file with struct + numpy (checksum
-    verified): normalisation, patch embedding as a reshape and a matrix
-    product, class token, positional embedding, ln_pre, pre-norm blocks with
-    explicit multi-head softmax attention and QuickGELU MLP, ln_post on the
-    class token, proj;
-  - the loss of item 0 (SPEC 6 and src/loss.h): conv_weight (1) * sum_l w_l *
-    mean over tokens and channels of (h_l(S) - h_l(T))^2 + fc_weight *
-    (1 - cos(e(S), e(T))), cos = a.b / (max(|a|, 1e-8) max(|b|, 1e-8));
-  - dL/dP by autograd with the t_k held constant (SPEC 2).
+  - CLIP's image tower (METHOD.md section 4) written out here as plain tensor
+    algebra on the weights read from the flat file with struct + numpy
+    (checksum verified): normalisation, patch embedding as a reshape and a
+    matrix product, class token, positional embedding, ln_pre, pre-norm
+    blocks with explicit multi-head softmax attention and QuickGELU MLP,
+    ln_post on the class token, proj;
+  - the loss of item 0 (METHOD.md section 6 and src/loss.h): conv_weight
+    (1) * sum_l w_l * mean over tokens and channels of (h_l(S) - h_l(T))^2
+    + fc_weight * (1 - cos(e(S), e(T))),
+    cos = a.b / (max(|a|, 1e-8) max(|b|, 1e-8));
+  - dL/dP by autograd with the t_k held constant (METHOD.md section 2).
 The C side runs CLIP in float32 (about 1e-6 relative rounding per
 operation), so agreement to about 1e-4 is expected, far inside 2e-3.
 Measured (acceptance, about 70 s): case 1 loss 1.1e-7, gradient 7.3e-7,

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""reference_splat.py: an independent float64 implementation of SPEC sections
+"""reference_splat.py: an independent float64 implementation of METHOD.md sections
 1-3 (cameras, curve sampling, exact splatting) and of the l2 loss, to check
 `wiresketch render` and `wiresketch grad` against. A developer tool: the tests
 never run it (they use the fixture it writes).
@@ -15,7 +15,7 @@ reference gradient (torch autograd in float64, t_k held constant). `fixture`
 writes a few Gaussians, one camera, the exact alpha of every pixel and dL/dmu
 for a fixed dL/dalpha, which tests/test_splat.c checks the C code against.
 
-Written from the SPEC, sharing no code with the C implementation: the
+Written from docs/METHOD.md, sharing no code with the C implementation: the
 camera is the inverse of the 4x4 camera-to-world matrix, sampling inverts
 the arc-length table with np.interp, the splat is one dense product over all
 Gaussians and pixels, and the gradient comes from autograd.

@@ -1,4 +1,4 @@
-/* bench.h: the measurements behind `wiresketch bench` (SPEC section 7,
+/* bench.h: the measurements behind `wiresketch bench` (METHOD.md section 7,
  * "report error against run time"). Each function measures; the command
  * line prints. Timings are the best of `rounds` repetitions (a busy machine
  * only ever slows a run down), and every comparison of two settings runs
@@ -65,7 +65,7 @@ typedef struct {
     double floor_forward, floor_backward, floor_photo; /* its three parts */
 } ws_bench_step_result;
 
-/* The default step (SPEC section 7: one view, A = 4, cut-off 4) on
+/* The default step (METHOD.md section 7: one view, A = 4, cut-off 4) on
  * training view 0 of the scene for the sketch c, CLIP model m, after one
  * unmeasured step (the view's photo features cached, as in a fit). */
 int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c, int rounds,

@@ -1,5 +1,5 @@
 /* bench_approx.c: error against run time of every approximation that buys
- * speed (bench.h, SPEC section 7).
+ * speed (bench.h, METHOD.md section 7).
  *
  * A row compares two settings of the same step on the same inputs: the
  * same sketch, training view 0, the same augmentation transforms (the rng

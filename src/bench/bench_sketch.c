@@ -6,7 +6,7 @@ int ws_bench_sketch(ws_curves *c, int n, const double center[3], double radius, 
     ws_rng rng;
     ws_rng_seed(&rng, seed);
     /* straight segments at random points of the sphere, as the original
-     * initialises (SPEC 2), scattered inward and bent by moving the inner
+     * initialises (METHOD.md section 2), scattered inward and bent by moving the inner
      * control points, so that strokes cross at every angle */
     if (ws_curves_init_random(c, n, center, radius, length, 0.02, 0.6, &rng, st)) return st->code;
     for (int k = 0; k < n; k++) {

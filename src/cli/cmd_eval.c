@@ -1,6 +1,6 @@
 /* cmd_eval.c: `wiresketch eval SCENE --curves C.json`: the test loss of a
  * sketch (item 0, no augmentation) and its distance to the ground truth
- * (SPEC section 8), as one JSON object on stdout. */
+ * (METHOD.md section 8), as one JSON object on stdout. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

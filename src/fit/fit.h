@@ -1,4 +1,4 @@
-/* fit.h: `wiresketch fit`, the optimisation of SPEC sections 5-7.
+/* fit.h: `wiresketch fit`, the optimisation of METHOD.md sections 5-7.
  *
  * ws_fit runs the schedule (epochs of randomly ordered training batches,
  * inner_steps Adam steps each, validation every eval_every batches, test at
@@ -17,7 +17,7 @@
 typedef struct {
     const char *scene_dir;
     const char *out_dir;
-    const char *init_curves;   /* NULL: the random initialisation of SPEC 2 */
+    const char *init_curves;   /* NULL: the random initialisation of METHOD.md section 2 */
     ws_loss_options loss;
     int size;                  /* working resolution (the model's with CLIP) */
     int batch_size, epochs, inner_steps, n_curves, eval_every, threads;

@@ -6,7 +6,7 @@
  * black strokes on white, each curve a polyline path of its projection
  * (the perspective image of a Bezier is not a Bezier). The stroke width is
  * where the splatted stroke reaches alpha 1/2, from the Gaussian footprint
- * sigma (SPEC 3) at the depth of the curve's midpoint and the spacing: about
+ * sigma (METHOD.md section 3) at the depth of the curve's midpoint and the spacing: about
  * 3.5 sigma with the default overlap 0.6, never below 2 sigma.
  * A curve with a control point at depth <= 1e-3 is left out of the SVG; when
  * all 4 are in front of the camera, so is the whole curve (it lies in their

@@ -1,5 +1,5 @@
 /* pointcloud.h: point clouds read from PLY files (the ground truth of
- * SPEC section 1, gt_points.ply) and their bounding boxes.
+ * METHOD.md section 1, gt_points.ply) and their bounding boxes.
  *
  * The reader takes ascii, binary_little_endian and binary_big_endian PLY
  * with any scalar type for x, y, z (char .. double, also int8 .. float64).

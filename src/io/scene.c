@@ -1,4 +1,4 @@
-/* scene.c: loading NeRF-synthetic scenes (see scene.h, SPEC section 1).
+/* scene.c: loading NeRF-synthetic scenes (see scene.h, METHOD.md section 1).
  *
  * Loading runs in two passes: first every transforms file is parsed and
  * every image path resolved (cheap, serial, so the first malformed frame is

@@ -1,4 +1,4 @@
-/* scene.h: NeRF-synthetic multi-view scenes (SPEC section 1).
+/* scene.h: NeRF-synthetic multi-view scenes (METHOD.md section 1).
  *
  * SCENE/transforms_{train,val,test}.json hold camera_angle_x and frames
  * (file_path without extension, 4x4 camera-to-world transform_matrix);

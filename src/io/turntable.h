@@ -1,6 +1,6 @@
 /* turntable.h: sketch renders for people to look at, and the fly-around.
  *
- * A sketch render is the stroke image of SPEC section 3 drawn the way
+ * A sketch render is the stroke image of METHOD.md section 3 drawn the way
  * sketches are drawn: black strokes on white, gray = 255 * (1 - alpha),
  * splatted with the default options (cut-off 4 sigma).
  *

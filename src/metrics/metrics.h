@@ -1,4 +1,4 @@
-/* metrics.h: the geometric evaluation metrics of SPEC section 8.
+/* metrics.h: the geometric evaluation metrics of METHOD.md section 8.
  *
  * Surface distance: for every Gaussian centre mu_k (ws_curves_sample), the
  * distance d_k to the nearest ground-truth point; reported are

@@ -1,5 +1,5 @@
 /* evaluate.h: how good a sketch is: its loss on a split (item 0, no
- * augmentation, SPEC section 8 "test loss") and its distance to the ground
+ * augmentation, METHOD.md section 8 "test loss") and its distance to the ground
  * truth (surface points or curves). Shared by `fit` and `eval`. */
 #ifndef WS_EVALUATE_H
 #define WS_EVALUATE_H

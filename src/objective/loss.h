@@ -1,4 +1,4 @@
-/* loss.h: the loss of one view (SPEC section 6) and its gradient.
+/* loss.h: the loss of one view (METHOD.md section 6) and its gradient.
  *
  * Terms, each with its own weight (0 = off):
  * - CLIP geometric: conv_weight * sum_l layer_weights[l] * mean over items,

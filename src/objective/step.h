@@ -1,5 +1,5 @@
 /* step.h: the loss of a set of curves and its gradient with respect to the
- * control points, the work of one training step (SPEC sections 2, 3, 6):
+ * control points, the work of one training step (METHOD.md sections 2, 3, 6):
  * sample the curves into Gaussians, splat them into each view, take the
  * loss (loss.h), and carry dL/dalpha back through the splatting and the
  * Bernstein weights. `fit` runs it every step; the benchmarks time it. */

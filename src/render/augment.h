@@ -1,4 +1,4 @@
-/* augment.h: the random augmentation of SPEC section 5.
+/* augment.h: the random augmentation of METHOD.md section 5.
  *
  * One transform is a random perspective warp followed by a random resized
  * crop, with the semantics of torchvision 0.14 (tensor images):

@@ -1,4 +1,4 @@
-/* camera.h: a pinhole camera of a NeRF-synthetic scene (SPEC section 3).
+/* camera.h: a pinhole camera of a NeRF-synthetic scene (METHOD.md section 3).
  *
  * Blender/OpenGL axes: the camera looks down its -z, +y is up, +x right.
  * A world point p maps to c = R p + t, depth d = -c_z, and pixel

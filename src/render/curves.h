@@ -1,4 +1,4 @@
-/* curves.h: cubic Bezier curves and their Gaussians (SPEC section 2).
+/* curves.h: cubic Bezier curves and their Gaussians (METHOD.md section 2).
  *
  * A sketch is n curves of 4 control points each, P[(c * 4 + j) * 3 + xyz].
  * Each curve is sampled into Gaussians spaced 2 * thickness * (1 - overlap)
@@ -32,7 +32,7 @@ typedef struct {
 } ws_gaussians;
 
 /* n curves with all control points 0, thickness 0.02 and overlap 0.6 (the
- * defaults of SPEC section 7). */
+ * defaults of METHOD.md section 7). */
 int ws_curves_alloc(ws_curves *c, int n, ws_status *st);
 void ws_curves_free(ws_curves *c);
 

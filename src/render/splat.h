@@ -1,4 +1,4 @@
-/* splat.h: the differentiable Gaussian splatting rasteriser (SPEC section 3).
+/* splat.h: the differentiable Gaussian splatting rasteriser (METHOD.md section 3).
  *
  * For each Gaussian (centre mu, world radius r) seen by a camera at depth
  * d > near: pixel centre (u, v), footprint sigma = f r / d, weight
