@@ -1,5 +1,8 @@
 # wiresketch build. `make` builds build/wiresketch and build/libwiresketch.a;
-# `make test` builds and runs every test; `make clean` removes build/.
+# `make test` builds and runs every test (the repository alone: scenes
+# come from tests/fixtures); `make test-scenes SCENES=DIR` runs the scene,
+# metrics and render checks on DIR/rose and DIR/duck (../shared/scenes by
+# default); `make clean` removes build/.
 # Options: NATIVE=1 adds -march=native (not portable to older CPUs);
 #          SANITIZE=1 builds with ASan+UBSan into build/san (or BUILD=...).
 # `make fuzz` builds tests/fuzz/fuzz_*.c with clang's libFuzzer into
@@ -34,7 +37,7 @@ CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 HEADERS   := $(wildcard src/*.h src/*/*.h nn/*.h nn/*/*.h) tests/check.h
 
-.PHONY: all test clean bench demo fuzz fuzz-build
+.PHONY: all test test-scenes clean bench demo fuzz fuzz-build
 all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example
 
 $(BUILD)/obj/%.o: %.c $(HEADERS)
@@ -57,6 +60,11 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a $(HEADERS)
 
 test: all $(TEST_BIN)
 	@BUILD=$(BUILD) bash tests/run.sh $(TEST_BIN)
+
+SCENES   ?= ../shared/scenes
+SCENE_TESTS := $(BUILD)/tests/test_scene $(BUILD)/tests/test_metrics $(BUILD)/tests/test_render
+test-scenes: all $(SCENE_TESTS)
+	@BUILD=$(BUILD) bash tests/run.sh --args $(SCENES) $(SCENE_TESTS)
 
 # Fuzzing (clang + libFuzzer; `bash tools/setup.sh fuzz` installs them). The
 # library is rebuilt with clang and coverage into build/fuzz; each target

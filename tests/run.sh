@@ -2,14 +2,21 @@
 # Runs every test program given on the command line from the repository root,
 # adds up their "N passed, N failed" lines, and ends with the total line.
 # A program that crashes or prints no summary counts as one failure.
+# `--args ARG` first passes ARG to every program (make test-scenes: the
+# scenes folder).
 set -u
 cd "$(dirname "$0")/.."
+args=()
+if [ "${1:-}" = --args ]; then
+    args=("$2")
+    shift 2
+fi
 total_pass=0
 total_fail=0
 for t in "$@"; do
     name=$(basename "$t")
     start=$EPOCHREALTIME
-    out=$("$t" 2>&1)
+    out=$("$t" "${args[@]}" 2>&1)
     rc=$?
     secs=$(awk -v a="$start" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }')
     summary=$(printf '%s\n' "$out" | grep -E '^[0-9]+ passed, [0-9]+ failed$' | tail -n 1)

@@ -11,7 +11,18 @@
 #include "metrics/metrics.h"
 #include "nn/base/rng.h"
 
-#define ROSE "../shared/scenes/rose/gt_points.ply"
+/* A ground-truth point set and what is known of it independently: its
+ * size, bounding box bounds and diagonal. The fixture's values come from
+ * tools/make_scene_fixture.py, which wrote it; the rose's is checked by
+ * `make test-scenes`. */
+typedef struct {
+    const char *name, *path;
+    int n;
+    double x_lo, x_hi, z_lo, z_hi; /* lo[0] > x_lo, hi[0] < x_hi, same for z */
+    double diagonal;
+} gt_set;
+static gt_set GT = {"fixture", "tests/fixtures/scene_small/gt_points.ply", 1200, -0.44, 1.04, 0.22, 0.78,
+                    2.08140569};
 
 static char tmpdir[] = "/tmp/ws_test_metrics_XXXXXX";
 static char path[256];
@@ -43,16 +54,16 @@ static void expect_error(const char *msg, int line) {
           "line %d: rc %d, got '%s', want '%s'", line, rc, st.msg, want);
 }
 
-static void test_rose_ply(void) {
+static void test_gt_ply(void) {
     ws_pointcloud pc;
     ws_status st;
     ws_status_clear(&st);
-    int rc = ws_pointcloud_load_ply(ROSE, &pc, &st);
-    CHECK(rc == WS_OK, "rose: %s", st.msg);
+    int rc = ws_pointcloud_load_ply(GT.path, &pc, &st);
+    CHECK(rc == WS_OK, "%s: %s", GT.name, st.msg);
     if (rc) return;
-    CHECK(pc.n == 136205, "rose: %d points", pc.n);
+    CHECK(pc.n == GT.n, "%s: %d points", GT.name, pc.n);
     /* The first and last vertices, decoded independently of the reader. */
-    FILE *f = fopen(ROSE, "rb");
+    FILE *f = fopen(GT.path, "rb");
     static char buf[1 << 21];
     size_t len = fread(buf, 1, sizeof buf, f);
     fclose(f);
@@ -63,13 +74,13 @@ static void test_rose_ply(void) {
     int same = 1;
     for (int a = 0; a < 3; a++)
         same &= pc.xyz[a] == first[a] && pc.xyz[(size_t)(pc.n - 1) * 3 + a] == last[a];
-    CHECK(same, "rose: first/last vertex differ from the raw floats");
+    CHECK(same, "%s: first/last vertex differ from the raw floats", GT.name);
     double lo[3], hi[3];
     ws_points_bbox(pc.xyz, pc.n, lo, hi);
     double diag = ws_points_diagonal(pc.xyz, pc.n);
-    CHECK(lo[0] > 11 && hi[0] < 14 && lo[2] > 3.5 && hi[2] < 7.5, "rose bbox [%g %g %g]-[%g %g %g]",
-          lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-    CHECK(check_close(diag, 4.1609178, 1e-6, 0), "rose diagonal %.9g", diag);
+    CHECK(lo[0] > GT.x_lo && hi[0] < GT.x_hi && lo[2] > GT.z_lo && hi[2] < GT.z_hi,
+          "%s bbox [%g %g %g]-[%g %g %g]", GT.name, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    CHECK(check_close(diag, GT.diagonal, 1e-6, 0), "%s diagonal %.9g", GT.name, diag);
     ws_pointcloud_free(&pc);
 }
 
@@ -325,22 +336,22 @@ static void test_nearest_vs_brute(void) {
     free(idx);
 }
 
-/* Surface distance on the rose: gt points themselves give exactly 0; the
+/* Surface distance on the ground-truth set: gt points themselves give exactly 0; the
  * query speed is measured on Gaussian-like points around the object, and
  * the answer must not depend on the thread count. */
-static void test_surface_rose(void) {
+static void test_surface_gt(void) {
     ws_pointcloud pc;
     ws_status st;
     ws_status_clear(&st);
-    if (ws_pointcloud_load_ply(ROSE, &pc, &st)) {
-        CHECK(0, "rose: %s", st.msg);
+    if (ws_pointcloud_load_ply(GT.path, &pc, &st)) {
+        CHECK(0, "%s: %s", GT.name, st.msg);
         return;
     }
     double t0 = now();
     ws_surface_gt gt;
     int rc = ws_surface_gt_init(&gt, &pc, &st);
     double t_build = now() - t0;
-    CHECK(rc == WS_OK, "rose gt: %s", st.msg);
+    CHECK(rc == WS_OK, "%s gt: %s", GT.name, st.msg);
     if (rc) {
         ws_pointcloud_free(&pc);
         return;
@@ -389,10 +400,10 @@ static void test_surface_rose(void) {
     double t2 = now() - t0;
     CHECK(rc == WS_OK && m1.n == m2.n && m1.mean == m2.mean && m1.p90 == m2.p90,
           "thread count changes the result");
-    CHECK(m1.mean > 0 && m1.p90 > m1.mean && m1.p90 < 0.5, "rose spread: mean %g p90 %g", m1.mean, m1.p90);
-    printf("rose gt %d points: tree build %.1f ms; %d queries: %.0f points/s (1 thread), %.0f points/s (2 threads)\n",
-           pc.n, 1e3 * t_build, n, n / t1, n / t2);
-    printf("rose spread: mean %.4f p90 %.4f (of the diagonal)\n", m1.mean, m1.p90);
+    CHECK(m1.mean > 0 && m1.p90 > m1.mean && m1.p90 < 0.5, "%s spread: mean %g p90 %g", GT.name, m1.mean, m1.p90);
+    printf("%s gt %d points: tree build %.1f ms; %d queries: %.0f points/s (1 thread), %.0f points/s (2 threads)\n",
+           GT.name, pc.n, 1e3 * t_build, n, n / t1, n / t2);
+    printf("%s spread: mean %.4f p90 %.4f (of the diagonal)\n", GT.name, m1.mean, m1.p90);
     free(g.mu);
     ws_surface_gt_free(&gt);
     ws_pointcloud_free(&pc);
@@ -533,19 +544,26 @@ static void test_curve_metrics(void) {
     ws_curves_free(&b);
 }
 
-int main(void) {
+/* With a scenes folder as argument (make test-scenes), the ground-truth
+ * checks run on its rose instead of the fixture. */
+int main(int argc, char **argv) {
     double t0 = now();
+    static char rose[1100];
+    if (argc > 1) {
+        snprintf(rose, sizeof rose, "%s/rose/gt_points.ply", argv[1]);
+        GT = (gt_set){"rose", rose, 136205, 11, 14, 3.5, 7.5, 4.1609178};
+    }
     if (!mkdtemp(tmpdir)) {
         CHECK(0, "mkdtemp failed");
         return check_summary();
     }
-    test_rose_ply();
+    test_gt_ply();
     test_binary_types();
     test_ascii();
     test_hostile_ply();
     test_nearest_vs_brute();
     test_surface_exact();
-    test_surface_rose();
+    test_surface_gt();
     test_curve_metrics();
     unlink(path);
     rmdir(tmpdir);

@@ -1,7 +1,7 @@
 /* test_scene.c: PNG input (every colour type and depth, alpha compositing,
- * resampling), scene loading (both layouts, missing splits, the real scenes
- * under ../shared/scenes), every malformed input with its exact message, and
- * the scene centre. Temporary scenes live in a mkdtemp directory. */
+ * resampling), scene loading (both layouts, missing splits, the committed
+ * fixture scene; with a scenes folder as argument, the shared rose and
+ * duck), every malformed input with its exact message, and the scene centre. Temporary scenes live in a mkdtemp directory. */
 #define _XOPEN_SOURCE 700
 #include <ftw.h>
 #include <math.h>
@@ -164,16 +164,73 @@ static float px(const ws_image *im, int c, int i, int j) {
     return im->data[((size_t)c * im->height + i) * im->width + j];
 }
 
-static void test_real_scenes(void) {
+/* The committed fixture (tools/make_scene_fixture.py): counts, angle,
+ * centre and pixels, the values from that script's own decoder (zlib and
+ * PNG unfiltering in Python, not libpng). Its val/r_1.png is 16-bit RGBA
+ * with alpha 0 on the background. */
+#define FIXTURE "tests/fixtures/scene_small"
+static void test_fixture_scene(void) {
     ws_status st;
     ws_scene_options opt;
     ws_scene sc;
     ws_scene_options_default(&opt);
     CHECK(opt.width == 224 && opt.height == 224 && opt.load_images == 1 && opt.background[0] == 0,
           "defaults");
+    opt.width = opt.height = 64; /* the files' size: no resampling */
+    int rc = ws_scene_load(&sc, FIXTURE, &opt, &st);
+    CHECK(rc == WS_OK, "fixture: %s", st.msg);
+    if (rc) return;
+    CHECK(sc.split[WS_TRAIN].n == 8 && sc.split[WS_VAL].n == 2 && sc.split[WS_TEST].n == 4,
+          "fixture views %d %d %d", sc.split[0].n, sc.split[1].n, sc.split[2].n);
+    CHECK(fabs(sc.camera_angle_x - 0.6911111611634243) < 1e-15, "fixture angle %.17g",
+          sc.camera_angle_x);
+    CHECK(fabs(sc.split[WS_TRAIN].views[0].cam.focal - 32 / tan(0.5 * 0.6911111611634243)) < 1e-9,
+          "fixture focal");
+    const double want[3] = {0.3, -0.2, 0.5}; /* the script's solve; the object's centre */
+    for (int i = 0; i < 3; i++)
+        CHECK(fabs(sc.center[i] - want[i]) < 1e-9, "fixture centre[%d] %.17g", i, sc.center[i]);
+    const ws_view *v = &sc.split[WS_TRAIN].views[0], *v1 = &sc.split[WS_VAL].views[1];
+    CHECK(!strcmp(v->image_path, FIXTURE "/rgb/train/r_0.png") && !strcmp(v1->name, "r_1"),
+          "fixture paths %s %s", v->image_path, v1->name);
+    const int spots[3][2] = {{47, 21}, {44, 26}, {0, 0}};
+    const int rgb0[3][3] = {{236, 137, 50}, {0, 0, 0}, {0, 0, 0}};      /* 8-bit RGB */
+    const int rgb1[3][3] = {{0, 0, 0}, {60909, 35209, 12850}, {0, 0, 0}}; /* 16-bit RGBA */
+    for (int s = 0; s < 3; s++)
+        for (int c = 0; c < 3; c++) {
+            CHECK(px(&v->photo, c, spots[s][0], spots[s][1]) == (float)(rgb0[s][c] / 255.0),
+                  "train r_0 (%d,%d) channel %d", spots[s][0], spots[s][1], c);
+            CHECK(fabs(px(&v1->photo, c, spots[s][0], spots[s][1]) - rgb1[s][c] / 65535.0) < 1e-6,
+                  "val r_1 16-bit (%d,%d) channel %d", spots[s][0], spots[s][1], c);
+        }
+    ws_scene_free(&sc);
+    CHECK(sc.split[WS_TRAIN].n == 0 && sc.split[WS_TRAIN].views == NULL, "free empties");
 
+    /* alpha 0 shows the background; the 8-bit files have no alpha */
+    opt.background[0] = 0.25f;
+    opt.background[1] = 0.5f;
+    opt.background[2] = 1.0f;
+    rc = ws_scene_load(&sc, FIXTURE, &opt, &st);
+    CHECK(rc == WS_OK, "fixture on a background: %s", st.msg);
+    if (rc) return;
+    for (int c = 0; c < 3; c++) {
+        CHECK(px(&sc.split[WS_VAL].views[1].photo, c, 0, 0) == opt.background[c],
+              "transparent pixel shows the background, channel %d", c);
+        CHECK(px(&sc.split[WS_TRAIN].views[0].photo, c, 0, 0) == 0, "opaque black stays black");
+    }
+    ws_scene_free(&sc);
+}
+
+/* The shared scenes (`make test-scenes SCENES=DIR`): rose and duck. */
+static void test_shared_scenes(const char *scenes) {
+    ws_status st;
+    ws_scene_options opt;
+    ws_scene sc;
+    char rose[1024], duck[1024], path[1100];
+    snprintf(rose, sizeof rose, "%s/rose", scenes);
+    snprintf(duck, sizeof duck, "%s/duck", scenes);
+    ws_scene_options_default(&opt);
     opt.load_images = 0;
-    int rc = ws_scene_load(&sc, "../shared/scenes/rose", &opt, &st);
+    int rc = ws_scene_load(&sc, rose, &opt, &st);
     CHECK(rc == WS_OK, "rose cameras: %s", st.msg);
     if (rc) return;
     CHECK(sc.split[WS_TRAIN].n == 96 && sc.split[WS_VAL].n == 32 && sc.split[WS_TEST].n == 33,
@@ -193,12 +250,12 @@ static void test_real_scenes(void) {
     ws_scene_free(&sc);
 
     opt.load_images = 1;
-    rc = ws_scene_load(&sc, "../shared/scenes/rose", &opt, &st);
+    rc = ws_scene_load(&sc, rose, &opt, &st);
     CHECK(rc == WS_OK, "rose: %s", st.msg);
     if (rc) return;
     const ws_view *v = &sc.split[WS_TRAIN].views[0];
-    CHECK(!strcmp(v->image_path, "../shared/scenes/rose/rgb/train/r_0.png"), "rose path %s",
-          v->image_path);
+    snprintf(path, sizeof path, "%s/rgb/train/r_0.png", rose);
+    CHECK(!strcmp(v->image_path, path), "rose path %s", v->image_path);
     CHECK(v->photo.width == 224 && v->photo.height == 224 && v->photo.channels == 3,
           "rose photo size");
     /* values from an independent decode (Python: zlib + numpy unfiltering,
@@ -216,18 +273,18 @@ static void test_real_scenes(void) {
                   "rose val r_5 (%d,%d) channel %d", spots[s][0], spots[s][1], c);
         }
     ws_scene_free(&sc);
-    CHECK(sc.split[WS_TRAIN].n == 0 && sc.split[WS_TRAIN].views == NULL, "free empties");
 
-    rc = ws_scene_load(&sc, "../shared/scenes/duck", &opt, &st);
+    rc = ws_scene_load(&sc, duck, &opt, &st);
     CHECK(rc == WS_OK, "duck: %s", st.msg);
     if (rc) return;
-    CHECK(sc.split[WS_TRAIN].n == 96, "duck train %d", sc.split[WS_TRAIN].n);
-    const int duck[2][3] = {{10536, 11386, 11905},
-                            {26544, 21111, 20947}}; /* 16-bit, independent decode */
+    CHECK(sc.split[WS_TRAIN].n == 96 && sc.split[WS_VAL].n == 31 && sc.split[WS_TEST].n == 31,
+          "duck views %d %d %d", sc.split[0].n, sc.split[1].n, sc.split[2].n);
+    const int duck_px[2][3] = {{10536, 11386, 11905},
+                               {26544, 21111, 20947}}; /* 16-bit, independent decode */
     for (int s = 0; s < 2; s++)
         for (int c = 0; c < 3; c++)
             CHECK(fabs(px(&sc.split[WS_TRAIN].views[0].photo, c, spots[s][0], spots[s][1]) -
-                       duck[s][c] / 65535.0) < 1e-6,
+                       duck_px[s][c] / 65535.0) < 1e-6,
                   "duck r_0 16-bit (%d,%d) channel %d", spots[s][0], spots[s][1], c);
     ws_scene_free(&sc);
 }
@@ -733,7 +790,13 @@ static void test_center(void) {
     }
 }
 
-int main(void) {
+/* With a scenes folder as argument (make test-scenes), only the shared
+ * scenes are checked; without, everything else. */
+int main(int argc, char **argv) {
+    if (argc > 1) {
+        test_shared_scenes(argv[1]);
+        return check_summary();
+    }
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_scene_XXXXXX");
     if (!mkdtemp(tmp)) {
         perror("mkdtemp");
@@ -744,7 +807,7 @@ int main(void) {
     test_layouts();
     test_errors();
     test_center();
-    test_real_scenes();
+    test_fixture_scene();
     nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }
