@@ -164,6 +164,21 @@ static float px(const ws_image *im, int c, int i, int j) {
     return im->data[((size_t)c * im->height + i) * im->width + j];
 }
 
+/* Views per split, the train split's angle, the focal length it gives at
+ * the working width, and the centre, as known independently. */
+static void check_scene_facts(const ws_scene *sc, const char *label, const int views[3], double angle,
+                              const double center[3]) {
+    CHECK(sc->split[WS_TRAIN].n == views[0] && sc->split[WS_VAL].n == views[1] &&
+              sc->split[WS_TEST].n == views[2],
+          "%s views %d %d %d", label, sc->split[0].n, sc->split[1].n, sc->split[2].n);
+    CHECK(fabs(sc->camera_angle_x - angle) < 1e-15, "%s angle %.17g", label, sc->camera_angle_x);
+    CHECK(fabs(sc->split[WS_TRAIN].views[0].cam.focal - 0.5 * sc->width / tan(0.5 * angle)) < 1e-9,
+          "%s focal", label);
+    for (int i = 0; i < 3; i++)
+        CHECK(fabs(sc->center[i] - center[i]) < 1e-9, "%s centre[%d] %.17g vs %.17g", label, i,
+              sc->center[i], center[i]);
+}
+
 /* The committed fixture (tools/make_scene_fixture.py): counts, angle,
  * centre and pixels, the values from that script's own decoder (zlib and
  * PNG unfiltering in Python, not libpng). Its val/r_1.png is 16-bit RGBA
@@ -180,15 +195,9 @@ static void test_fixture_scene(void) {
     int rc = ws_scene_load(&sc, FIXTURE, &opt, &st);
     CHECK(rc == WS_OK, "fixture: %s", st.msg);
     if (rc) return;
-    CHECK(sc.split[WS_TRAIN].n == 8 && sc.split[WS_VAL].n == 2 && sc.split[WS_TEST].n == 4,
-          "fixture views %d %d %d", sc.split[0].n, sc.split[1].n, sc.split[2].n);
-    CHECK(fabs(sc.camera_angle_x - 0.6911111611634243) < 1e-15, "fixture angle %.17g",
-          sc.camera_angle_x);
-    CHECK(fabs(sc.split[WS_TRAIN].views[0].cam.focal - 32 / tan(0.5 * 0.6911111611634243)) < 1e-9,
-          "fixture focal");
-    const double want[3] = {0.3, -0.2, 0.5}; /* the script's solve; the object's centre */
-    for (int i = 0; i < 3; i++)
-        CHECK(fabs(sc.center[i] - want[i]) < 1e-9, "fixture centre[%d] %.17g", i, sc.center[i]);
+    /* the script's solve; the object's centre */
+    check_scene_facts(&sc, "fixture", (const int[3]){8, 2, 4}, 0.6911111611634243,
+                      (const double[3]){0.3, -0.2, 0.5});
     const ws_view *v = &sc.split[WS_TRAIN].views[0], *v1 = &sc.split[WS_VAL].views[1];
     CHECK(!strcmp(v->image_path, FIXTURE "/rgb/train/r_0.png") && !strcmp(v1->name, "r_1"),
           "fixture paths %s %s", v->image_path, v1->name);
@@ -233,20 +242,12 @@ static void test_shared_scenes(const char *scenes) {
     int rc = ws_scene_load(&sc, rose, &opt, &st);
     CHECK(rc == WS_OK, "rose cameras: %s", st.msg);
     if (rc) return;
-    CHECK(sc.split[WS_TRAIN].n == 96 && sc.split[WS_VAL].n == 32 && sc.split[WS_TEST].n == 33,
-          "rose views %d %d %d", sc.split[0].n, sc.split[1].n, sc.split[2].n);
-    CHECK(fabs(sc.camera_angle_x - 0.6911112070083618) < 1e-15, "rose angle %.17g",
-          sc.camera_angle_x);
+    /* numpy's solve of the same normal equations over all 161 cameras */
+    check_scene_facts(&sc, "rose", (const int[3]){96, 32, 33}, 0.6911112070083618,
+                      (const double[3]){12.772500028617703, 13.175648676841869, 5.653980713535756});
     CHECK(!strcmp(sc.split[WS_TRAIN].views[0].name, "r_0"), "rose name %s",
           sc.split[0].views[0].name);
     CHECK(sc.split[WS_TRAIN].views[0].photo.data == NULL, "cameras only: no pixels");
-    CHECK(fabs(sc.split[WS_TRAIN].views[0].cam.focal - 112 / tan(0.5 * 0.6911112070083618)) < 1e-9,
-          "rose focal");
-    /* numpy's solve of the same normal equations over all 161 cameras */
-    const double want[3] = {12.772500028617703, 13.175648676841869, 5.653980713535756};
-    for (int i = 0; i < 3; i++)
-        CHECK(fabs(sc.center[i] - want[i]) < 1e-9, "rose centre[%d] %.17g vs %.17g", i,
-              sc.center[i], want[i]);
     ws_scene_free(&sc);
 
     opt.load_images = 1;
