@@ -42,6 +42,7 @@ static int run_limited(long fsize_limit, const char *fmt, ...) {
     snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
     pid_t pid = fork();
     if (pid == 0) {
+        alarm(120); /* a hang (a FIFO opened for reading) ends as a failure, not a stuck test */
         if (fsize_limit > 0) {
             struct rlimit rl = {(rlim_t)fsize_limit, (rlim_t)fsize_limit};
             signal(SIGXFSZ, SIG_IGN);
@@ -225,6 +226,41 @@ static void test_scenes(void) {
                  path, s, s),
           "missing image");
     CHECK(no_partial_outputs(out) && access(out, F_OK) != 0, "outputs after a bad scene");
+}
+
+/* Paths that are not regular files: a FIFO would block the open (or the
+ * read) forever, /dev/zero never ends, a directory cannot be read. Each is
+ * refused by type before anything reads it; a regular file over its cap by
+ * size. */
+static void test_special_files(void) {
+    char out[300], fifo[400], path[400], image[400];
+    snprintf(out, sizeof out, "%s/out_special", tmp);
+    snprintf(fifo, sizeof fifo, "%s/fifo", tmp);
+    snprintf(image, sizeof image, "%s/scene/rgb/train/r_0.png", tmp);
+    CHECK(sh("mkfifo %s", fifo), "mkfifo failed");
+    int rc = run("embed --weights %s %s", fifo, image);
+    CHECK(ANSWER(1, rc, "%s: not a regular file", fifo), "FIFO as --weights");
+    rc = run("fit %s/scene --out %s --init %s " FIT, tmp, out, fifo);
+    CHECK(ANSWER(1, rc, "%s: not a regular file", fifo), "FIFO as --init");
+    rc = run("fit %s/scene --out %s --init %s " FIT, tmp, out, tmp);
+    CHECK(ANSWER(1, rc, "%s: not a regular file", tmp), "directory as --init");
+    const char *s = scene_copy("s_fifo_png");
+    snprintf(path, sizeof path, "%s/rgb/train/r_1.png", s);
+    CHECK(sh("rm %s && mkfifo %s", path, path), "mkfifo failed");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: not a regular file", path), "FIFO as an image");
+    s = scene_copy("s_fifo_json");
+    snprintf(path, sizeof path, "%s/transforms_val.json", s);
+    CHECK(sh("rm %s && mkfifo %s", path, path), "mkfifo failed");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: not a regular file", path), "FIFO as transforms");
+    CHECK(sh("rm %s && ln -s /dev/zero %s", path, path), "symlink failed");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: not a regular file", path), "/dev/zero as transforms");
+    CHECK(sh("rm %s && truncate -s 65M %s", path, path), "truncate failed");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: larger than 67108864 bytes", path), "huge transforms");
+    CHECK(no_partial_outputs(out), "outputs after a special file");
 }
 
 /* The PNG of view 1 replaced by `data`. */
@@ -594,6 +630,7 @@ int main(void) {
           "scene generation failed");
     test_scenes();
     test_pngs();
+    test_special_files();
     test_weights();
     test_curve_files();
     test_checkpoints();

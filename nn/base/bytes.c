@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "bytes.h"
+#include "fileopen.h"
 
 void ws_put(ws_bytes_writer *w, const void *p, size_t n) {
     if (w->failed) return;
@@ -115,8 +116,8 @@ int ws_read_file(const char *path, size_t max_bytes, unsigned char **data, size_
                  ws_status *st) {
     *data = NULL;
     *len = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return ws_fail(st, WS_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f;
+    if (ws_fopen_regular(path, max_bytes, &f, st)) return st->code;
     size_t cap = 1 << 16, n = 0;
     unsigned char *buf = NULL;
     for (;;) {
@@ -135,7 +136,8 @@ int ws_read_file(const char *path, size_t max_bytes, unsigned char **data, size_
         if (n > max_bytes) {
             free(buf);
             fclose(f);
-            return ws_fail(st, WS_EINPUT, "%s: larger than %zu bytes", path, max_bytes);
+            return ws_fail(st, WS_EINPUT, "%s: larger than %llu bytes", path,
+                           (unsigned long long)max_bytes);
         }
         if (got == 0) break;
     }
@@ -145,6 +147,7 @@ int ws_read_file(const char *path, size_t max_bytes, unsigned char **data, size_
         free(buf);
         return ws_fail(st, WS_EINPUT, "%s: read error", path);
     }
+    buf[n] = '\0'; /* n < cap: the last read returned nothing */
     *data = buf;
     *len = n;
     return WS_OK;

@@ -38,7 +38,9 @@ char *ws_get_str(ws_bytes_reader *r);
  * by counts from the file. */
 int ws_bytes_have(const ws_bytes_reader *r, uint64_t count, size_t size);
 
-/* Reads a whole file into memory (at most max_bytes). */
+/* Reads a whole regular file into memory (at most max_bytes; opened with
+ * ws_fopen_regular, so a FIFO or device is refused), followed by a NUL byte
+ * that *len does not count, so that text parsers may rely on it. */
 int ws_read_file(const char *path, size_t max_bytes, unsigned char **data, size_t *len,
                  ws_status *st);
 

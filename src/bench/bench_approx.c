@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "bench/bench.h"
 #include "base/threads.h"
 
@@ -374,14 +375,10 @@ static int f16_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, i
     setting set[2] = {{&s[0], in->sketch, 4, 0, 0}, {&s[1], in->sketch, 4, 0, 0}};
     if (!rc) rc = measure(set, 2, in->rounds, PART_CLIP, 1, &row, st);
     if (!rc) {
-        FILE *f[2] = {fopen(in->weights_f32, "rb"), fopen(in->weights_f16, "rb")};
-        long size[2] = {0, 0};
+        struct stat sb[2];
+        double size[2] = {0, 0};
         for (int k = 0; k < 2; k++)
-            if (f[k]) {
-                fseek(f[k], 0, SEEK_END);
-                size[k] = ftell(f[k]);
-                fclose(f[k]);
-            }
+            if (stat(k ? in->weights_f16 : in->weights_f32, &sb[k]) == 0) size[k] = (double)sb[k].st_size;
         snprintf(row->note, sizeof row->note,
                  "file %.0f MB instead of %.0f MB; widened to f32 when loaded, so the GEMMs read as many bytes",
                  size[1] / 1e6, size[0] / 1e6);

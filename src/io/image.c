@@ -15,12 +15,15 @@
 #include <string.h>
 #include "io/image.h"
 #include "base/outfile.h"
+#include "nn/base/fileopen.h"
 
 /* The largest PNG we agree to decode, checked right after the header is
  * read and before anything the size of the image is allocated: at most
  * 8 bytes per pixel (16-bit RGBA), so 512 MB of decoded samples. */
 #define MAX_PNG_SIDE 32768
 #define MAX_PNG_PIXELS (64u * 1024u * 1024u)
+/* The largest PNG file opened: the largest image's samples, uncompressed. */
+#define MAX_PNG_FILE_BYTES ((uint64_t)MAX_PNG_PIXELS * 8)
 
 int ws_image_alloc(ws_image *img, int width, int height, int channels, ws_status *st) {
     img->data = NULL;
@@ -183,8 +186,8 @@ done:
 int ws_png_read(const char *path, int width, int height, const float background[3], ws_image *out,
                 ws_status *st) {
     *out = (ws_image){0};
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return ws_fail(st, WS_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    FILE *fp;
+    if (ws_fopen_regular(path, MAX_PNG_FILE_BYTES, &fp, st)) return st->code;
     png_byte sig[8];
     size_t got = fread(sig, 1, sizeof sig, fp);
     int rc;

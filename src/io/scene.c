@@ -14,6 +14,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "io/scene.h"
+#include "nn/base/bytes.h"
+
+/* The largest transforms file read: 64 MiB holds some 100 000 frames, and
+ * cJSON needs several times the text's size in memory. */
+#define TRANSFORMS_MAX_BYTES ((size_t)64 << 20)
 
 const char *const ws_split_names[WS_NSPLITS] = {"train", "val", "test"};
 
@@ -36,40 +41,6 @@ void ws_scene_free(ws_scene *scene) {
         scene->split[s].views = NULL;
         scene->split[s].n = 0;
     }
-}
-
-/* Reads a whole file into a NUL-terminated buffer. */
-static int read_text(const char *path, char **text, size_t *length, ws_status *st) {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return ws_fail(st, WS_EINPUT, "%s: cannot open: %s", path, strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = ws_malloc(cap, path, st);
-    while (buf) {
-        if (n + 1 == cap) {
-            char *bigger = realloc(buf, cap * 2);
-            if (!bigger) {
-                ws_fail(st, WS_ENOMEM, "%s: out of memory reading the file", path);
-                break;
-            }
-            buf = bigger;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - 1 - n, fp);
-        n += got;
-        if (got > 0) continue;
-        if (ferror(fp)) {
-            ws_fail(st, WS_EINPUT, "%s: cannot read: %s", path, strerror(errno));
-            break;
-        }
-        buf[n] = '\0';
-        fclose(fp);
-        *text = buf;
-        *length = n;
-        return WS_OK;
-    }
-    free(buf);
-    fclose(fp);
-    return st->code;
 }
 
 static int file_exists(const char *path) { return access(path, F_OK) == 0; }
@@ -183,9 +154,10 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
             return ws_fail(st, WS_EINPUT, "%s: missing (a scene needs a train split)", path);
         return WS_OK;
     }
-    char *text = NULL;
+    unsigned char *bytes = NULL;
     size_t length = 0;
-    if (read_text(path, &text, &length, st)) return st->code;
+    if (ws_read_file(path, TRANSFORMS_MAX_BYTES, &bytes, &length, st)) return st->code;
+    const char *text = (const char *)bytes;
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, length, &end, 0);
     /* where parsing stopped: at the error, or after the value, where only
@@ -233,7 +205,7 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
             break;
 done:
     cJSON_Delete(root);
-    free(text);
+    free(bytes);
     return rc;
 }
 
