@@ -635,7 +635,7 @@ static void test_errors(void) {
     /* an unreadable transforms file (a directory in its place) */
     remove(path);
     mkdir(path, 0777);
-    snprintf(want, sizeof want, "%s: cannot read: Is a directory", path);
+    snprintf(want, sizeof want, "%s: not a regular file", path);
     expect_error(dir, want, WS_EINPUT);
     rmdir(path);
 
@@ -692,7 +692,7 @@ static void test_errors(void) {
 
     remove(png1);
     mkdir(png1, 0777);
-    snprintf(want, sizeof want, "%s: cannot read: Is a directory", png1);
+    snprintf(want, sizeof want, "%s: not a regular file", png1);
     expect_error(dir, want, WS_EINPUT);
     rmdir(png1);
 
