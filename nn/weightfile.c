@@ -40,6 +40,12 @@ enum {
  * model's own size computations (tokens x width x batch) stay far from
  * overflow. */
 enum { WF_MAX_WIDTH = 65536, WF_MAX_LAYERS = 4096, WF_MAX_RESOLUTION = 16384 };
+/* What a CLIP vision tower holds: 12 tensors per residual block (ln_1, attn
+ * in_proj and out_proj, ln_2, mlp c_fc and c_proj, a weight and a bias
+ * each) and 8 outside them (conv1, class and positional embeddings, ln_pre,
+ * ln_post, proj). A table longer than its header's layers allow is refused
+ * before anything is allocated for it. */
+enum { WF_TENSORS_PER_LAYER = 12, WF_TENSORS_OUTSIDE_LAYERS = 8 };
 /* The largest weight file mapped: ViT-B/32 in f32 is 350 MB, ViT-L/14 1.2 GB. */
 #define WF_MAX_FILE_BYTES ((uint64_t)16 << 30)
 
@@ -48,6 +54,7 @@ struct wf_file {
     wf_arch arch;
     int count;
     wf_tensor *tensors;
+    const wf_tensor **by_name; /* the table sorted by name: duplicates and lookups in O(log n) */
     void *map;
     size_t map_bytes;
     float *widened; /* a file with f16 tensors: every tensor as f32, one block */
@@ -110,6 +117,10 @@ static int read_header(wf_file *f, ws_bytes_reader *r, uint32_t *count, ws_statu
                        "output_dim %u)",
                        f->path, a[0], a[1], a[2], a[3], a[4], a[5]);
     f->arch = (wf_arch){(int)a[0], (int)a[1], (int)a[2], (int)a[3], (int)a[4], (int)a[5]};
+    uint64_t most = (uint64_t)a[1] * WF_TENSORS_PER_LAYER + WF_TENSORS_OUTSIDE_LAYERS;
+    if (*count > most)
+        return ws_fail(st, WS_EINPUT, "%s: %u tensors in the table, a %u-layer CLIP tower has %llu",
+                       f->path, *count, a[1], (unsigned long long)most);
     uint64_t data_end = f->map_bytes - WF_CRC_BYTES;
     if (*count == 0 || *count > (data_end - WF_HEADER_BYTES) / WF_ENTRY_BYTES)
         return ws_fail(st, WS_EINPUT, "%s: truncated or malformed (a table of %u tensors does not fit in %zu bytes)",
@@ -205,11 +216,18 @@ static int by_offset(const void *a, const void *b) {
     return x->offset < y->offset ? -1 : x->offset > y->offset;
 }
 
+static int by_tensor_name(const void *a, const void *b) {
+    return strcmp((*(const wf_tensor *const *)a)->name, (*(const wf_tensor *const *)b)->name);
+}
+
 static int check_overlaps_and_names(wf_file *f, wf_span *spans, ws_status *st) {
-    for (int i = 0; i < f->count; i++)
-        for (int j = 0; j < i; j++)
-            if (strcmp(f->tensors[i].name, f->tensors[j].name) == 0)
-                return ws_fail(st, WS_EINPUT, "%s: tensor %s appears twice", f->path, f->tensors[i].name);
+    f->by_name = ws_malloc((size_t)f->count * sizeof *f->by_name, "weight file table", st);
+    if (!f->by_name) return st->code;
+    for (int i = 0; i < f->count; i++) f->by_name[i] = &f->tensors[i];
+    qsort(f->by_name, (size_t)f->count, sizeof *f->by_name, by_tensor_name);
+    for (int i = 1; i < f->count; i++)
+        if (strcmp(f->by_name[i - 1]->name, f->by_name[i]->name) == 0)
+            return ws_fail(st, WS_EINPUT, "%s: tensor %s appears twice", f->path, f->by_name[i]->name);
     qsort(spans, (size_t)f->count, sizeof *spans, by_offset);
     for (int i = 1; i < f->count; i++)
         if (spans[i - 1].offset + spans[i - 1].nbytes > spans[i].offset)
@@ -328,6 +346,7 @@ void wf_close(wf_file *f) {
     if (f->map) munmap(f->map, f->map_bytes);
     free(f->widened);
     free(f->tensors);
+    free(f->by_name);
     free(f->path);
     free(f);
 }
@@ -341,9 +360,18 @@ int wf_get(const wf_file *f, const char *name, int ndim, const int64_t *shape, c
            ws_status *st) {
     if (ndim < 1 || ndim > WF_MAX_DIMS)
         return ws_fail(st, WS_EINTERNAL, "wf_get: %d dimensions asked for %s", ndim, name);
-    for (int i = 0; i < f->count; i++) {
-        const wf_tensor *t = &f->tensors[i];
-        if (strcmp(t->name, name) != 0) continue;
+    int lo = 0, hi = f->count; /* binary search in by_name */
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2, c = strcmp(f->by_name[mid]->name, name);
+        if (c < 0) {
+            lo = mid + 1;
+            continue;
+        }
+        if (c > 0) {
+            hi = mid;
+            continue;
+        }
+        const wf_tensor *t = f->by_name[mid];
         int same = t->ndim == ndim;
         for (int d = 0; same && d < ndim; d++) same = t->shape[d] == shape[d];
         if (!same) {

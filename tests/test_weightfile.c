@@ -235,10 +235,16 @@ static void test_refusals(ws_bytes_writer *w) {
 
     put_u32_at(w, 36, 1000000000);
     fix_crc(w);
-    snprintf(want, sizeof want,
-             "%s: truncated or malformed (a table of 1000000000 tensors does not fit in %zu bytes)", path,
-             w->len);
+    snprintf(want, sizeof want, "%s: 1000000000 tensors in the table, a 1-layer CLIP tower has 20", path);
     expect_refused(w, w->len, want, "huge tensor count");
+    RESET();
+
+    put_u32_at(w, 36, 20);
+    fix_crc(w);
+    snprintf(want, sizeof want,
+             "%s: truncated or malformed (a table of 20 tensors does not fit in %zu bytes)", path,
+             w->len);
+    expect_refused(w, w->len, want, "tensor count past the file");
     RESET();
 
     w->data[w->len - 8] ^= 0x40; /* a bit of c's data */
@@ -365,6 +371,41 @@ static void test_non_finite(void) {
     ws_bytes_writer_free(&w);
 }
 
+/* The longest table a header allows (4096 layers: 12 x 4096 + 8 tensors),
+ * each tensor one element: names are checked and looked up through a sorted
+ * index, so this loads at once (every pair compared took minutes at 200 000
+ * tensors), finds its last name, and a duplicate at the very end is caught. */
+static void test_long_table(void) {
+    enum { N = 12 * 4096 + 8 };
+    static char names[N][8];
+    static spec s[N];
+    static float one = 1.0f;
+    for (int i = 0; i < N; i++) {
+        snprintf(names[i], sizeof names[i], "t%05d", N - 1 - i); /* stored in reverse order */
+        s[i] = (spec){names[i], WF_F32, 1, {1}, &one};
+    }
+    const uint32_t deep[6] = {8, 4096, 2, 4, 8, 4};
+    ws_bytes_writer w;
+    build(&w, deep, s, N);
+    save(w.data, w.len);
+    wf_file *f;
+    ws_status st = {0};
+    const float *data = NULL;
+    CHECK(wf_open(&f, path, &st) == WS_OK, "long table refused: %s", st.msg);
+    if (!st.code) {
+        CHECK(wf_get(f, "t00000", 1, (const int64_t[]){1}, &data, &st) == WS_OK && data && *data == 1.0f,
+              "wf_get in a long table: %s", st.msg);
+        wf_close(f);
+    }
+    ws_bytes_writer_free(&w);
+    char want[512];
+    snprintf(names[N - 1], sizeof names[N - 1], "t%05d", N - 1);
+    build(&w, deep, s, N);
+    snprintf(want, sizeof want, "%s: tensor t%05d appears twice", path, N - 1);
+    expect_refused(&w, w.len, want, "duplicate at the end of a long table");
+    ws_bytes_writer_free(&w);
+}
+
 int main(void) {
     if (!mkdtemp(dir)) {
         perror("mkdtemp");
@@ -382,6 +423,7 @@ int main(void) {
     ws_bytes_writer_free(&w);
     test_non_finite();
     test_f16_widening();
+    test_long_table();
 
     unlink(path);
     rmdir(dir);
