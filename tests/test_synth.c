@@ -61,7 +61,7 @@ static void check_view(const ws_view *v, const ws_curves *gt, const char *label)
             e[0] = W / 2.0 + v->cam.focal * c[0] / d;
             e[1] = H / 2.0 - v->cam.focal * c[1] / d;
             e[2] = v->cam.focal * gt->thickness / d;
-            int j = (int)lrint(e[0]), i = (int)lrint(e[1]);
+            int j = (int)floor(e[0]), i = (int)floor(e[1]); /* pixel j spans [j, j+1) */
             if (i < 0 || j < 0 || i >= H || j >= W) continue;
             inside++;
             lit_on += im->data[i * W + j] + im->data[H * W + i * W + j] > 0.05;
@@ -76,7 +76,7 @@ static void check_view(const ws_view *v, const ws_curves *gt, const char *label)
             nonzero += sum > 0;
             int far = 1;
             for (int k = 0; k < n && far; k++) {
-                double du = j - uvr[3 * k], dv = i - uvr[3 * k + 1];
+                double du = j + 0.5 - uvr[3 * k], dv = i + 0.5 - uvr[3 * k + 1];
                 far = du * du + dv * dv > (uvr[3 * k + 2] + 1.5) * (uvr[3 * k + 2] + 1.5);
             }
             stray += far && sum > 0;

@@ -105,8 +105,9 @@ def splat(cam, mu, radius):
     u = W / 2 + f * c[:, 0] / d
     v = H / 2 - f * c[:, 1] / d
     sigma = f * radius / d
-    jj = torch.arange(W, dtype=torch.float64)
-    ii = torch.arange(H, dtype=torch.float64)
+    # pixel (row i, column j) has its centre at (u, v) = (j + 1/2, i + 1/2)
+    jj = torch.arange(W, dtype=torch.float64) + 0.5
+    ii = torch.arange(H, dtype=torch.float64) + 0.5
     T = torch.ones(H, W)
     for s in range(0, len(u), 256):
         du = jj[None, None, :] - u[s:s + 256, None, None]
@@ -208,9 +209,9 @@ def fixture(args):
     radius = 0.15
     rng = np.random.default_rng(7)
     cam_pts = [np.array([x, y, -4.0]) for x, y in rng.uniform(-0.8, 0.8, size=(6, 2))]
-    # exactly on pixel (row 5, column 12): u = 12, v = 5 at depth 3.5
+    # exactly on the centre of pixel (row 5, column 12): u = 12.5, v = 5.5 at depth 3.5
     d = 3.5
-    cam_pts.append(np.array([(12 - W / 2) * d / focal, -(5 - H / 2) * d / focal, -d]))
+    cam_pts.append(np.array([(12.5 - W / 2) * d / focal, -(5.5 - H / 2) * d / focal, -d]))
     cam_pts.append(np.array([0.1, 0.2, 1.0]))     # behind the camera
     cam_pts.append(np.array([1.55, -0.1, -4.0]))  # centre beyond the right edge
     mu = np.array([c2w[:3, :3] @ p + c2w[:3, 3] for p in cam_pts])

@@ -15,11 +15,11 @@ double ws_bench_pixel_visits(const ws_camera *cam, const double *mu, int n, doub
     for (int k = 0; k < n; k++) {
         double c[3];
         ws_camera_to_cam(cam, mu + 3 * k, c);
-        double d = -c[2], w = cam->width, h = cam->height;
+        double u, v, d = ws_camera_project(cam, c, &u, &v), w = cam->width, h = cam->height;
         if (!(d > 1e-3)) continue;
         if (isfinite(cutoff)) {
-            double u = 0.5 * cam->width + cam->focal * c[0] / d;
-            double v = 0.5 * cam->height - cam->focal * c[1] / d;
+            u -= WS_PIXEL_CENTER; /* in pixel indices, as the splat's boxes */
+            v -= WS_PIXEL_CENTER;
             double reach = cutoff * cam->focal * radius / d;
             w = fmin(cam->width - 1, floor(u + reach)) - fmax(0, ceil(u - reach)) + 1;
             h = fmin(cam->height - 1, floor(v + reach)) - fmax(0, ceil(v - reach)) + 1;

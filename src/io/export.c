@@ -102,8 +102,8 @@ int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, ws
             double p[3], cc[3];
             polyline_point(c, ci, k, p);
             ws_camera_to_cam(cam, p, cc);
-            double u = 0.5 * cam->width + cam->focal * cc[0] / -cc[2];
-            double v = 0.5 * cam->height - cam->focal * cc[1] / -cc[2];
+            double u, v; /* SVG's pixel (i, j) is [j, j+1] x [i, i+1], as the camera's */
+            ws_camera_project(cam, cc, &u, &v);
             fprintf(f.fp, "%s%.3f %.3f", k ? " L" : "M", u, v);
         }
         fprintf(f.fp, "\"/>\n");

@@ -43,6 +43,19 @@ void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]) {
         c[i] = cam->R[i][0] * p[0] + cam->R[i][1] * p[1] + cam->R[i][2] * p[2] + cam->t[i];
 }
 
+double ws_camera_project(const ws_camera *cam, const double c[3], double *u, double *v) {
+    double d = -c[2];
+    *u = 0.5 * cam->width + cam->focal * c[0] / d;
+    *v = 0.5 * cam->height - cam->focal * c[1] / d;
+    return d;
+}
+
+void ws_camera_ray(const ws_camera *cam, double u, double v, double dir[3]) {
+    dir[0] = (u - 0.5 * cam->width) / cam->focal;
+    dir[1] = -(v - 0.5 * cam->height) / cam->focal;
+    dir[2] = -1.0;
+}
+
 void ws_camera_position(const ws_camera *cam, double pos[3]) {
     for (int i = 0; i < 3; i++) pos[i] = cam->c2w[i][3];
 }

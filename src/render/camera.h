@@ -1,9 +1,12 @@
 /* camera.h: a pinhole camera of a NeRF-synthetic scene (METHOD.md section 3).
  *
  * Blender/OpenGL axes: the camera looks down its -z, +y is up, +x right.
- * A world point p maps to c = R p + t, depth d = -c_z, and pixel
- * u = W/2 + f c_x / d (column), v = H/2 - f c_y / d (row); pixel (row i,
- * column j) sits at (u, v) = (j, i). */
+ * A world point p maps to c = R p + t, depth d = -c_z, and image point
+ * u = W/2 + f c_x / d (across), v = H/2 - f c_y / d (down); pixel (row i,
+ * column j) is the unit square [j, j+1] x [i, i+1], its centre at
+ * (u, v) = (j + 1/2, i + 1/2), where Blender puts it. Everything that maps
+ * between the world and pixels goes through ws_camera_project and
+ * ws_camera_ray, so this convention lives here alone. */
 #ifndef WS_CAMERA_H
 #define WS_CAMERA_H
 #include "nn/base/status.h"
@@ -24,6 +27,16 @@ int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x
 
 /* Camera-space coordinates c = R p + t. */
 void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]);
+
+/* Pixel j's centre is at image coordinate j + WS_PIXEL_CENTER. */
+#define WS_PIXEL_CENTER 0.5
+
+/* Image point (u, v) of camera-space point c; returns its depth d = -c_z.
+ * u and v are meaningful only when d > 0. */
+double ws_camera_project(const ws_camera *cam, const double c[3], double *u, double *v);
+
+/* Camera-space direction (x, y, -1) of the ray through image point (u, v). */
+void ws_camera_ray(const ws_camera *cam, double u, double v, double dir[3]);
 
 /* Camera centre in world space (the translation column of c2w). */
 void ws_camera_position(const ws_camera *cam, double pos[3]);

@@ -30,7 +30,9 @@
 #define EXP_ZERO_SIGMAS 38.63 /* sqrt(2 * 746): beyond it w = exp(-r^2 / 2 sigma^2) == 0 */
 
 typedef struct {
-    double u, v, sigma;  /* centre (column, row) and footprint, pixels */
+    double u, v, sigma;  /* centre in pixel indices (column, row): the image point less
+                          * WS_PIXEL_CENTER, so pixel (i, j) is at offset (j - u, i - v);
+                          * footprint in pixels */
     double c[3];         /* camera coordinates c = R mu + t */
     int x0, x1, y0, y1;  /* footprint box clipped to the image; empty (x0 > x1) if not drawn */
 } projected;
@@ -135,15 +137,15 @@ void ws_splat_free(ws_splat *s) {
 static void project(const ws_camera *cam, const double mu[3], double radius, double cutoff,
                     double near, projected *p) {
     ws_camera_to_cam(cam, mu, p->c);
-    double d = -p->c[2], f = cam->focal;
+    double u, v, d = ws_camera_project(cam, p->c, &u, &v);
     p->x0 = 1;
     p->x1 = 0;
     p->y0 = 1;
     p->y1 = 0;
     if (!(d > near)) return;
-    p->u = 0.5 * cam->width + f * p->c[0] / d;
-    p->v = 0.5 * cam->height - f * p->c[1] / d;
-    p->sigma = f * radius / d;
+    p->u = u - WS_PIXEL_CENTER;
+    p->v = v - WS_PIXEL_CENTER;
+    p->sigma = cam->focal * radius / d;
     if (!isfinite(p->u) || !isfinite(p->v) || !(p->sigma > 0) || !isfinite(p->sigma)) return;
     double reach = cutoff * p->sigma;
     double x0 = fmax(0, ceil(p->u - reach)), x1 = fmin(cam->width - 1, floor(p->u + reach));

@@ -1,8 +1,9 @@
 /* splat.h: the differentiable Gaussian splatting rasteriser (METHOD.md section 3).
  *
  * For each Gaussian (centre mu, world radius r) seen by a camera at depth
- * d > near: pixel centre (u, v), footprint sigma = f r / d, weight
- * w = exp(-((j - u)^2 + (i - v)^2) / (2 sigma^2)) at pixel (row i, col j),
+ * d > near: image point (u, v), footprint sigma = f r / d, weight
+ * w = exp(-((j + 1/2 - u)^2 + (i + 1/2 - v)^2) / (2 sigma^2)) at pixel
+ * (row i, col j), whose centre is (j + 1/2, i + 1/2) (camera.h),
  * cut off beyond `cutoff` sigmas (INFINITY = the exact sum over all pixels);
  * alpha = 1 - prod_k (1 - w_k). The backward pass gives dL/dmu from dL/dalpha
  * and stays finite at w = 1, for sigma far below a pixel or far above the

@@ -273,11 +273,13 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
         return ws_fail(st, WS_EINTERNAL, "synth: supersampling %d is not in [1, 16]", supersample);
     const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
     const double r = obj->curves.thickness;
-    /* The fine grid: sample (I, J) sits at low-resolution pixel coordinates
-     * ((I - (ss-1)/2) / ss, (J - (ss-1)/2) / ss), so that the ss x ss samples
-     * of pixel (i, j) are centred on (i, j), the pixel's own position. */
-    const double f2 = cam->focal * ss, cx2 = 0.5 * W * ss + 0.5 * (ss - 1),
-                 cy2 = 0.5 * H * ss + 0.5 * (ss - 1);
+    /* The fine grid: sample (I, J) is the centre of the fine pixel (I, J),
+     * image point ((J + 1/2) / ss, (I + 1/2) / ss) (camera.h), so the
+     * ss x ss samples of pixel (i, j) are centred on its centre
+     * (j + 1/2, i + 1/2). In fine indices the principal point (W/2, H/2) is
+     * at (W ss / 2 - 1/2, H ss / 2 - 1/2) and the focal is f ss. */
+    const double f2 = cam->focal * ss, cx2 = 0.5 * W * ss - WS_PIXEL_CENTER,
+                 cy2 = 0.5 * H * ss - WS_PIXEL_CENTER;
     float *depth = ws_malloc(sizeof *depth * W2 * H2, "a depth buffer", st);
     float *shade = depth ? ws_calloc((size_t)W2 * H2, sizeof *shade, "a shading buffer", st) : NULL;
     double *cc =
