@@ -47,12 +47,12 @@ static int same_files(const char *a, const char *b) {
 }
 
 /* The loss and gradient of one training step on view 0 from rng state rng0. */
-static double step_loss(ws_step *s, const ws_curves *c, const ws_rng *rng0, double *grad) {
+static double step_loss(ws_objective *s, const ws_curves *c, const ws_rng *rng0, double *grad) {
     ws_status st = {0};
     ws_rng rng = *rng0;
     double loss = NAN;
     const int view = 0;
-    if (ws_step_batch(s, c, &view, 1, &rng, &loss, grad, &st)) fprintf(stderr, "step: %s\n", st.msg);
+    if (ws_objective_batch(s, c, &view, 1, &rng, &loss, grad, &st)) fprintf(stderr, "step: %s\n", st.msg);
     return loss;
 }
 
@@ -80,34 +80,33 @@ static void test_bank_and_timing(const ws_scene *scene, const clip_model *m, con
     size_t bytes = (size_t)c->n * 12 * sizeof(double);
     double *g[4];
     for (int k = 0; k < 4; k++) g[k] = malloc(bytes);
-    ws_step s[3];
-    memset(s, 0, sizeof s);
+    ws_objective *s[3] = {NULL, NULL, NULL};
     ws_loss_options lo[3] = {options(m, 6, 5), options(m, 6, 5), options(m, 6, 6)};
     for (int k = 0; k < 3; k++)
-        CHECK(ws_step_init(&s[k], scene, &lo[k], &so, c->n, &st) == WS_OK, "step: %s", st.msg);
+        CHECK(ws_objective_create(&s[k], scene, &lo[k], &so, c->n, &st) == WS_OK, "step: %s", st.msg);
     ws_rng rng0;
     ws_rng_seed(&rng0, 8);
     /* the first step fills view 0's bank, the second reads it */
-    double cold = step_loss(&s[0], c, &rng0, g[0]), warm = step_loss(&s[0], c, &rng0, g[1]);
+    double cold = step_loss(s[0], c, &rng0, g[0]), warm = step_loss(s[0], c, &rng0, g[1]);
     CHECK(isfinite(cold) && cold == warm && !memcmp(g[0], g[1], bytes),
           "a banked step from its cache differs from the step that filled it: %.17g %.17g", cold, warm);
-    double again = step_loss(&s[1], c, &rng0, g[2]), other = step_loss(&s[2], c, &rng0, g[3]);
+    double again = step_loss(s[1], c, &rng0, g[2]), other = step_loss(s[2], c, &rng0, g[3]);
     CHECK(again == cold && !memcmp(g[2], g[0], bytes), "the same bank seed gave another step");
     CHECK(other != cold, "another bank seed gave the same loss %.17g", other);
     size_t features = 2 * 17 * 64 + 32; /* blocks 2 and 3, and the embedding */
-    CHECK(ws_loss_bank_bytes(s[0].loss) == (size_t)scene->split[WS_TRAIN].n * 6 * features * sizeof(float),
-          "bank of %zu bytes", ws_loss_bank_bytes(s[0].loss));
+    CHECK(ws_loss_bank_bytes(ws_objective_loss(s[0])) == (size_t)scene->split[WS_TRAIN].n * 6 * features * sizeof(float),
+          "bank of %zu bytes", ws_loss_bank_bytes(ws_objective_loss(s[0])));
     /* another rng state draws other transforms of the bank */
     ws_rng rng1;
     ws_rng_seed(&rng1, 9);
-    CHECK(step_loss(&s[0], c, &rng1, g[3]) != cold, "another rng state picked the same transforms");
+    CHECK(step_loss(s[0], c, &rng1, g[3]) != cold, "another rng state picked the same transforms");
 
     /* timers change no bit and account for the step */
     ws_step_timing t;
     memset(&t, 0, sizeof t);
-    ws_step_set_timing(&s[0], &t);
-    double t0 = ws_seconds(), timed = step_loss(&s[0], c, &rng0, g[3]), total = ws_seconds() - t0;
-    ws_step_set_timing(&s[0], NULL);
+    ws_objective_set_timing(s[0], &t);
+    double t0 = ws_seconds(), timed = step_loss(s[0], c, &rng0, g[3]), total = ws_seconds() - t0;
+    ws_objective_set_timing(s[0], NULL);
     CHECK(timed == cold && !memcmp(g[3], g[0], bytes), "timing changed the step");
     double parts = 0;
     for (int k = 0; k < WS_TIME_TOTAL; k++) parts += t.seconds[k];
@@ -117,7 +116,7 @@ static void test_bank_and_timing(const ws_scene *scene, const clip_model *m, con
           "timed parts: splat %g augment %g forward %g photo %g backward %g, sum %g of %g",
           t.seconds[WS_TIME_SPLAT], t.seconds[WS_TIME_AUGMENT], t.seconds[WS_TIME_CLIP_FORWARD],
           t.seconds[WS_TIME_CLIP_PHOTO], t.seconds[WS_TIME_CLIP_BACKWARD], parts, total);
-    for (int k = 0; k < 3; k++) ws_step_free(&s[k]);
+    for (int k = 0; k < 3; k++) ws_objective_free(s[k]);
     for (int k = 0; k < 4; k++) free(g[k]);
 }
 

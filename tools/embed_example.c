@@ -13,10 +13,8 @@
 static int run(const char *scene_dir, const char *curves_path, ws_status *st) {
     ws_scene scene = {0};
     ws_curves curves = {0};
-    ws_gaussians g = {0};
-    ws_splat *splat = NULL;
-    ws_loss *loss = NULL;
-    double *alpha = NULL, *dalpha = NULL, *dmu = NULL, *dP = NULL;
+    ws_objective *obj = NULL;
+    double *dP = NULL;
     ws_scene_options so;
     ws_scene_options_default(&so);
     ws_loss_options lo;
@@ -27,35 +25,19 @@ static int run(const char *scene_dir, const char *curves_path, ws_status *st) {
     ws_splat_options_default(&sp);
     int rc = ws_scene_load(&scene, scene_dir, &so, st);
     if (!rc) rc = ws_curves_load(curves_path, &curves, st);
-    if (!rc) rc = ws_curves_sample(&curves, &g, st);
-    if (!rc) rc = ws_splat_create(&splat, scene.width, scene.height, st);
-    if (!rc) rc = ws_loss_create(&loss, &lo, &scene, st);
-    size_t pixels = (size_t)scene.width * scene.height;
-    if (!rc && (!(alpha = ws_malloc(pixels * sizeof *alpha, "alpha", st)) ||
-                !(dalpha = ws_malloc(pixels * sizeof *dalpha, "dalpha", st)) ||
-                !(dmu = ws_malloc((size_t)g.n * 3 * sizeof *dmu, "dmu", st)) ||
-                !(dP = ws_malloc((size_t)curves.n * 12 * sizeof *dP, "dP", st))))
-        rc = st->code;
+    if (!rc) rc = ws_objective_create(&obj, &scene, &lo, &sp, curves.n, st);
+    if (!rc && !(dP = ws_calloc((size_t)curves.n * 12, sizeof *dP, "dP", st))) rc = st->code;
     int split = scene.split[WS_TEST].n ? WS_TEST : WS_TRAIN;
     double value = 0;
-    if (!rc) rc = ws_splat_forward(splat, &scene.split[split].views[0].cam, g.mu, g.n, curves.thickness,
-                                   &sp, alpha, st);
-    if (!rc) rc = ws_loss_view(loss, split, 0, alpha, 0, NULL, &value, dalpha, st);
-    if (!rc) rc = ws_splat_backward(splat, dalpha, dmu, st);
+    if (!rc) rc = ws_objective_view(obj, &curves, split, 0, 0, NULL, 1.0, &value, dP, st);
     if (!rc) {
-        ws_curves_backward(&curves, &g, dmu, dP);
         double norm = 0;
         for (int i = 0; i < curves.n * 12; i++) norm += dP[i] * dP[i];
         printf("view %s: %d curves, %d Gaussians, l2 loss %.6g, |dL/dP| %.6g\n",
-               scene.split[split].views[0].name, curves.n, g.n, value, sqrt(norm));
+               scene.split[split].views[0].name, curves.n, ws_objective_gaussians(obj)->n, value, sqrt(norm));
     }
-    free(alpha);
-    free(dalpha);
-    free(dmu);
     free(dP);
-    ws_loss_free(loss);
-    ws_splat_free(splat);
-    ws_gaussians_free(&g);
+    ws_objective_free(obj);
     ws_curves_free(&curves);
     ws_scene_free(&scene);
     return rc;

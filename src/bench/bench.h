@@ -17,7 +17,7 @@
 #include "nn/clip.h"
 #include "render/curves.h"
 #include "io/scene.h"
-#include "objective/step.h"
+#include "objective/objective.h"
 
 /* n curves, bent and about `length` long, scattered within `radius` of
  * center, with the defaults' thickness and overlap (about length / 0.016

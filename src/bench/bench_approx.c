@@ -16,10 +16,10 @@
 #include "bench/bench.h"
 #include "base/threads.h"
 
-/* One setting: a step workspace, the cut-off its splatting uses, a thread
+/* One setting: an objective, the cut-off its splatting uses, a thread
  * count (0: leave as it is) and the training view. */
 typedef struct {
-    ws_step *step;
+    ws_objective *objective;
     const ws_curves *curves;
     double cutoff;
     int threads;
@@ -49,16 +49,16 @@ static double part_seconds(const ws_step_timing *t, int part) {
 }
 
 static int run(const setting *s, const ws_rng *rng0, outcome *o, int measured, ws_status *st) {
-    s->step->splat_opt.cutoff = s->cutoff;
+    ws_objective_set_cutoff(s->objective, s->cutoff);
     if (s->threads) ws_threads_set(s->threads);
     ws_rng rng = *rng0;
     ws_step_timing t;
     memset(&t, 0, sizeof t);
-    ws_step_set_timing(s->step, &t);
+    ws_objective_set_timing(s->objective, &t);
     double t0 = ws_seconds();
-    int rc = ws_step_batch(s->step, s->curves, &s->view, 1, &rng, &o->loss, o->grad, st);
+    int rc = ws_objective_batch(s->objective, s->curves, &s->view, 1, &rng, &o->loss, o->grad, st);
     t.seconds[WS_TIME_TOTAL] = ws_seconds() - t0;
-    ws_step_set_timing(s->step, NULL);
+    ws_objective_set_timing(s->objective, NULL);
     if (rc) return rc;
     if (measured && t.seconds[WS_TIME_TOTAL] < o->best.seconds[WS_TIME_TOTAL]) o->best = t;
     return WS_OK;
@@ -133,11 +133,11 @@ static ws_loss_options loss_options(const clip_model *m, int num_aug, int aug_ba
     return lo;
 }
 
-static int step_for(ws_step *s, const ws_bench_approx_input *in, const ws_loss_options *lo,
+static int step_for(ws_objective **s, const ws_bench_approx_input *in, const ws_loss_options *lo,
                     ws_status *st) {
     ws_splat_options so;
     ws_splat_options_default(&so);
-    return ws_step_init(s, in->scene, lo, &so, in->sketch->n, st);
+    return ws_objective_create(s, in->scene, lo, &so, in->sketch->n, st);
 }
 
 /* The view's camera shifted sideways (along its x axis) by `share` of the
@@ -155,14 +155,14 @@ static void sideways(const ws_scene *scene, double share, double shift[3]) {
  * sigma against the exact sum (every Gaussian outside costs nothing). */
 static int cutoff_rows(const ws_bench_approx_input *in, ws_bench_approx_row *rows, int max, int *n,
                        ws_status *st) {
-    ws_step s;
+    ws_objective *s = NULL;
     ws_loss_options lo = loss_options(in->model, 4, 0, 1);
     ws_curves big = {0};
     int rc = step_for(&s, in, &lo, st);
     if (!rc) rc = ws_bench_scaled(in->sketch, 3.0, in->scene->center, &big, st);
     setting set[WS_BENCH_CUTOFFS];
     ws_bench_approx_row *row[WS_BENCH_CUTOFFS];
-    set[0] = (setting){&s, in->sketch, INFINITY, 0, 0};
+    set[0] = (setting){s, in->sketch, INFINITY, 0, 0};
     for (int k = 1; k < WS_BENCH_CUTOFFS && !rc; k++) {
         set[k] = set[0];
         set[k].cutoff = ws_bench_cutoffs[k - 1];
@@ -181,7 +181,7 @@ static int cutoff_rows(const ws_bench_approx_input *in, ws_bench_approx_row *row
     }
     if (!rc) {
         int drawn;
-        const ws_gaussians *g = &s.gaussians;
+        const ws_gaussians *g = ws_objective_gaussians(s);
         ws_bench_pixel_visits(&in->scene->split[WS_TRAIN].views[0].cam, g->mu, g->n, big.thickness, 4,
                               &drawn);
         snprintf(row[0]->setting, sizeof row[0]->setting, "4 sigma, half out of view");
@@ -190,7 +190,7 @@ static int cutoff_rows(const ws_bench_approx_input *in, ws_bench_approx_row *row
                  g->n - drawn, g->n);
     }
     ws_curves_free(&big);
-    ws_step_free(&s);
+    ws_objective_free(s);
     return rc;
 }
 
@@ -268,13 +268,13 @@ static int clip_stop_row(const ws_bench_approx_input *in, ws_bench_approx_row *r
     }
     /* the stopped step as the loss runs it (fc and global weights 0) */
     if (!rc) {
-        ws_step s;
+        ws_objective *s = NULL;
         ws_loss_options lo = loss_options(in->model, A, 0, 0);
         rc = step_for(&s, in, &lo, st);
         ws_bench_approx_row timing, *timed = &timing;
-        setting stopped[2] = {{&s, in->sketch, 4, 0, 0}, {&s, in->sketch, 4, 0, 0}};
+        setting stopped[2] = {{s, in->sketch, 4, 0, 0}, {s, in->sketch, 4, 0, 0}};
         if (!rc) rc = measure(stopped, 2, in->rounds, PART_STEP, 0, &timed, st);
-        ws_step_free(&s);
+        ws_objective_free(s);
         row->step_approx = timing.step_approx;
         row->step_exact = timing.step_approx + row->part_exact - row->part_approx;
     }
@@ -296,7 +296,7 @@ static int photo_cache_row(const ws_bench_approx_input *in, ws_bench_approx_row 
     ws_bench_approx_row *row = new_row(rows, max, n, "photo_cache", "computed every step", "clip_photo", st);
     if (!row) return st->code;
     snprintf(row->setting, sizeof row->setting, "once per view");
-    ws_step s;
+    ws_objective *s = NULL;
     ws_loss_options lo = loss_options(in->model, 4, 0, 1);
     int rc = step_for(&s, in, &lo, st), np = in->sketch->n * 12;
     outcome o[2];
@@ -310,7 +310,7 @@ static int photo_cache_row(const ws_bench_approx_input *in, ws_bench_approx_row 
     double worst_loss = 0, worst_grad = 0;
     /* a fresh view every round: its first step computes the features */
     for (int r = 0; r < in->rounds && r + 1 < in->scene->split[WS_TRAIN].n && !rc; r++) {
-        setting v = {&s, in->sketch, 4, 0, r + 1};
+        setting v = {s, in->sketch, 4, 0, r + 1};
         rc = run(&v, &rng0, &o[0], 1, st) || run(&v, &rng0, &o[1], 1, st) ? st->code : WS_OK;
         worst_loss = fmax(worst_loss, relative(o[1].loss, o[0].loss));
         worst_grad = fmax(worst_grad, relative_norm(o[1].grad, o[0].grad, np));
@@ -325,7 +325,7 @@ static int photo_cache_row(const ws_bench_approx_input *in, ws_bench_approx_row 
     }
     free(o[0].grad);
     free(o[1].grad);
-    ws_step_free(&s);
+    ws_objective_free(s);
     return rc;
 }
 
@@ -336,23 +336,22 @@ static int aug_bank_row(const ws_bench_approx_input *in, ws_bench_approx_row *ro
     ws_bench_approx_row *row = new_row(rows, max, n, "aug_bank", "fresh transforms", "photo", st);
     if (!row) return st->code;
     snprintf(row->setting, sizeof row->setting, "%d per view", in->aug_bank);
-    ws_step fresh, banked;
-    memset(&banked, 0, sizeof banked);
+    ws_objective *fresh = NULL, *banked = NULL;
     ws_loss_options lo = loss_options(in->model, 4, 0, 1), lb = loss_options(in->model, 4, in->aug_bank, 1);
     int rc = step_for(&fresh, in, &lo, st);
     if (!rc) rc = step_for(&banked, in, &lb, st);
-    setting set[2] = {{&fresh, in->sketch, 4, 0, 0}, {&banked, in->sketch, 4, 0, 0}};
+    setting set[2] = {{fresh, in->sketch, 4, 0, 0}, {banked, in->sketch, 4, 0, 0}};
     /* the first, unmeasured run of `measure` fills the view's bank */
     if (!rc) rc = measure(set, 2, in->rounds, PART_PHOTO, 0, &row, st);
     if (!rc) {
-        row->bytes = (double)ws_loss_bank_bytes(banked.loss);
+        row->bytes = (double)ws_loss_bank_bytes(ws_objective_loss(banked));
         snprintf(row->note, sizeof row->note,
                  "other transforms, so no error is defined: a view sees %d transforms, not fresh ones; "
                  "filling a view's bank costs %d photo forwards of %d images, once",
                  in->aug_bank, (in->aug_bank + 3) / 4, 4);
     }
-    ws_step_free(&banked);
-    ws_step_free(&fresh);
+    ws_objective_free(banked);
+    ws_objective_free(fresh);
     return rc;
 }
 
@@ -364,15 +363,14 @@ static int f16_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, i
     if (!row) return st->code;
     snprintf(row->setting, sizeof row->setting, "f16 weight file");
     clip_model *m[2] = {NULL, NULL};
-    ws_step s[2];
-    memset(s, 0, sizeof s);
+    ws_objective *s[2] = {NULL, NULL};
     int rc = clip_model_load(&m[0], in->weights_f32, st);
     if (!rc) rc = clip_model_load(&m[1], in->weights_f16, st);
     for (int k = 0; k < 2 && !rc; k++) {
         ws_loss_options lo = loss_options(m[k], 4, 0, 1);
         rc = step_for(&s[k], in, &lo, st);
     }
-    setting set[2] = {{&s[0], in->sketch, 4, 0, 0}, {&s[1], in->sketch, 4, 0, 0}};
+    setting set[2] = {{s[0], in->sketch, 4, 0, 0}, {s[1], in->sketch, 4, 0, 0}};
     if (!rc) rc = measure(set, 2, in->rounds, PART_CLIP, 1, &row, st);
     if (!rc) {
         struct stat sb[2];
@@ -384,7 +382,7 @@ static int f16_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, i
                  size[1] / 1e6, size[0] / 1e6);
     }
     for (int k = 0; k < 2; k++) {
-        ws_step_free(&s[k]);
+        ws_objective_free(s[k]);
         clip_model_free(m[k]);
     }
     return rc;
@@ -397,17 +395,17 @@ static int threads_row(const ws_bench_approx_input *in, ws_bench_approx_row *row
     ws_bench_approx_row *row = new_row(rows, max, n, "threads", "1 thread", "step", st);
     if (!row) return st->code;
     snprintf(row->setting, sizeof row->setting, "%d threads", threads);
-    ws_step s;
+    ws_objective *s = NULL;
     ws_loss_options lo = loss_options(in->model, 4, 0, 1);
     int rc = step_for(&s, in, &lo, st);
-    setting set[2] = {{&s, in->sketch, 4, 1, 0}, {&s, in->sketch, 4, threads, 0}};
+    setting set[2] = {{s, in->sketch, 4, 1, 0}, {s, in->sketch, 4, threads, 0}};
     if (!rc) rc = measure(set, 2, in->rounds, PART_STEP, 1, &row, st);
     ws_threads_set(threads);
     snprintf(row->note, sizeof row->note, "%s",
              row->grad_error == 0 && row->loss_error == 0
                  ? "bit-identical: every sum is split the same way whatever the thread count"
                  : "the error is rounding: sums split across threads add up in another order");
-    ws_step_free(&s);
+    ws_objective_free(s);
     return rc;
 }
 
@@ -416,7 +414,7 @@ static int num_aug_rows(const ws_bench_approx_input *in, ws_bench_approx_row *ro
                         ws_status *st) {
     static const int counts[] = {4, 2, 1, 0};
     enum { NCOUNTS = sizeof counts / sizeof counts[0] };
-    ws_step s[NCOUNTS];
+    ws_objective *s[NCOUNTS];
     setting set[NCOUNTS];
     ws_bench_approx_row *row[NCOUNTS];
     memset(s, 0, sizeof s);
@@ -424,7 +422,7 @@ static int num_aug_rows(const ws_bench_approx_input *in, ws_bench_approx_row *ro
     for (int k = 0; k < NCOUNTS && !rc; k++) {
         ws_loss_options lo = loss_options(in->model, counts[k], 0, 1);
         rc = step_for(&s[k], in, &lo, st);
-        set[k] = (setting){&s[k], in->sketch, 4, 0, 0};
+        set[k] = (setting){s[k], in->sketch, 4, 0, 0};
         if (!rc && k > 0) {
             if (!(row[k - 1] = new_row(rows, max, n, "num_aug", "A = 4", "step", st))) {
                 rc = st->code;
@@ -436,7 +434,7 @@ static int num_aug_rows(const ws_bench_approx_input *in, ws_bench_approx_row *ro
         }
     }
     if (!rc) rc = measure(set, NCOUNTS, in->rounds, PART_STEP, 0, row, st);
-    for (int k = 0; k < NCOUNTS; k++) ws_step_free(&s[k]);
+    for (int k = 0; k < NCOUNTS; k++) ws_objective_free(s[k]);
     return rc;
 }
 

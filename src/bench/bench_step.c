@@ -53,13 +53,13 @@ int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c
     lo.model = m;
     ws_splat_options so;
     ws_splat_options_default(&so);
-    ws_step step;
+    ws_objective *obj = NULL;
     ws_curves cur = {0};
     ws_adam adam = {0};
     floor_runs fr;
     memset(&fr, 0, sizeof fr);
     double *grad = NULL;
-    int rc = ws_step_init(&step, scene, &lo, &so, c->n, st);
+    int rc = ws_objective_create(&obj, scene, &lo, &so, c->n, st);
     if (!rc) rc = ws_bench_scaled(c, 1.0, scene->center, &cur, st);
     if (!rc) rc = ws_adam_init(&adam, c->n * 12, 0.005, st);
     if (!rc) rc = floor_runs_create(&fr, m, lo.num_aug, st);
@@ -68,7 +68,7 @@ int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c
     ws_rng rng;
     ws_rng_seed(&rng, 3);
     ws_step_timing t;
-    ws_step_set_timing(&step, &t);
+    ws_objective_set_timing(obj, &t);
     res->best.seconds[WS_TIME_TOTAL] = INFINITY;
     res->floor_forward = res->floor_backward = res->floor_photo = INFINITY;
     const int view = 0;
@@ -77,7 +77,7 @@ int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c
     for (int r = -1; r < rounds; r++) {
         memset(&t, 0, sizeof t);
         double loss, t0 = ws_seconds();
-        if (ws_step_batch(&step, &cur, &view, 1, &rng, &loss, grad, st)) goto fail;
+        if (ws_objective_batch(obj, &cur, &view, 1, &rng, &loss, grad, st)) goto fail;
         double t1 = ws_seconds();
         ws_adam_update(&adam, cur.P, grad);
         double t2 = ws_seconds();
@@ -96,7 +96,7 @@ int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c
         res->floor_photo = fmin(res->floor_photo, t5 - t4);
     }
     res->floor = res->floor_forward + res->floor_backward + res->floor_photo;
-    res->gaussians = step.gaussians.n;
+    res->gaussians = ws_objective_gaussians(obj)->n;
     res->curves = c->n;
     res->views = 1;
     res->num_aug = lo.num_aug;
@@ -109,6 +109,6 @@ done:
     floor_runs_free(&fr);
     ws_adam_free(&adam);
     ws_curves_free(&cur);
-    ws_step_free(&step);
+    ws_objective_free(obj);
     return rc;
 }

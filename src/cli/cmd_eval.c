@@ -9,7 +9,8 @@
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
-#include "objective/evaluate.h"
+#include "metrics/quality.h"
+#include "objective/objective.h"
 #include "base/threads.h"
 
 static void print_number(const char *key, double v) {
@@ -29,23 +30,17 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     ws_scene_options_default(&sopt);
     sopt.width = sopt.height = size;
     ws_curves curves = {0};
-    ws_gaussians g = {0};
-    ws_loss *loss = NULL;
-    ws_splat *splat = NULL;
-    double *alpha = NULL, mean = NAN;
+    ws_objective *obj = NULL;
+    double mean = NAN;
     ws_quality q;
     int rc = ws_curves_load(curves_path, &curves, st);
     if (!rc) rc = ws_scene_load(&scene, scene_dir, &sopt, st);
-    if (!rc) rc = ws_loss_create(&loss, lo, &scene, st);
-    if (!rc) rc = ws_splat_create(&splat, scene.width, scene.height, st);
-    if (!rc && !(alpha = ws_malloc((size_t)scene.width * scene.height * sizeof(double), "stroke image", st)))
-        rc = st->code;
-    if (!rc) rc = ws_curves_sample(&curves, &g, st);
-    if (!rc) rc = ws_split_loss(loss, splat, so, &scene, split, &g, curves.thickness, alpha, NULL, &mean, st);
+    if (!rc) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
+    if (!rc) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     if (!rc) {
         printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d", split_name,
-               scene.split[split].n, curves.n, g.n);
+               scene.split[split].n, curves.n, ws_objective_gaussians(obj)->n);
         print_number("loss", mean);
         if (q.have_surface) {
             print_number("surface_mean", q.surface.mean);
@@ -59,10 +54,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         }
         printf("}\n");
     }
-    free(alpha);
-    ws_splat_free(splat);
-    ws_loss_free(loss);
-    ws_gaussians_free(&g);
+    ws_objective_free(obj);
     ws_curves_free(&curves);
     ws_scene_free(&scene);
     return rc;

@@ -11,34 +11,18 @@
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
-#include "render/curves.h"
-#include "objective/loss.h"
-#include "render/splat.h"
+#include "objective/objective.h"
 #include "base/threads.h"
 
 /* Loss and dL/dP (curves->n x 4 x 3) of view `view` of `split`. */
 static int view_gradient(const ws_curves *curves, const ws_scene *scene, int split, int view,
                          const ws_loss_options *lo, const ws_splat_options *so, double *value,
                          double *dP, ws_status *st) {
-    ws_gaussians g = {0};
-    ws_splat *splat = NULL;
-    ws_loss *loss = NULL;
-    size_t pixels = (size_t)scene->width * scene->height;
-    double *alpha = ws_malloc(pixels * 2 * sizeof *alpha, "the stroke image", st);
-    double *dalpha = alpha + pixels, *dmu = NULL;
-    if (alpha && !ws_curves_sample(curves, &g, st) &&
-        (dmu = ws_malloc((size_t)g.n * 3 * sizeof *dmu, "Gaussian gradients", st)) &&
-        !ws_loss_create(&loss, lo, scene, st) && !ws_splat_create(&splat, scene->width, scene->height, st) &&
-        !ws_splat_forward(splat, &scene->split[split].views[view].cam, g.mu, g.n, curves->thickness, so,
-                          alpha, st) &&
-        !ws_loss_view(loss, split, view, alpha, 0, NULL, value, dalpha, st) &&
-        !ws_splat_backward(splat, dalpha, dmu, st))
-        ws_curves_backward(curves, &g, dmu, dP);
-    free(dmu);
-    free(alpha);
-    ws_loss_free(loss);
-    ws_splat_free(splat);
-    ws_gaussians_free(&g);
+    ws_objective *obj = NULL;
+    memset(dP, 0, (size_t)curves->n * 12 * sizeof *dP);
+    if (!ws_objective_create(&obj, scene, lo, so, curves->n, st))
+        ws_objective_view(obj, curves, split, view, 0, NULL, 1.0, value, dP, st);
+    ws_objective_free(obj);
     return st->code;
 }
 

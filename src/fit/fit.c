@@ -1,7 +1,7 @@
 /* fit.c: the optimisation loop of `wiresketch fit` (see fit.h).
  *
- * One step: the batch's loss and gradient (step.h: sample the curves into
- * Gaussians; for each view of the batch, splat, take the loss and its
+ * One step: the batch's loss and gradient (objective.h: sample the curves
+ * into Gaussians; for each view of the batch, splat, take the loss and its
  * gradient, splat backward, curve backward; average over the batch); refuse
  * the step if anything is not finite; Adam. The state that decides the
  * trajectory (control points, Adam moments, rng, position in the schedule)
@@ -14,12 +14,11 @@
 #include <time.h>
 #include <unistd.h>
 #include "fit/checkpoint.h"
-#include "objective/evaluate.h"
 #include "fit/fit.h"
 #include "fit/fit_outputs.h"
 #include "base/outfile.h"
 #include "io/scene.h"
-#include "objective/step.h"
+#include "objective/objective.h"
 
 volatile sig_atomic_t ws_fit_stop_requested = 0;
 
@@ -63,7 +62,7 @@ static double now_seconds(void) {
 typedef struct {
     const ws_fit_options *opt;
     ws_scene scene;
-    ws_step step;             /* loss, splatting and their buffers */
+    ws_objective *objective;  /* sampling, splatting, the loss and their buffers */
     double *grad;             /* curves x 12 */
     double *backup;           /* 3 x curves x 12: P, Adam m and v before an update */
     ws_fit_state s;
@@ -86,7 +85,7 @@ static void shuffle(int *order, int n, ws_rng *rng) {
  * reported and the step refused: the control points and moments stay. */
 static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws_status *st) {
     int np = r->s.curves.n * 12;
-    int rc = ws_step_batch(&r->step, &r->s.curves, views, nviews, &r->s.rng, loss, r->grad, st);
+    int rc = ws_objective_batch(r->objective, &r->s.curves, views, nviews, &r->s.rng, loss, r->grad, st);
     if (rc && rc != WS_ENUMERIC) return rc;
     int finite = !rc && isfinite(*loss);
     for (int i = 0; i < np && finite; i++) finite = isfinite(r->grad[i]);
@@ -106,7 +105,7 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
     memcpy(r->backup + np, adam->m, np * sizeof(double));
     memcpy(r->backup + 2 * np, adam->v, np * sizeof(double));
     ws_adam_update(adam, r->s.curves.P, r->grad);
-    rc = ws_curves_sample(&r->s.curves, &r->step.gaussians, st);
+    rc = ws_objective_sample(r->objective, &r->s.curves, st);
     if (rc == WS_ENUMERIC) {
         memcpy(r->s.curves.P, r->backup, np * sizeof(double));
         memcpy(adam->m, r->backup + np, np * sizeof(double));
@@ -124,11 +123,7 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
 /* The mean loss of a split's views, item 0 only (NaN for an empty split);
  * per_view (n, or NULL) receives each view's loss. */
 static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_status *st) {
-    ws_step *p = &r->step;
-    int rc = ws_curves_sample(&r->s.curves, &p->gaussians, st);
-    if (!rc)
-        rc = ws_split_loss(p->loss, p->splat, &p->splat_opt, &r->scene, split, &p->gaussians,
-                           r->s.curves.thickness, p->alpha, per_view, mean, st);
+    int rc = ws_objective_split_mean(r->objective, &r->s.curves, split, per_view, mean, st);
     if (rc != WS_ENUMERIC) return rc;
     /* A non-finite evaluation is reported and recorded as NaN: it must not
      * cost the run its outputs. */
@@ -293,7 +288,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
 }
 
 static void fit_run_free(fit_run *r) {
-    ws_step_free(&r->step);
+    ws_objective_free(r->objective);
     free(r->grad);
     free(r->backup);
     ws_fit_state_free(&r->s);
@@ -337,7 +332,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     ws_loss_options lo = o->loss;
     lo.aug_seed = o->seed; /* an augmentation bank follows the run's seed */
     size_t np = (size_t)r->s.curves.n * 12;
-    if (ws_step_init(&r->step, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
+    if (ws_objective_create(&r->objective, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
     if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
         !(r->backup = ws_malloc(3 * np * sizeof(double), "control point backup", st)))
         return st->code;

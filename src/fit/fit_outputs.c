@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "objective/evaluate.h"
+#include "metrics/quality.h"
 #include "io/export.h"
 #include "fit/fit_outputs.h"
 #include "io/gif.h"

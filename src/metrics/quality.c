@@ -1,29 +1,9 @@
-/* evaluate.c: loss over a split and distance to the ground truth (see
- * evaluate.h). */
+/* quality.c: distance of a sketch to the ground truth (see quality.h). */
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>
-#include "objective/evaluate.h"
+#include "metrics/quality.h"
 #include "io/pointcloud.h"
-
-int ws_split_loss(ws_loss *loss, ws_splat *splat, const ws_splat_options *so, const ws_scene *scene,
-                  int split, const ws_gaussians *g, double radius, double *alpha, double *per_view,
-                  double *mean, ws_status *st) {
-    const ws_split *sp = &scene->split[split];
-    *mean = NAN;
-    if (sp->n == 0) return WS_OK;
-    double sum = 0;
-    for (int v = 0; v < sp->n; v++) {
-        double l;
-        if (ws_splat_forward(splat, &sp->views[v].cam, g->mu, g->n, radius, so, alpha, st) ||
-            ws_loss_view(loss, split, v, alpha, 0, NULL, &l, NULL, st))
-            return st->code;
-        if (per_view) per_view[v] = l;
-        sum += l;
-    }
-    *mean = sum / sp->n;
-    return WS_OK;
-}
 
 static int surface(const ws_curves *c, const char *path, ws_surface_metrics *m, ws_status *st) {
     ws_pointcloud pc = {0};
