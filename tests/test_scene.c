@@ -164,6 +164,69 @@ static float px(const ws_image *im, int c, int i, int j) {
     return im->data[((size_t)c * im->height + i) * im->width + j];
 }
 
+/* Rewrites SCENE/transforms_train.json with `mask` (a JSON value) as the
+ * mask_path of frame 0. */
+static void set_mask_path(const char *dir, const char *mask) {
+    char path[1100], text[1 << 14], out[1 << 14];
+    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    FILE *fp = fopen(path, "rb");
+    size_t n = fp ? fread(text, 1, sizeof text - 1, fp) : 0;
+    if (fp) fclose(fp);
+    text[n] = '\0';
+    char *first = strstr(text, "{\"file_path\"");
+    if (!first) return;
+    snprintf(out, sizeof out, "%.*s{\"mask_path\": %s, %s", (int)(first - text), text, mask,
+             first + 1);
+    write_text(path, out);
+}
+
+/* A frame's mask_path: a gray PNG (left half white) becomes view 0's mask;
+ * view 1 (no mask_path, RGB) has none; a missing or non-string mask_path
+ * is an error naming the frame. */
+static void test_mask_path(void) {
+    char dir[1024], path[1100];
+    make_scene(dir, "masked", "rgb", 2);
+    uint16_t g[8 * 6];
+    for (int k = 0; k < 8 * 6; k++) g[k] = k % 8 < 4 ? 255 : 0;
+    snprintf(path, sizeof path, "%s/m0.png", dir);
+    write_png(path, 8, 6, PNG_COLOR_TYPE_GRAY, 8, g, NULL, 0, NULL, 0, NULL);
+    set_mask_path(dir, "\"m0.png\"");
+    ws_scene_options opt;
+    ws_scene_options_default(&opt);
+    opt.width = 8;
+    opt.height = 6;
+    ws_scene sc;
+    ws_status st;
+    int rc = ws_scene_load(&sc, dir, &opt, &st);
+    CHECK(rc == WS_OK, "mask_path scene: %s", st.msg);
+    if (rc) return;
+    const ws_image *m = &sc.split[WS_TRAIN].views[0].mask;
+    int same = m->data && m->width == 8 && m->height == 6 && m->channels == 1;
+    for (int k = 0; same && k < 8 * 6; k++) same &= m->data[k] == (k % 8 < 4);
+    CHECK(same, "the mask is the mask_path image");
+    CHECK(sc.split[WS_TRAIN].views[1].mask.data == NULL, "frame without mask_path: no mask");
+    ws_scene_free(&sc);
+    opt.load_images = 0;
+    CHECK(ws_scene_load(&sc, dir, &opt, &st) == WS_OK && sc.split[WS_TRAIN].views[0].mask.data == NULL,
+          "cameras only: no mask");
+    ws_scene_free(&sc);
+    opt.load_images = 1;
+    char want[4096];
+    make_scene(dir, "masked", "rgb", 2);
+    set_mask_path(dir, "\"none\"");
+    snprintf(want, sizeof want,
+             "%s/transforms_train.json: frame 0: mask_path: image not found (tried %s/none.png, "
+             "%s/rgb/none.png)",
+             dir, dir, dir);
+    rc = ws_scene_load(&sc, dir, &opt, &st);
+    CHECK(rc == WS_EINPUT && !strcmp(st.msg, want), "missing mask: %s", st.msg);
+    make_scene(dir, "masked", "rgb", 2);
+    set_mask_path(dir, "3");
+    snprintf(want, sizeof want, "%s/transforms_train.json: frame 0: mask_path is not a string", dir);
+    rc = ws_scene_load(&sc, dir, &opt, &st);
+    CHECK(rc == WS_EINPUT && !strcmp(st.msg, want), "mask_path 3: %s", st.msg);
+}
+
 /* Views per split, the train split's angle, the focal length it gives at
  * the working width, and the centre, as known independently. */
 static void check_scene_facts(const ws_scene *sc, const char *label, const int views[3], double angle,
@@ -211,6 +274,20 @@ static void test_fixture_scene(void) {
             CHECK(fabs(px(&v1->photo, c, spots[s][0], spots[s][1]) - rgb1[s][c] / 65535.0) < 1e-6,
                   "val r_1 16-bit (%d,%d) channel %d", spots[s][0], spots[s][1], c);
         }
+    /* the 16-bit RGBA view's mask is its alpha; the RGB views have none */
+    int ones = 0, agree = 1;
+    if (v1->mask.data)
+        for (int p = 0; p < 64 * 64; p++) {
+            ones += v1->mask.data[p] == 1;
+            agree &= v1->mask.data[p] == 0 || v1->mask.data[p] == 1;
+        }
+    CHECK(v1->mask.width == 64 && v1->mask.height == 64 && v1->mask.channels == 1 && agree &&
+              ones == 376,
+          "val r_1 mask: %d of 4096 pixels are object (the script counts 376)", ones);
+    CHECK(v1->mask.data && v1->mask.data[44 * 64 + 26] == 1 && v1->mask.data[47 * 64 + 21] == 0,
+          "val r_1 mask at the spots");
+    CHECK(v->mask.data == NULL && sc.split[WS_VAL].views[0].mask.data == NULL,
+          "no alpha, no mask");
     ws_scene_free(&sc);
     CHECK(sc.split[WS_TRAIN].n == 0 && sc.split[WS_TRAIN].views == NULL, "free empties");
 
@@ -809,6 +886,7 @@ int main(int argc, char **argv) {
     test_errors();
     test_center();
     test_fixture_scene();
+    test_mask_path();
     nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

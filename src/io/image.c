@@ -100,9 +100,10 @@ static int read_pixels_stage(png_structp png, png_infop info, png_bytepp rows) {
 
 /* Decoded samples (interleaved, `channels` of 8 or 16 bits) to a planar
  * 3-channel float image; gray is copied to R, G and B, and alpha a
- * composites: out = a * c + (1 - a) * bg on the stored values, no gamma. */
+ * composites: out = a * c + (1 - a) * bg on the stored values, no gamma.
+ * alpha (width x height, or NULL) receives a. */
 static void samples_to_rgb(png_bytepp rows, int width, int height, int channels, int depth,
-                           const float background[3], ws_image *out) {
+                           const float background[3], ws_image *out, float *alpha) {
     const double scale = depth == 16 ? 1.0 / 65535.0 : 1.0 / 255.0;
     const int has_alpha = channels == 2 || channels == 4, colour = channels >= 3;
     const size_t plane = (size_t)width * height;
@@ -115,6 +116,7 @@ static void samples_to_rgb(png_bytepp rows, int width, int height, int channels,
                 v[c] = (depth == 16 ? (s[0] << 8 | s[1]) : s[0]) * scale;
             }
             double a = has_alpha ? v[channels - 1] : 1.0;
+            if (alpha) alpha[(size_t)i * width + j] = (float)a;
             for (int c = 0; c < 3; c++) {
                 double value = v[colour ? c : 0];
                 out->data[c * plane + (size_t)i * width + j] =
@@ -125,9 +127,10 @@ static void samples_to_rgb(png_bytepp rows, int width, int height, int channels,
 }
 
 /* Decodes an open file whose 8 signature bytes were consumed into a
- * 3-channel image at the file's size. */
+ * 3-channel image at the file's size, and (when `alpha` is given) its
+ * alpha channel, left empty when the file has none or it is 1 everywhere. */
 static int decode_png(FILE *fp, const char *path, const float background[3], ws_image *out,
-                      ws_status *st) {
+                      ws_image *alpha, ws_status *st) {
     png_io io = {fp, ""};
     png_structp png =
         png_create_read_struct(PNG_LIBPNG_VER_STRING, &io, on_png_error, on_png_warning);
@@ -175,7 +178,15 @@ static int decode_png(FILE *fp, const char *path, const float background[3], ws_
         goto done;
     }
     if ((rc = ws_image_alloc(out, width, height, 3, st))) goto done;
-    samples_to_rgb(rows, width, height, channels, depth, background, out);
+    const int has_alpha = channels == 2 || channels == 4;
+    if (alpha && has_alpha && (rc = ws_image_alloc(alpha, width, height, 1, st))) goto done;
+    samples_to_rgb(rows, width, height, channels, depth, background, out,
+                   alpha ? alpha->data : NULL);
+    if (alpha && alpha->data) {
+        size_t k = 0, n = (size_t)width * height;
+        while (k < n && alpha->data[k] == 1.0f) k++;
+        if (k == n) ws_image_free(alpha); /* opaque: no information */
+    }
 done:
     png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
     free(rows);
@@ -183,9 +194,23 @@ done:
     return rc;
 }
 
+/* Replaces img by its resampling to width x height. */
+static int resample_in_place(ws_image *img, int width, int height, ws_status *st) {
+    ws_image full = *img;
+    int rc = ws_image_resample(&full, width, height, img, st);
+    ws_image_free(&full);
+    return rc;
+}
+
 int ws_png_read(const char *path, int width, int height, const float background[3], ws_image *out,
                 ws_status *st) {
+    return ws_png_read_alpha(path, width, height, background, out, NULL, st);
+}
+
+int ws_png_read_alpha(const char *path, int width, int height, const float background[3],
+                      ws_image *out, ws_image *alpha, ws_status *st) {
     *out = (ws_image){0};
+    if (alpha) *alpha = (ws_image){0};
     FILE *fp;
     if (ws_fopen_regular(path, MAX_PNG_FILE_BYTES, &fp, st)) return st->code;
     png_byte sig[8];
@@ -196,13 +221,16 @@ int ws_png_read(const char *path, int width, int height, const float background[
     else if (got < sizeof sig || png_sig_cmp(sig, 0, sizeof sig))
         rc = ws_fail(st, WS_EINPUT, "%s: not a PNG file", path);
     else
-        rc = decode_png(fp, path, background, out, st);
+        rc = decode_png(fp, path, background, out, alpha, st);
     fclose(fp);
-    if (rc || width <= 0 || height <= 0 || (out->width == width && out->height == height))
-        return rc;
-    ws_image full = *out;
-    rc = ws_image_resample(&full, width, height, out, st);
-    ws_image_free(&full);
+    if (!rc && width > 0 && height > 0 && (out->width != width || out->height != height)) {
+        rc = resample_in_place(out, width, height, st);
+        if (!rc && alpha && alpha->data) rc = resample_in_place(alpha, width, height, st);
+    }
+    if (rc) {
+        ws_image_free(out);
+        if (alpha) ws_image_free(alpha);
+    }
     return rc;
 }
 

@@ -23,6 +23,12 @@ void ws_image_free(ws_image *img);
 int ws_png_read(const char *path, int width, int height, const float background[3],
                 ws_image *out, ws_status *st);
 
+/* ws_png_read, and the file's alpha channel (values in [0, 1]) into
+ * `alpha` (1 channel, resampled like the colours), whose data is NULL when
+ * the file has no alpha channel or every pixel is opaque. */
+int ws_png_read_alpha(const char *path, int width, int height, const float background[3],
+                      ws_image *out, ws_image *alpha, ws_status *st);
+
 /* Writes a 1- or 3-channel image as an 8-bit gray or RGB PNG, each value
  * round(255 * clamp(v, 0, 1)), through a temporary file (outfile.h). */
 int ws_png_write(const char *path, const ws_image *img, ws_status *st);

@@ -36,7 +36,10 @@ void ws_scene_options_default(ws_scene_options *opt) {
 
 void ws_scene_free(ws_scene *scene) {
     for (int s = 0; s < WS_NSPLITS; s++) {
-        for (int k = 0; k < scene->split[s].n; k++) ws_image_free(&scene->split[s].views[k].photo);
+        for (int k = 0; k < scene->split[s].n; k++) {
+            ws_image_free(&scene->split[s].views[k].photo);
+            ws_image_free(&scene->split[s].views[k].mask);
+        }
         free(scene->split[s].views);
         scene->split[s].views = NULL;
         scene->split[s].n = 0;
@@ -130,6 +133,18 @@ static int parse_frame(const cJSON *frame, const char *path, int index, double a
     if (opt->load_images &&
         resolve_image(dir, fp->valuestring, what, v->image_path, sizeof v->image_path, st))
         return st->code;
+    const cJSON *mp = cJSON_GetObjectItemCaseSensitive(frame, "mask_path");
+    if (mp && !cJSON_IsString(mp))
+        return ws_fail(st, WS_EINPUT, "%s: mask_path is not a string", what);
+    if (mp && opt->load_images) {
+        for (const char *c = mp->valuestring; *c; c++)
+            if ((unsigned char)*c < 0x20 || *c == 0x7f)
+                return ws_fail(st, WS_EINPUT, "%s: mask_path contains a control character", what);
+        char mask_what[4400];
+        snprintf(mask_what, sizeof mask_what, "%s: mask_path", what);
+        if (resolve_image(dir, mp->valuestring, mask_what, v->mask_path, sizeof v->mask_path, st))
+            return st->code;
+    }
     return WS_OK;
 }
 
@@ -209,6 +224,32 @@ done:
     return rc;
 }
 
+/* A mask from a 1-channel alpha or the first channel of a mask image:
+ * 1 where the value is at least 1/2. */
+static void threshold_mask(ws_image *m) {
+    for (size_t p = 0; p < (size_t)m->width * m->height; p++) m->data[p] = m->data[p] >= 0.5f;
+}
+
+/* One view's photo and mask: the mask_path image when the frame names one,
+ * else the photo's alpha. */
+static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
+    int from_file = v->mask_path[0] != '\0';
+    if (ws_png_read_alpha(v->image_path, opt->width, opt->height, opt->background, &v->photo,
+                          from_file ? NULL : &v->mask, st))
+        return st->code;
+    if (from_file) {
+        static const float black[3] = {0, 0, 0};
+        ws_image rgb;
+        if (ws_png_read(v->mask_path, opt->width, opt->height, black, &rgb, st)) return st->code;
+        /* the first plane (red, or gray) is the mask; the rest is let go */
+        size_t plane = (size_t)rgb.width * rgb.height;
+        float *first = realloc(rgb.data, plane * sizeof *first);
+        v->mask = (ws_image){rgb.width, rgb.height, 1, first ? first : rgb.data};
+    }
+    if (v->mask.data) threshold_mask(&v->mask);
+    return WS_OK;
+}
+
 /* Decodes every view's PNG, in parallel; the failure of the lowest view (in
  * split, then frame order) is reported, whatever the schedule. */
 static int load_photos(ws_scene *scene, const ws_scene_options *opt, ws_status *st) {
@@ -225,8 +266,7 @@ static int load_photos(ws_scene *scene, const ws_scene_options *opt, ws_status *
 #pragma omp parallel for schedule(dynamic)
     for (int k = 0; k < total; k++) {
         ws_status_clear(&status[k]);
-        ws_png_read(views[k]->image_path, opt->width, opt->height, opt->background,
-                    &views[k]->photo, &status[k]);
+        load_view(views[k], opt, &status[k]);
     }
     int rc = WS_OK;
     for (int k = 0; k < total && !rc; k++)

@@ -2,7 +2,8 @@
  *
  * SCENE/transforms_{train,val,test}.json hold camera_angle_x and frames
  * (file_path without extension, 4x4 camera-to-world transform_matrix);
- * images are found at SCENE/<file_path>.png or SCENE/rgb/<file_path>.png.
+ * images are found at SCENE/<file_path>.png or SCENE/rgb/<file_path>.png;
+ * a frame's optional mask_path (a PNG, white = object) is relative to SCENE.
  * Missing splits are allowed (n = 0), but a scene needs a train split. */
 #ifndef WS_SCENE_H
 #define WS_SCENE_H
@@ -17,6 +18,11 @@ typedef struct {
     char image_path[4096];/* the PNG that was found */
     ws_camera cam;
     ws_image photo;       /* 3 x height x width, composited on the background */
+    char mask_path[4096]; /* the frame's mask_path, resolved; "" when it has none */
+    ws_image mask;        /* 1 x height x width: 1 = object, 0 = background; from the
+                             mask_path image (value >= 1/2 of white) or else the photo's
+                             alpha (>= 1/2); data NULL when neither exists (an opaque
+                             alpha channel counts as none) */
 } ws_view;
 
 typedef struct {
