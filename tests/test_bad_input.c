@@ -438,6 +438,64 @@ static void checkpoint_offsets(const unsigned char *c, size_t *curves_at, size_t
     *points_at = pos + 4 + 16;
 }
 
+/* Writes checkpoint c with its stored arguments replaced by argv[0..n) and
+ * the checksum made right: a crafted file the loader's checks all pass. */
+static int write_with_arguments(const char *path, const unsigned char *c, size_t len,
+                                const char *const *argv, int n) {
+    size_t old_end = 16;
+    for (uint32_t i = 0, count = get_u32(c + 12); i < count; i++) old_end += 4 + get_u32(c + old_end);
+    size_t args = 4;
+    for (int i = 0; i < n; i++) args += 4 + strlen(argv[i]);
+    size_t out_len = 12 + args + (len - old_end);
+    unsigned char *out = malloc(out_len);
+    if (!out) return 0;
+    memcpy(out, c, 12);
+    size_t pos = 12;
+    put_u32(out + pos, (uint32_t)n);
+    pos += 4;
+    for (int i = 0; i < n; i++) {
+        put_u32(out + pos, (uint32_t)strlen(argv[i]));
+        memcpy(out + pos + 4, argv[i], strlen(argv[i]));
+        pos += 4 + strlen(argv[i]);
+    }
+    memcpy(out + pos, c + old_end, len - old_end);
+    fix_crc(out, out_len);
+    int ok = write_all(path, out, out_len);
+    free(out);
+    return ok;
+}
+
+/* Stored arguments are input: a crafted list goes through the same parse
+ * and checks as a command line (a NULL scene once crashed here). */
+static void test_stored_arguments(const unsigned char *c, size_t len) {
+    char dir[300], path[400], scene[300];
+    snprintf(dir, sizeof dir, "%s/ck_args", tmp);
+    snprintf(scene, sizeof scene, "%s/scene", tmp);
+    sh("mkdir -p %s", dir);
+    snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
+    const char *resume[] = {"--resume", dir};
+    write_with_arguments(path, c, len, resume, 2);
+    int rc = run("fit --resume %s", dir);
+    CHECK(ANSWER(1, rc, "%s: stored arguments contain --resume", path), "stored --resume");
+    const char *no_scene[] = {"--loss", "edges"};
+    write_with_arguments(path, c, len, no_scene, 2);
+    rc = run("fit --resume %s", dir);
+    CHECK(rc == 1 && sh("grep -q '^wiresketch: %s: stored arguments: fit: missing SCENE' %s/stderr.txt",
+                        path, tmp),
+          "stored arguments without a scene");
+    const char *bad_epochs[] = {scene, "--loss", "edges", "--epochs", "-5"};
+    write_with_arguments(path, c, len, bad_epochs, 5);
+    rc = run("fit --resume %s", dir);
+    CHECK(ANSWER(1, rc, "%s: stored arguments: --epochs: -5 is not in [0, 1000000]", path),
+          "stored --epochs -5");
+    /* an override is checked as the command line it is */
+    const char *good[] = {scene, "--loss", "edges", "--size", "32", "--threads", "1", "--quiet"};
+    write_with_arguments(path, c, len, good, 8);
+    rc = run("fit --resume %s --length 1e200", dir);
+    CHECK(ANSWER(2, rc, "--length: 1e+200 is not in [0, 1e+06]"), "override out of range");
+    CHECK(checkpoint_loads(path), "the refused checkpoint was damaged");
+}
+
 static void test_checkpoints(void) {
     char dir[300], path[400];
     snprintf(dir, sizeof dir, "%s/nowhere", tmp);
@@ -476,6 +534,7 @@ static void test_checkpoints(void) {
     rc = run("fit --resume %s", dir);
     CHECK(ANSWER(1, rc, "%s: corrupt checkpoint (curves)", path), "huge curve count");
     CHECK(no_partial_outputs(dir), "outputs after a bad checkpoint");
+    test_stored_arguments(c, len);
     free(c);
     /* a checkpoint of another scene (wrong shape: 2 training views, not 3) */
     const char *s = scene_copy("s_changed");
@@ -606,6 +665,24 @@ static void test_numeric_faults(void) {
     ws_checkpoint_free_args(argc, argv);
 }
 
+/* Fits that could only fail are refused before the first step: options
+ * out of range, an --init without curves. */
+static void test_hopeless_fits(void) {
+    char out[300], path[400];
+    snprintf(out, sizeof out, "%s/out_hopeless", tmp);
+    int rc = run("fit %s/scene --out %s " FIT " --length 1e200", tmp, out);
+    CHECK(ANSWER(2, rc, "--length: 1e+200 is not in [0, 1e+06]"), "--length 1e200");
+    rc = run("fit %s/scene --out %s " FIT " --batch-size 2147483647", tmp, out);
+    CHECK(ANSWER(2, rc, "--batch-size: 2147483647 is not in [1, 1000000]"), "huge --batch-size");
+    rc = run("fit %s/scene --out %s " FIT " --overlap 1", tmp, out);
+    CHECK(ANSWER(2, rc, "--overlap: 1 is not in [0, 1)"), "--overlap 1");
+    snprintf(path, sizeof path, "%s/empty.json", tmp);
+    write_text(path, "{\"thickness\": 0.5, \"overlap\": 0, \"curves\": []}");
+    rc = run("fit %s/scene --out %s " FIT " --init %s", tmp, out, path);
+    CHECK(ANSWER(1, rc, "%s: no curves (a fit starts from at least one)", path), "empty --init");
+    CHECK(no_partial_outputs(out), "outputs after a hopeless fit");
+}
+
 static void test_usage(void) {
     int rc = run("fit x --no-such-option 1");
     CHECK(ANSWER(2, rc, "--no-such-option: unknown option (see --help)"), "unknown option");
@@ -636,6 +713,7 @@ int main(void) {
     test_checkpoints();
     test_output_faults();
     test_numeric_faults();
+    test_hopeless_fits();
     test_usage();
     if (!check_failed) sh("rm -rf %s", tmp);
     return check_summary();

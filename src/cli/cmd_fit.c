@@ -74,12 +74,30 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
     opt->seed = (uint64_t)(unsigned)seed;
-    if (ws_cli_check_size(opt->size, st)) return st->code;
-    if (opt->max_steps < 0 || opt->threads < 0 || opt->eval_every < 0 || opt->snapshot_every < 0 ||
-        !(opt->checkpoint_minutes > 0))
-        return ws_fail(st, WS_EUSAGE, "fit: --max-steps, --threads, --eval-every and --snapshot-every "
-                                      "must be >= 0, --checkpoint-minutes > 0");
+    if (ws_cli_check_size(opt->size, st) || ws_fit_options_check(opt, st)) return st->code;
     return ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st);
+}
+
+/* A checkpoint's stored arguments are input like the command line: they
+ * must be a complete new fit on their own (a SCENE, every value in range),
+ * parsed and checked by parse_fit as a command line is; --resume or --help
+ * among them (which no run stores) mark a crafted file. Files they name
+ * (--weights, --init) may have moved since: those are checked when the
+ * resumed run, with its overrides, uses them. */
+static int check_stored_arguments(const char *path, int argc, char **argv, ws_status *st) {
+    for (int i = 0; i < argc; i++)
+        if (!strcmp(argv[i], "--resume") || !strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
+            return ws_fail(st, WS_EINPUT, "%s: stored arguments contain %s", path, argv[i]);
+    ws_fit_options stored;
+    const char *resume_dir;
+    int help;
+    if (parse_fit(argc, argv, &stored, &resume_dir, &help, st) == WS_EUSAGE) {
+        char why[sizeof st->msg];
+        snprintf(why, sizeof why, "%s", st->msg);
+        return ws_fail(st, WS_EINPUT, "%s: stored arguments: %s", path, why);
+    }
+    ws_status_clear(st);
+    return WS_OK;
 }
 
 /* The arguments of a resumed run: those its checkpoint stored, then the
@@ -91,6 +109,7 @@ static int resume_arguments(const char *dir, int argc, char **argv, int *run_arg
     snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
     if (access(path, F_OK) != 0) return ws_fail(st, WS_EINPUT, "%s: no checkpoint to resume from", path);
     if (ws_checkpoint_load(path, NULL, nsaved, saved, st)) return st->code;
+    if (check_stored_arguments(path, *nsaved, *saved, st)) return st->code;
     *run_argv = ws_calloc((size_t)(*nsaved + argc + 1), sizeof(char *), "arguments", st);
     if (!*run_argv) return st->code;
     int n = 0;

@@ -203,17 +203,23 @@ static int init_state(fit_run *r, ws_status *st) {
     ws_rng_seed(&s->rng, o->seed);
     if (o->init_curves) {
         if (ws_curves_load(o->init_curves, &s->curves, st)) return st->code;
-        ws_gaussians g = {0};
-        int rc = ws_curves_sample(&s->curves, &g, st);
-        ws_gaussians_free(&g);
-        if (rc) {
-            char why[sizeof st->msg];
-            snprintf(why, sizeof why, "%s", st->msg);
-            return ws_fail(st, WS_EINPUT, "%s: %s", o->init_curves, why);
-        }
+        if (s->curves.n == 0)
+            return ws_fail(st, WS_EINPUT, "%s: no curves (a fit starts from at least one)", o->init_curves);
     } else if (ws_curves_init_random(&s->curves, o->n_curves, r->scene.center, o->radius, o->length,
                                      o->thickness, o->overlap, &s->rng, st)) {
         return st->code;
+    }
+    /* Curves that cannot be sampled now would fail every step: refused
+     * before the first, naming where they came from. */
+    ws_gaussians g = {0};
+    int rc = ws_curves_sample(&s->curves, &g, st);
+    ws_gaussians_free(&g);
+    if (rc) {
+        char why[sizeof st->msg];
+        snprintf(why, sizeof why, "%s", st->msg);
+        if (o->init_curves) return ws_fail(st, WS_EINPUT, "%s: %s", o->init_curves, why);
+        return ws_fail(st, WS_EUSAGE, "--radius %g, --length %g: the initial curves cannot be sampled (%s)",
+                       o->radius, o->length, why);
     }
     s->n_train = r->scene.split[WS_TRAIN].n;
     s->order = ws_malloc((size_t)s->n_train * sizeof(int), "view order", st);
@@ -297,11 +303,7 @@ static void fit_run_free(fit_run *r) {
 
 static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int argc, ws_status *st) {
     const ws_fit_options *o = r->opt;
-    if (o->batch_size < 1 || o->epochs < 0 || o->inner_steps < 1 || o->n_curves < 1 ||
-        !(o->thickness > 0) || !(o->overlap >= 0 && o->overlap < 1) || !(o->learning_rate > 0))
-        return ws_fail(st, WS_EUSAGE,
-                       "fit: batch-size, inner-steps, n-curves, thickness and learning-rate must be "
-                       "positive, epochs >= 0 and overlap in [0, 1)");
+    if (ws_fit_options_check(o, st)) return st->code;
     ws_scene_options so;
     ws_scene_options_default(&so);
     so.width = so.height = o->size;

@@ -30,6 +30,9 @@ typedef struct {
 } ws_fit_options;
 
 void ws_fit_options_default(ws_fit_options *opt);
+/* Every option in its range (WS_EUSAGE naming the option otherwise); the
+ * command line and a checkpoint's stored arguments both pass here. */
+int ws_fit_options_check(const ws_fit_options *opt, ws_status *st);
 
 typedef struct {
     int batch;       /* global batch index */

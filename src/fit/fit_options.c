@@ -1,0 +1,45 @@
+/* fit_options.c: the one check of a fit's options (see fit.h).
+ *
+ * The bounds keep every count the schedule multiplies (views per batch x
+ * batches x inner steps x epochs, as a long) and every allocation sized by
+ * an option far from overflow, and refuse values that cannot describe a
+ * fit (a negative count, a zero thickness) before anything is loaded. */
+#include "fit/fit.h"
+
+/* Counts: views per batch, epochs and Adam steps per batch at most 10^6
+ * (their product with 65536 batches stays below 2^63), curves at most 10^5
+ * (12 control points each, Gaussians per curve capped). Lengths (world
+ * units): at most 10^6, far beyond any scene yet finite when squared. */
+#define MAX_COUNT 1000000
+#define MAX_CURVES 100000
+#define MAX_WORLD 1e6
+
+int ws_fit_options_check(const ws_fit_options *o, ws_status *st) {
+    if (!o->scene_dir) return ws_fail(st, WS_EUSAGE, "fit: no SCENE given");
+    if (o->batch_size < 1 || o->batch_size > MAX_COUNT)
+        return ws_fail(st, WS_EUSAGE, "--batch-size: %d is not in [1, %d]", o->batch_size, MAX_COUNT);
+    if (o->epochs < 0 || o->epochs > MAX_COUNT)
+        return ws_fail(st, WS_EUSAGE, "--epochs: %d is not in [0, %d]", o->epochs, MAX_COUNT);
+    if (o->inner_steps < 1 || o->inner_steps > MAX_COUNT)
+        return ws_fail(st, WS_EUSAGE, "--inner-steps: %d is not in [1, %d]", o->inner_steps, MAX_COUNT);
+    if (o->n_curves < 1 || o->n_curves > MAX_CURVES)
+        return ws_fail(st, WS_EUSAGE, "--n-curves: %d is not in [1, %d]", o->n_curves, MAX_CURVES);
+    /* no upper bound: a step that throws the curves out is undone and
+     * reported (fit.c), whatever its size */
+    if (!(o->learning_rate > 0))
+        return ws_fail(st, WS_EUSAGE, "--learning-rate: %g is not positive", o->learning_rate);
+    if (!(o->thickness > 0 && o->thickness <= MAX_WORLD))
+        return ws_fail(st, WS_EUSAGE, "--thickness: %g is not in (0, %g]", o->thickness, MAX_WORLD);
+    if (!(o->radius >= 0 && o->radius <= MAX_WORLD))
+        return ws_fail(st, WS_EUSAGE, "--radius: %g is not in [0, %g]", o->radius, MAX_WORLD);
+    if (!(o->length >= 0 && o->length <= MAX_WORLD))
+        return ws_fail(st, WS_EUSAGE, "--length: %g is not in [0, %g]", o->length, MAX_WORLD);
+    if (!(o->overlap >= 0 && o->overlap < 1))
+        return ws_fail(st, WS_EUSAGE, "--overlap: %g is not in [0, 1)", o->overlap);
+    if (o->max_steps < 0 || o->eval_every < 0 || o->snapshot_every < 0)
+        return ws_fail(st, WS_EUSAGE, "--max-steps, --eval-every and --snapshot-every must be >= 0");
+    if (!(o->checkpoint_minutes > 0))
+        return ws_fail(st, WS_EUSAGE, "--checkpoint-minutes: %g is not positive", o->checkpoint_minutes);
+    if (o->threads < 0) return ws_fail(st, WS_EUSAGE, "--threads: %d is negative", o->threads);
+    return WS_OK;
+}
