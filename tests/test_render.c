@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include "nn/base/bytes.h"
 #include "check.h"
+#include "cli_run.h"
 #include "render/curves.h"
 #include "io/image.h"
 #include "objective/loss_l2.h"
@@ -20,25 +21,6 @@
 #include "render/splat.h"
 
 static char tmp[256], bin[512], SCENE[1024] = "tests/fixtures/scene_small";
-
-/* Runs a command line, returns its exit code and the first line of its
- * output (stdout and stderr) in `out`. */
-static int run(char *out, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static int run(char *out, size_t size, const char *fmt, ...) {
-    char cmd[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd - 8, fmt, ap);
-    va_end(ap);
-    strcat(cmd, " 2>&1");
-    FILE *p = popen(cmd, "r");
-    out[0] = '\0';
-    if (!p) return -1;
-    size_t n = fread(out, 1, size - 1, p);
-    out[n] = '\0';
-    int status = pclose(p);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 /* The bytes of a PNG's IHDR: width, height, bit depth, colour type. */
 static int png_header(const char *path, unsigned *w, unsigned *h, int *depth, int *type) {
@@ -73,7 +55,7 @@ static void make_curves(const ws_scene *scene, ws_curves *c) {
 static void test_render(const ws_scene *scene, const ws_curves *c, const char *curves_path) {
     char out[4096], dir[512];
     snprintf(dir, sizeof dir, "%s/render", tmp);
-    int rc = run(out, sizeof out, "%s render %s --scene %s --split test --out %s", bin, curves_path,
+    int rc = run_cmd(out, sizeof out, "%s render %s --scene %s --split test --out %s", bin, curves_path,
                  SCENE, dir);
     CHECK(rc == 0, "render exits 0: %d %s", rc, out);
     const ws_split *test = &scene->split[WS_TEST];
@@ -114,10 +96,10 @@ static void test_render(const ws_scene *scene, const ws_curves *c, const char *c
           match, test->n);
     CHECK(content == test->n, "every view shows strokes: %d of %d", content, test->n);
     char count[64];
-    run(count, sizeof count, "ls %s | wc -l", dir);
+    run_cmd(count, sizeof count, "ls %s | wc -l", dir);
     CHECK(atoi(count) == test->n, "no other files in the output directory: %s", count);
 
-    rc = run(out, sizeof out, "%s render %s --scene %s --split val --out %s/small --size 64 --cutoff inf",
+    rc = run_cmd(out, sizeof out, "%s render %s --scene %s --split val --out %s/small --size 64 --cutoff inf",
              bin, curves_path, SCENE, tmp);
     unsigned w = 0, h = 0;
     int depth, type;
@@ -132,7 +114,7 @@ static void test_render(const ws_scene *scene, const ws_curves *c, const char *c
 /* grad prints the same numbers as the library chain computes here. */
 static void test_grad(const ws_curves *c, const char *curves_path) {
     static char out[1 << 16];
-    int rc = run(out, sizeof out, "%s grad %s --curves %s --split test --view 3 --loss l2", bin,
+    int rc = run_cmd(out, sizeof out, "%s grad %s --curves %s --split test --view 3 --loss l2", bin,
                  SCENE, curves_path);
     CHECK(rc == 0, "grad exits 0: %s", out);
     cJSON *root = cJSON_Parse(out);
@@ -192,7 +174,7 @@ static void test_export(const char *curves_path) {
     snprintf(obj, sizeof obj, "%s/s.obj", tmp);
     snprintf(ply, sizeof ply, "%s/s.ply", tmp);
     snprintf(svg, sizeof svg, "%s/s.svg", tmp);
-    int rc = run(out, sizeof out, "%s export %s --obj %s --ply %s --svg %s --scene %s --view 2", bin,
+    int rc = run_cmd(out, sizeof out, "%s export %s --obj %s --ply %s --svg %s --scene %s --view 2", bin,
                  curves_path, obj, ply, svg, SCENE);
     CHECK(rc == 0, "export exits 0: %s", out);
     CHECK(count_lines(obj, "v ") == 8 * 33 && count_lines(obj, "l ") == 8,
@@ -213,7 +195,7 @@ static void test_export(const char *curves_path) {
     CHECK(fabs(x - c.P[9]) < 1e-6 && fabs(y - c.P[10]) < 1e-6 && fabs(z - c.P[11]) < 1e-6,
           "OBJ polyline ends at P3");
     ws_curves_free(&c);
-    rc = run(out, sizeof out, "%s export %s --svg %s", bin, curves_path, svg);
+    rc = run_cmd(out, sizeof out, "%s export %s --svg %s", bin, curves_path, svg);
     CHECK(rc == 2 && strstr(out, "wiresketch: --scene: required"), "--svg needs --scene: %s", out);
 }
 
@@ -266,13 +248,13 @@ static void test_errors(const char *curves_path, int ntest) {
         fill_in(fmt, sizeof fmt, cases[k].args, ntest);
         fill_in(msg, sizeof msg, cases[k].msg, ntest);
         snprintf(args, sizeof args, fmt, first, tmp);
-        int rc = run(out, sizeof out, "%s %s", bin, args);
+        int rc = run_cmd(out, sizeof out, "%s %s", bin, args);
         CHECK(rc == cases[k].code && strstr(out, msg) && strchr(out, '\n') == out + strlen(out) - 1,
               "`%s`: exit %d, got %d: %s", args, cases[k].code, rc, out);
     }
     const char *cmds[3] = {"render", "grad", "export"};
     for (int k = 0; k < 3; k++) {
-        int rc = run(out, sizeof out, "%s %s --help", bin, cmds[k]);
+        int rc = run_cmd(out, sizeof out, "%s %s --help", bin, cmds[k]);
         CHECK(rc == 0 && !strncmp(out, "usage: wiresketch ", 18), "%s --help: %s", cmds[k], out);
     }
 }
@@ -307,6 +289,6 @@ int main(int argc, char **argv) {
     ws_curves_free(&c);
     ws_scene_free(&scene);
     snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-    if (run(out, sizeof out, "%s", cmd)) fprintf(stderr, "could not remove %s\n", tmp);
+    if (run_cmd(out, sizeof out, "%s", cmd)) fprintf(stderr, "could not remove %s\n", tmp);
     return check_summary();
 }

@@ -1,10 +1,13 @@
 /* cmd_eval.c: `wiresketch eval SCENE --curves C.json`: the test loss of a
  * sketch (item 0, no augmentation) and its distance to the ground truth
- * (METHOD.md section 8), as one JSON object on stdout. */
+ * (METHOD.md section 8), as one JSON object on stdout. The loss is computed
+ * only when asked for (--loss NAME) or, by default, when it can be: the
+ * CLIP loss when the CLIP weight file exists; distances need no weights. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "cli/args.h"
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
@@ -20,28 +23,34 @@ static void print_number(const char *key, double v) {
         printf(", \"%s\": null", key);
 }
 
+/* lo NULL: no loss (the scene's cameras only are read). */
 static int evaluate_sketch(const char *scene_dir, const char *curves_path, const char *split_name,
-                           int size, const ws_loss_options *lo, const ws_splat_options *so,
-                           const char *gt_points, const char *gt_curves, ws_status *st) {
+                           int size, const char *loss_name, const ws_loss_options *lo,
+                           const ws_splat_options *so, const char *gt_points, const char *gt_curves,
+                           ws_status *st) {
     int split = ws_split_index(split_name);
     if (split < 0) return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     ws_scene scene = {0};
     ws_scene_options sopt;
     ws_scene_options_default(&sopt);
     sopt.width = sopt.height = size;
+    sopt.load_images = lo != NULL;
     ws_curves curves = {0};
+    ws_gaussians g = {0};
     ws_objective *obj = NULL;
     double mean = NAN;
     ws_quality q;
     int rc = ws_curves_load(curves_path, &curves, st);
     if (!rc) rc = ws_scene_load(&scene, scene_dir, &sopt, st);
-    if (!rc) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
-    if (!rc) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
+    if (!rc) rc = ws_curves_sample(&curves, &g, st);
+    if (!rc && lo) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
+    if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     if (!rc) {
-        printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d", split_name,
-               scene.split[split].n, curves.n, ws_objective_gaussians(obj)->n);
-        print_number("loss", mean);
+        printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
+               "\"loss_kind\": \"%s\"",
+               split_name, scene.split[split].n, curves.n, g.n, lo ? loss_name : "none");
+        if (lo) print_number("loss", mean);
         if (q.have_surface) {
             print_number("surface_mean", q.surface.mean);
             print_number("surface_p90", q.surface.p90);
@@ -55,6 +64,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         printf("}\n");
     }
     ws_objective_free(obj);
+    ws_gaussians_free(&g);
     ws_curves_free(&curves);
     ws_scene_free(&scene);
     return rc;
@@ -63,10 +73,11 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
 int cmd_eval(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
-    const char *curves_path = NULL, *split_name = "test", *loss_name = "clip";
+    const char *curves_path = NULL, *split_name = "test", *loss_name = "auto";
     const char *gt_points = NULL, *gt_curves = NULL;
     double edges_weight = 1.0;
     int size = 224, threads = 0;
+    ws_arg_list layers = {0};
     ws_loss_options lo;
     ws_loss_options_default(&lo);
     ws_splat_options so;
@@ -76,8 +87,11 @@ int cmd_eval(int argc, char **argv) {
         {"--gt", WS_ARG_STRING, &gt_points, 0, "ground-truth point cloud (PLY) [SCENE/gt_points.ply if present]"},
         {"--gt-curves", WS_ARG_STRING, &gt_curves, 0, "ground-truth curves [SCENE/gt_curves.json if present]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges or l2 [clip]"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0,
+         "auto, none, clip, edges, clip+edges or l2 [auto: clip when the CLIP weight file exists, else none]"},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
+        {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
+         "weight of block 0, 1, ... [0 0 1 1 0]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
         {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
@@ -94,13 +108,25 @@ int cmd_eval(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
         return ws_cli_fail(&st);
     }
-    if (ws_cli_check_size(size, &st) || ws_cli_choose_loss(loss_name, edges_weight, NULL, &lo, &st))
+    if (!strcmp(loss_name, "auto")) loss_name = access(lo.weights_path, R_OK) == 0 ? "clip" : "none";
+    int with_loss = strcmp(loss_name, "none") != 0;
+    if (ws_cli_check_size(size, &st) ||
+        (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st)))
         return ws_cli_fail(&st);
     char scene_points[4200], scene_curves[4200];
     ws_scene_ground_truth(pos[0], scene_points, scene_curves);
+    if (!gt_points) gt_points = scene_points[0] ? scene_points : NULL;
+    if (!gt_curves) gt_curves = scene_curves[0] ? scene_curves : NULL;
+    if (!with_loss && !gt_points && !gt_curves) {
+        ws_fail(&st, WS_EUSAGE,
+                "nothing to evaluate: no loss (no CLIP weight file at %s; choose one with --loss) "
+                "and no ground truth (give --gt or --gt-curves)",
+                lo.weights_path);
+        return ws_cli_fail(&st);
+    }
     ws_threads_set(threads);
-    if (evaluate_sketch(pos[0], curves_path, split_name, size, &lo, &so,
-                        gt_points ? gt_points : scene_points, gt_curves ? gt_curves : scene_curves, &st))
+    if (evaluate_sketch(pos[0], curves_path, split_name, size, loss_name, with_loss ? &lo : NULL,
+                        &so, gt_points, gt_curves, &st))
         return ws_cli_fail(&st);
     return 0;
 }

@@ -1,0 +1,34 @@
+/* cli_run.h: running the command-line program from a test.
+ *
+ * run_cmd(out, size, fmt, ...) runs a shell command line (stdout and stderr
+ * together), stores what it printed (up to size - 1 bytes) in `out` and
+ * returns its exit code, -1 when it could not run or did not exit. */
+#ifndef WS_CLI_RUN_H
+#define WS_CLI_RUN_H
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/wait.h>
+
+static int run_cmd(char *out, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int run_cmd(char *out, size_t size, const char *fmt, ...) {
+    char cmd[8192];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cmd, sizeof cmd - 8, fmt, ap);
+    va_end(ap);
+    strcat(cmd, " 2>&1");
+    FILE *p = popen(cmd, "r");
+    out[0] = '\0';
+    if (!p) return -1;
+    size_t n = 0, got;
+    while (n + 1 < size && (got = fread(out + n, 1, size - 1 - n, p)) > 0) n += got;
+    out[n] = '\0';
+    char sink[4096]; /* the rest, so that the command is not killed by SIGPIPE */
+    while (fread(sink, 1, sizeof sink, p) > 0) {
+    }
+    int status = pclose(p);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+#endif

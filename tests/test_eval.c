@@ -1,0 +1,95 @@
+/* test_eval.c: `wiresketch eval` computes a loss only when asked for or
+ * when it can: on the committed fixture scene, the distances alone without
+ * CLIP weights (loss_kind "none"), the edge loss when asked, the CLIP loss
+ * by default when the weight file exists (the tiny test model), and the
+ * errors when a loss's needs are not met or there is nothing to measure. */
+#include <cJSON.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "check.h"
+#include "cli_run.h"
+
+#define FIXTURE "tests/fixtures/scene_small"
+static char bin[512], tmp[256];
+
+/* Runs `eval ARGS`, expecting exit 0 and one JSON object. */
+static cJSON *eval_json(const char *what, const char *args) {
+    static char out[1 << 14];
+    int rc = run_cmd(out, sizeof out, "%s eval %s", bin, args);
+    cJSON *j = rc == 0 ? cJSON_Parse(out) : NULL;
+    CHECK(j != NULL, "%s: exit %d: %s", what, rc, out);
+    return j;
+}
+
+static const char *kind(const cJSON *j) {
+    const cJSON *k = cJSON_GetObjectItem(j, "loss_kind");
+    return cJSON_IsString(k) ? k->valuestring : "";
+}
+
+static void test_eval(void) {
+    char args[2048], out[4096], weights[512];
+    /* no weights: distances only, to the scene's own ground truth */
+    snprintf(args, sizeof args, FIXTURE " --curves " FIXTURE "/gt_curves.json --weights %s/none.bin",
+             tmp);
+    cJSON *j = eval_json("no weights", args);
+    if (j) {
+        const cJSON *ch = cJSON_GetObjectItem(j, "chamfer"), *f = cJSON_GetObjectItem(j, "fscore");
+        CHECK(!strcmp(kind(j), "none") && !cJSON_GetObjectItem(j, "loss"), "no loss without weights");
+        CHECK(cJSON_IsNumber(ch) && ch->valuedouble < 1e-6 && cJSON_IsNumber(f) && f->valuedouble == 1,
+              "the truth against itself: chamfer %g", cJSON_IsNumber(ch) ? ch->valuedouble : -1);
+        CHECK(cJSON_IsNumber(cJSON_GetObjectItem(j, "surface_mean")), "gt_points.ply measured");
+        CHECK(cJSON_GetObjectItem(j, "views")->valueint == 4, "test views");
+        cJSON_Delete(j);
+    }
+    /* --loss edges: computed, no weights needed */
+    snprintf(args, sizeof args, FIXTURE " --curves " FIXTURE "/gt_curves.json --loss edges --size 64");
+    j = eval_json("--loss edges", args);
+    if (j) {
+        const cJSON *l = cJSON_GetObjectItem(j, "loss");
+        CHECK(!strcmp(kind(j), "edges") && cJSON_IsNumber(l), "edge loss computed");
+        cJSON_Delete(j);
+    }
+    /* an explicit CLIP loss without weights: the weight file's message */
+    int rc = run_cmd(out, sizeof out, "%s eval " FIXTURE " --curves " FIXTURE "/gt_curves.json --loss clip --weights %s/none.bin",
+                     bin, tmp);
+    CHECK(rc == 1 && strstr(out, "none.bin: no CLIP weight file") && strstr(out, "--loss edges"),
+          "--loss clip without weights: %d %s", rc, out);
+    /* nothing to measure: no loss and no ground truth */
+    rc = run_cmd(out, sizeof out, "%s eval %s/bare --curves " FIXTURE "/gt_curves.json --weights %s/none.bin",
+                 bin, tmp, tmp);
+    CHECK(rc == 2 && !strncmp(out, "wiresketch: nothing to evaluate: no loss (no CLIP weight file at ", 65),
+          "no loss, no ground truth: %d %s", rc, out);
+    rc = run_cmd(out, sizeof out, "%s eval --help", bin);
+    CHECK(rc == 0 && strstr(out, "[auto: clip when the CLIP weight file exists, else none]"),
+          "--help states the rule");
+    /* weights present: CLIP by default (the tiny test model) */
+    snprintf(weights, sizeof weights, "%s/tiny.bin", tmp);
+    rc = run_cmd(out, sizeof out,
+                 "python3 tools/convert_weights.py tests/fixtures/clip_tiny/clip_tiny_state_dict.pt %s",
+                 weights);
+    CHECK(rc == 0, "converting the tiny model: %s", out);
+    snprintf(args, sizeof args,
+             FIXTURE " --curves " FIXTURE "/gt_curves.json --weights %s --size 64 --clip-conv-layer-weights 1 1",
+             weights);
+    j = eval_json("weights present", args);
+    if (j) {
+        const cJSON *l = cJSON_GetObjectItem(j, "loss");
+        CHECK(!strcmp(kind(j), "clip") && cJSON_IsNumber(l), "CLIP loss by default with weights");
+        cJSON_Delete(j);
+    }
+}
+
+int main(void) {
+    const char *build = getenv("BUILD");
+    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_eval.%ld", (long)getpid());
+    char out[512];
+    /* a scene without ground truth: the fixture's cameras and images */
+    run_cmd(out, sizeof out, "mkdir -p %s/bare && cp -r " FIXTURE "/transforms_*.json " FIXTURE "/rgb %s/bare",
+            tmp, tmp);
+    test_eval();
+    run_cmd(out, sizeof out, "rm -rf %s", tmp);
+    return check_summary();
+}
