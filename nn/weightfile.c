@@ -44,7 +44,8 @@ enum { WF_MAX_WIDTH = 65536, WF_MAX_LAYERS = 4096, WF_MAX_RESOLUTION = 16384 };
  * in_proj and out_proj, ln_2, mlp c_fc and c_proj, a weight and a bias
  * each) and 8 outside them (conv1, class and positional embeddings, ln_pre,
  * ln_post, proj). A table longer than its header's layers allow is refused
- * before anything is allocated for it. */
+ * before anything is allocated for it; with names unique and every tower
+ * tensor looked up by clip.c, the table then holds exactly the tower. */
 enum { WF_TENSORS_PER_LAYER = 12, WF_TENSORS_OUTSIDE_LAYERS = 8 };
 /* The largest weight file mapped: ViT-B/32 in f32 is 350 MB, ViT-L/14 1.2 GB. */
 #define WF_MAX_FILE_BYTES ((uint64_t)16 << 30)

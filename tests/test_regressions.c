@@ -99,6 +99,8 @@ static const struct {
 } regressions[] = {
     {"scene", "file_path_newline.json", ": frame 0: file_path contains a control character"},
     {"weights", "tensor_name_newline.bin", ": tensor table entry 0 has a malformed name"},
+    {"weights", "tensors_200000.bin", ": 200000 tensors in the table, a 1-layer CLIP tower has 20"},
+    {"weights", "tensor_beyond_layers.bin", ": 21 tensors in the table, a 1-layer CLIP tower has 20"},
     {"checkpoint", "thickness_negative.bin", ": corrupt checkpoint (curve thickness or overlap)"},
 };
 enum { NREGRESSIONS = sizeof regressions / sizeof regressions[0] };

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """make_fuzz_corpus.py: rewrites the fuzzers' seed corpora, tests/fuzz/corpus/.
 
-usage: python3 tools/make_fuzz_corpus.py [--wiresketch build/wiresketch] [--out DIR]
+usage: python3 tools/make_fuzz_corpus.py [--wiresketch build/wiresketch] [--out DIR] [--regressions]
 
 Small real files of every kind the fuzz targets read (kept small: the
 corpus is committed):
@@ -21,7 +21,9 @@ corpus is committed):
   ply/         point clouds: ascii, binary of both byte orders, other types,
                extra properties, a list and a face element; rose's
                gt_points.ply cut to its first 40 points
-The last two need a built wiresketch. Python 3 standard library only.
+The last two need a built wiresketch. Then the hand-made hostile inputs of
+tests/fuzz/regressions/ (--regressions: only those). Python 3 standard
+library only.
 """
 import argparse
 import json
@@ -253,12 +255,64 @@ def fit_corpus(ws, scene, tmp):
     write("curves", "empty.json", b'{"thickness": 0.5, "overlap": 0, "curves": []}\n')
 
 
+# --------------------------------------------------------------------------
+# Regressions: hostile inputs of issue 15, each refused with the message
+# tests/test_regressions.c expects (checksums right, so the check under
+# test is the one that fires)
+
+REGRESSIONS = os.path.join(ROOT, "tests", "fuzz", "regressions")
+
+
+def write_regression(kind, name, data):
+    os.makedirs(os.path.join(REGRESSIONS, kind), exist_ok=True)
+    with open(os.path.join(REGRESSIONS, kind, name), "wb") as f:
+        f.write(data)
+
+
+def with_crc(body):
+    return body + struct.pack("<I", zlib.crc32(body) & 0xffffffff)
+
+
+def weight_regressions():
+    tiny = open(os.path.join(CORPUS, "weights", "tiny_f32.bin"), "rb").read()
+    count = struct.unpack_from("<I", tiny, 36)[0]
+    # a table claiming 200 000 tensors (the header of a 1-layer tower)
+    write_regression("weights", "tensors_200000.bin",
+                     with_crc(tiny[:36] + struct.pack("<I", 200000) + tiny[40:-4]))
+    # one tensor more than a 1-layer tower has: block 1's ln_1.bias; the
+    # table grows by 120 bytes, so every data offset moves by 128 (aligned)
+    table_end = 40 + count * 120
+    data_start = (table_end + 63) // 64 * 64
+    entries = []
+    for i in range(count):
+        e = bytearray(tiny[40 + 120 * i:160 + 120 * i])
+        struct.pack_into("<Q", e, 104, struct.unpack_from("<Q", e, 104)[0] + 128)
+        entries.append(bytes(e))
+    data = tiny[data_start:-4]
+    extra_at = (data_start + 128 + len(data) + 63) // 64 * 64
+    entries.append(struct.pack("<64sII4QQQ", b"transformer.resblocks.1.ln_1.bias", 0, 1, 8, 0, 0, 0,
+                               extra_at, 32))
+    head = tiny[:36] + struct.pack("<I", count + 1) + b"".join(entries)
+    body = head.ljust(data_start + 128, b"\0") + data
+    body = body.ljust(extra_at, b"\0") + struct.pack("<8f", *([0.5] * 8))
+    write_regression("weights", "tensor_beyond_layers.bin", with_crc(body))
+
+
+def regressions_corpus():
+    weight_regressions()
+
+
 def main():
     global CORPUS
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--wiresketch", default=os.path.join(ROOT, "build", "wiresketch"))
     ap.add_argument("--out", default=CORPUS, help="corpus directory [tests/fuzz/corpus]")
+    ap.add_argument("--regressions", action="store_true",
+                    help="only rewrite the hand-made regression inputs (no ../shared needed)")
     args = ap.parse_args()
+    if args.regressions:
+        regressions_corpus()
+        return
     CORPUS = args.out
     for kind in ("scene", "png", "weights", "curves", "checkpoint", "ply"):
         shutil.rmtree(os.path.join(CORPUS, kind), ignore_errors=True)
@@ -272,6 +326,7 @@ def main():
              "--views-val", "1", "--views-test", "1"])
         scene_corpus(scene)
         fit_corpus(args.wiresketch, scene, tmp)
+    regressions_corpus()
     total = sum(os.path.getsize(os.path.join(d, f)) for d, _, fs in os.walk(CORPUS) for f in fs)
     print(f"make_fuzz_corpus.py: {CORPUS}: {total} bytes")
 
