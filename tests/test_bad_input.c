@@ -219,6 +219,29 @@ static void test_scenes(void) {
     CHECK(ANSWER(1, rc, "%s: frame 0: camera too far out (its distance to the scene centre overflows)",
                  path),
           "camera at 1e300");
+    /* degenerate cameras: a field of view of 1e-300, a rotation scaled by
+     * 1e100, a bottom row that is not 0 0 0 1 */
+    write_text(path, "{\"camera_angle_x\": 1e-300, \"frames\": [{\"file_path\": \"train/r_0\", "
+                     "\"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]}]}");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: camera_angle_x 1e-300 is not in [0.001, pi - 0.001]", path), "tiny angle");
+    write_text(path, "{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"train/r_0\", "
+                     "\"transform_matrix\": [[1e100, 0, 0, 0], [0, 1e100, 0, 0], [0, 0, 1e100, 4], "
+                     "[0, 0, 0, 1]]}]}");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: frame 0: transform_matrix's rotation is not orthonormal (R^T R differs "
+                        "from I by 1e+200)", path),
+          "rotation scaled by 1e100");
+    write_text(path, "{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"train/r_0\", "
+                     "\"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 1, 1]]}]}");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: frame 0: transform_matrix's bottom row is not 0 0 0 1", path), "bottom row");
+    write_text(path, "{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"../scene/train/r_0\", "
+                     "\"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]}]}");
+    rc = run("fit %s --out %s " FIT, s, out);
+    CHECK(ANSWER(1, rc, "%s: frame 0: file_path '../scene/train/r_0' leaves the scene directory ('..')",
+                 path),
+          "file_path out of the scene");
     write_text(path, "{\"camera_angle_x\": 0.7, \"frames\": [{\"file_path\": \"train/r_9\", "
                      "\"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]}]}");
     rc = run("fit %s --out %s " FIT, s, out);

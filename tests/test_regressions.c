@@ -98,6 +98,12 @@ static const struct {
     const char *target, *file, *message;
 } regressions[] = {
     {"scene", "file_path_newline.json", ": frame 0: file_path contains a control character"},
+    {"scene", "file_path_parent.json",
+     ": frame 0: file_path 'train/../../r_0' leaves the scene directory ('..')"},
+    {"scene", "camera_angle_tiny.json", ": camera_angle_x 1e-300 is not in [0.001, pi - 0.001]"},
+    {"scene", "rotation_scaled.json",
+     ": frame 0: transform_matrix's rotation is not orthonormal (R^T R differs from I by 1e+200)"},
+    {"scene", "bottom_row.json", ": frame 0: transform_matrix's bottom row is not 0 0 0 1"},
     {"weights", "tensor_name_newline.bin", ": tensor table entry 0 has a malformed name"},
     {"weights", "tensors_200000.bin", ": 200000 tensors in the table, a 1-layer CLIP tower has 20"},
     {"weights", "tensor_beyond_layers.bin", ": 21 tensors in the table, a 1-layer CLIP tower has 20"},

@@ -706,7 +706,7 @@ static void test_errors(void) {
 
     snprintf(json, sizeof json, "{\"camera_angle_x\": 4, \"frames\": [%s]}", ok);
     write_text(path, json);
-    snprintf(want, sizeof want, "%s: camera_angle_x 4 is not in (0, pi)", path);
+    snprintf(want, sizeof want, "%s: camera_angle_x 4 is not in [0.001, pi - 0.001]", path);
     expect_error(dir, want, WS_EINPUT);
 
     /* an unreadable transforms file (a directory in its place) */

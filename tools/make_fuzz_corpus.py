@@ -298,8 +298,22 @@ def weight_regressions():
     write_regression("weights", "tensor_beyond_layers.bin", with_crc(body))
 
 
+def scene_regressions():
+    def scene(angle, file_path, matrix):
+        return json.dumps({"camera_angle_x": angle, "frames": [
+            {"file_path": file_path, "transform_matrix": matrix}]}).encode()
+    good = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 0, 1]]
+    write_regression("scene", "file_path_parent.json", scene(0.7, "train/../../r_0", good))
+    write_regression("scene", "camera_angle_tiny.json", scene(1e-300, "train/r_0", good))
+    write_regression("scene", "rotation_scaled.json", scene(0.7, "train/r_0", [
+        [1e100, 0, 0, 0], [0, 1e100, 0, 0], [0, 0, 1e100, 4], [0, 0, 0, 1]]))
+    write_regression("scene", "bottom_row.json", scene(0.7, "train/r_0", [
+        [1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 4], [0, 0, 1, 1]]))
+
+
 def regressions_corpus():
     weight_regressions()
+    scene_regressions()
 
 
 def main():

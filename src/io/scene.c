@@ -78,6 +78,16 @@ static int resolve_image(const char *dir, const char *file_path, const char *wha
     return ws_fail(st, WS_EINPUT, "%s: image not found (tried %s)", what, list);
 }
 
+/* Does file_path climb out of the scene directory (a ".." component)? A
+ * scene is one self-contained directory: its transforms may name only
+ * files inside it, so a scene from elsewhere cannot make wiresketch read
+ * (and echo the names of) files beside or above it. */
+static int leaves_scene(const char *file_path) {
+    for (const char *c = file_path; *c; c = strchr(c, '/') ? strchr(c, '/') + 1 : c + strlen(c))
+        if (c[0] == '.' && c[1] == '.' && (c[2] == '/' || c[2] == '\0')) return 1;
+    return 0;
+}
+
 /* The view's name: the last component of file_path without ".png". */
 static int view_name(const char *file_path, const char *what, char *name, size_t size,
                      ws_status *st) {
@@ -124,6 +134,9 @@ static int parse_frame(const cJSON *frame, const char *path, int index, double a
     for (const char *c = fp->valuestring; *c; c++)
         if ((unsigned char)*c < 0x20 || *c == 0x7f)
             return ws_fail(st, WS_EINPUT, "%s: file_path contains a control character", what);
+    if (leaves_scene(fp->valuestring))
+        return ws_fail(st, WS_EINPUT, "%s: file_path '%s' leaves the scene directory ('..')", what,
+                       fp->valuestring);
     const cJSON *m = cJSON_GetObjectItemCaseSensitive(frame, "transform_matrix");
     if (!m) return ws_fail(st, WS_EINPUT, "%s: missing transform_matrix", what);
     double c2w[4][4];
@@ -195,9 +208,8 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
         rc = ws_fail(st, WS_EINPUT, "%s: missing camera_angle_x", path);
     else if (!cJSON_IsNumber(angle))
         rc = ws_fail(st, WS_EINPUT, "%s: camera_angle_x is not a number", path);
-    else if (!(angle->valuedouble > 0 && angle->valuedouble < M_PI))
-        rc = ws_fail(st, WS_EINPUT, "%s: camera_angle_x %g is not in (0, pi)", path,
-                     angle->valuedouble);
+    else if (ws_camera_check_angle(angle->valuedouble, path, st))
+        rc = st->code;
     else if (!frames)
         rc = ws_fail(st, WS_EINPUT, "%s: missing frames", path);
     else if (!cJSON_IsArray(frames))

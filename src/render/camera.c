@@ -10,8 +10,9 @@ int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x
                 return ws_fail(st, WS_EINPUT, "%s: transform_matrix has a non-finite entry", what);
             cam->c2w[i][j] = c2w[i][j];
         }
-    if (!(camera_angle_x > 0 && camera_angle_x < M_PI))
-        return ws_fail(st, WS_EINPUT, "%s: camera_angle_x %g is not in (0, pi)", what, camera_angle_x);
+    if (ws_camera_check_angle(camera_angle_x, what, st)) return st->code;
+    if (c2w[3][0] != 0 || c2w[3][1] != 0 || c2w[3][2] != 0 || c2w[3][3] != 1)
+        return ws_fail(st, WS_EINPUT, "%s: transform_matrix's bottom row is not 0 0 0 1", what);
     const double (*a)[4] = c2w;
     /* Inverse of the 3x3 part by cofactors; the scale of the determinant is
      * compared with the matrix's own scale so that tiny scenes are not
@@ -28,6 +29,17 @@ int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x
         for (int j = 0; j < 3; j++) scale = fmax(scale, fabs(a[i][j]));
     if (!(fabs(det) > 1e-9 * scale * scale * scale) || scale == 0)
         return ws_fail(st, WS_EINPUT, "%s: transform_matrix is singular (det %g)", what, det);
+    /* A camera-to-world rotation is orthonormal: columns of unit length at
+     * right angles. A scaled or sheared one is not a pinhole camera (and a
+     * scale of 1e100 overflows every projection), so it is refused. */
+    double off = 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            off = fmax(off, fabs(a[0][i] * a[0][j] + a[1][i] * a[1][j] + a[2][i] * a[2][j] - (i == j)));
+    if (!(off <= WS_CAMERA_ORTHONORMAL_TOLERANCE))
+        return ws_fail(st, WS_EINPUT,
+                       "%s: transform_matrix's rotation is not orthonormal (R^T R differs from I by %.3g)",
+                       what, off);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) cam->R[i][j] = cof[j][i] / det;
     for (int i = 0; i < 3; i++)
@@ -35,6 +47,13 @@ int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x
     cam->width = width;
     cam->height = height;
     cam->focal = 0.5 * width / tan(0.5 * camera_angle_x);
+    return WS_OK;
+}
+
+int ws_camera_check_angle(double camera_angle_x, const char *what, ws_status *st) {
+    if (!(camera_angle_x >= WS_CAMERA_MIN_ANGLE && camera_angle_x <= M_PI - WS_CAMERA_MIN_ANGLE))
+        return ws_fail(st, WS_EINPUT, "%s: camera_angle_x %g is not in [%g, pi - %g]", what,
+                       camera_angle_x, WS_CAMERA_MIN_ANGLE, WS_CAMERA_MIN_ANGLE);
     return WS_OK;
 }
 

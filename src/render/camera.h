@@ -19,11 +19,21 @@ typedef struct {
     int width, height;
 } ws_camera;
 
+/* The field of view a camera may have: at least 1 mrad (a focal length of
+ * 2 million pixels at 4096 wide), at most pi - 1 mrad; and how far R^T R of
+ * its rotation may be from I (float rounding of stored matrices is 1e-7). */
+#define WS_CAMERA_MIN_ANGLE 1e-3
+#define WS_CAMERA_ORTHONORMAL_TOLERANCE 1e-3
+
 /* Builds a camera from a camera-to-world matrix. Fails with WS_EINPUT (the
  * message starts with `what`, e.g. "transforms_train.json: frame 3") when the
- * matrix is singular or not finite, or the angle is not in (0, pi). */
+ * matrix is not finite, its bottom row is not 0 0 0 1, it is singular or its
+ * rotation is not orthonormal, or the angle is out of range. */
 int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x,
                    int width, int height, const char *what, ws_status *st);
+
+/* camera_angle_x in [WS_CAMERA_MIN_ANGLE, pi - WS_CAMERA_MIN_ANGLE]. */
+int ws_camera_check_angle(double camera_angle_x, const char *what, ws_status *st);
 
 /* Camera-space coordinates c = R p + t. */
 void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]);
