@@ -2,7 +2,8 @@
 # `make test` builds and runs every test (the repository alone: scenes
 # come from tests/fixtures); `make test-scenes SCENES=DIR` runs the scene,
 # metrics and render checks on DIR/rose and DIR/duck (../shared/scenes by
-# default); `make clean` removes build/.
+# default); `make check-layers` checks the layering (nn/ stands alone, no
+# include cycle) and prints the folders' order; `make clean` removes build/.
 # Options: NATIVE=1 adds -march=native (not portable to older CPUs);
 #          SANITIZE=1 builds with ASan+UBSan into build/san (or BUILD=...).
 # `make fuzz` builds tests/fuzz/fuzz_*.c with clang's libFuzzer into
@@ -37,7 +38,7 @@ CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 HEADERS   := $(wildcard src/*.h src/*/*.h nn/*.h nn/*/*.h) tests/check.h tests/cli_run.h
 
-.PHONY: all test test-scenes clean bench demo fuzz fuzz-build
+.PHONY: all test test-scenes check-layers clean bench demo fuzz fuzz-build
 all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example
 
 $(BUILD)/obj/%.o: %.c $(HEADERS)
@@ -58,8 +59,16 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a $(HEADERS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) -Itests $< $(BUILD)/libwiresketch.a -o $@ $(LDLIBS)
 
-test: all $(TEST_BIN)
+test: check-layers all $(TEST_BIN)
 	@BUILD=$(BUILD) bash tests/run.sh $(TEST_BIN)
+
+# nn/ stands alone: besides tools/check_layers.py (no include outside nn/,
+# no cycle among modules or folders), every nn/ file compiles without
+# -Isrc -I. (syntax only: a few seconds).
+NN_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -fopenmp $(shell pkg-config --cflags openblas)
+check-layers:
+	@python3 tools/check_layers.py
+	@for f in $(wildcard nn/*.c nn/*/*.c); do $(CC) $(NN_CFLAGS) -fsyntax-only $$f || exit 1; done
 
 SCENES   ?= ../shared/scenes
 SCENE_TESTS := $(BUILD)/tests/test_scene $(BUILD)/tests/test_metrics $(BUILD)/tests/test_render

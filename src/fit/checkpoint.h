@@ -8,7 +8,7 @@
  * checkpoint or the new one; a damaged file is refused, never half-used. */
 #ifndef WS_CHECKPOINT_H
 #define WS_CHECKPOINT_H
-#include "fit/fit.h"
+#include "fit/fit_state.h"
 
 int ws_checkpoint_save(const char *path, const ws_fit_state *s, int argc,
                        const char *const *argv, ws_status *st);

@@ -11,52 +11,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 #include "fit/checkpoint.h"
 #include "fit/fit.h"
 #include "fit/fit_outputs.h"
 #include "base/outfile.h"
+#include "base/timing.h"
 #include "io/scene.h"
 #include "objective/objective.h"
 
 volatile sig_atomic_t ws_fit_stop_requested = 0;
-
-void ws_fit_options_default(ws_fit_options *o) {
-    memset(o, 0, sizeof *o);
-    ws_loss_options_default(&o->loss);
-    o->size = 224;
-    o->batch_size = 1;
-    o->epochs = 10;
-    o->inner_steps = 30;
-    o->n_curves = 25;
-    o->eval_every = 10;
-    o->threads = 0;
-    o->learning_rate = 0.005;
-    o->thickness = 0.02;
-    o->radius = 0.8;
-    o->length = 0.02;
-    o->overlap = 0.6;
-    o->cutoff = 4.0;
-    o->seed = 0;
-    o->checkpoint_minutes = 5.0;
-    o->snapshot_every = 30;
-}
-
-void ws_fit_state_free(ws_fit_state *s) {
-    free(s->order);
-    ws_curves_free(&s->curves);
-    ws_adam_free(&s->adam);
-    free(s->log);
-    free(s->snapshots);
-    memset(s, 0, sizeof *s);
-}
-
-static double now_seconds(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* Everything one fit process holds. */
 typedef struct {
@@ -66,10 +30,8 @@ typedef struct {
     double *grad;             /* curves x 12 */
     double *backup;           /* 3 x curves x 12: P, Adam m and v before an update */
     ws_fit_state s;
-    double start;             /* now_seconds() when this process began fitting */
+    double start;             /* ws_seconds() when this process began fitting */
 } fit_run;
-
-static double elapsed(const fit_run *r) { return r->s.elapsed + now_seconds() - r->start; }
 
 static void shuffle(int *order, int n, ws_rng *rng) {
     for (int i = 0; i < n; i++) order[i] = i;
@@ -134,32 +96,6 @@ static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_st
     return WS_OK;
 }
 
-static int append_log(ws_fit_state *s, const ws_log_row *row, ws_status *st) {
-    if (s->nlog == s->caplog) {
-        int cap = s->caplog ? 2 * s->caplog : 1024;
-        ws_log_row *grown = realloc(s->log, (size_t)cap * sizeof *grown);
-        if (!grown) return ws_fail(st, WS_ENOMEM, "out of memory growing the training log");
-        s->log = grown;
-        s->caplog = cap;
-    }
-    s->log[s->nlog++] = *row;
-    return WS_OK;
-}
-
-/* Keeps the control points for a frame of evolution.gif. */
-static int snapshot(ws_fit_state *s, ws_status *st) {
-    size_t np = (size_t)s->curves.n * 12;
-    if (s->nsnap == s->capsnap) {
-        int cap = s->capsnap ? 2 * s->capsnap : 64;
-        double *grown = realloc(s->snapshots, (size_t)cap * np * sizeof(double));
-        if (!grown) return ws_fail(st, WS_ENOMEM, "out of memory keeping curve snapshots");
-        s->snapshots = grown;
-        s->capsnap = cap;
-    }
-    memcpy(s->snapshots + (size_t)s->nsnap++ * np, s->curves.P, np * sizeof(double));
-    return WS_OK;
-}
-
 static long total_steps(const fit_run *r) {
     int n = r->scene.split[WS_TRAIN].n, bs = r->opt->batch_size;
     long steps = (long)r->opt->epochs * ((n + bs - 1) / bs) * r->opt->inner_steps;
@@ -176,14 +112,14 @@ static void clock_text(double seconds, char text[32]) {
  * every 10 seconds otherwise (logs stay readable); a last line at the end. */
 static void progress(fit_run *r, double loss, double rate_start, long steps_this_run, int final) {
     static double last_print;
-    double t = now_seconds();
+    double t = ws_seconds();
     int tty = isatty(2);
     if (r->opt->quiet || (!final && t - last_print < (tty ? 0.2 : 10.0))) return;
     last_print = t;
     double rate = steps_this_run / fmax(t - rate_start, 1e-9);
     char left[32], spent[32];
     clock_text(rate > 0 ? (total_steps(r) - r->s.global_step) / rate : 0, left);
-    clock_text(elapsed(r), spent);
+    clock_text(ws_fit_state_elapsed(&r->s, r->start), spent);
     if (final) {
         fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
                 tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
@@ -225,7 +161,7 @@ static int init_state(fit_run *r, ws_status *st) {
     s->order = ws_malloc((size_t)s->n_train * sizeof(int), "view order", st);
     if (!s->order || ws_adam_init(&s->adam, s->curves.n * 12, o->learning_rate, st)) return st->code;
     shuffle(s->order, s->n_train, &s->rng);
-    return snapshot(s, st);
+    return ws_fit_state_snapshot(s, st);
 }
 
 static int save_checkpoint(fit_run *r, const char *const *argv, int argc, ws_status *st) {
@@ -233,7 +169,7 @@ static int save_checkpoint(fit_run *r, const char *const *argv, int argc, ws_sta
     snprintf(path, sizeof path, "%s/checkpoint.bin", r->opt->out_dir);
     ws_fit_state *s = &r->s;
     double before = s->elapsed;
-    s->elapsed = elapsed(r);
+    s->elapsed = ws_fit_state_elapsed(&r->s, r->start);
     int rc = ws_checkpoint_save(path, s, argc, argv, st);
     s->elapsed = before;
     return rc;
@@ -247,7 +183,7 @@ static int advance(fit_run *r, double loss, ws_status *st) {
     ws_fit_state *s = &r->s;
     s->global_step++;
     s->step_in_batch++;
-    ws_log_row row = {s->global_batch, s->global_step, elapsed(r), loss, NAN};
+    ws_log_row row = {s->global_batch, s->global_step, ws_fit_state_elapsed(&r->s, r->start), loss, NAN};
     if (s->step_in_batch == o->inner_steps) {
         s->step_in_batch = 0;
         s->batch_in_epoch++;
@@ -262,8 +198,8 @@ static int advance(fit_run *r, double loss, ws_status *st) {
             if (s->epoch < o->epochs) shuffle(s->order, s->n_train, &s->rng);
         }
     }
-    if (append_log(s, &row, st)) return st->code;
-    if (o->snapshot_every > 0 && s->global_step % o->snapshot_every == 0) return snapshot(s, st);
+    if (ws_fit_state_log(s, &row, st)) return st->code;
+    if (o->snapshot_every > 0 && s->global_step % o->snapshot_every == 0) return ws_fit_state_snapshot(s, st);
     return WS_OK;
 }
 
@@ -271,7 +207,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
                         ws_status *st) {
     const ws_fit_options *o = r->opt;
     ws_fit_state *s = &r->s;
-    double rate_start = now_seconds(), last_checkpoint = rate_start;
+    double rate_start = ws_seconds(), last_checkpoint = rate_start;
     long steps_this_run = 0;
     double loss = NAN;
     while (s->epoch < o->epochs && !(o->max_steps > 0 && s->global_step >= o->max_steps)) {
@@ -284,9 +220,9 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         if (train_step(r, s->order + first, nviews, &loss, st) || advance(r, loss, st)) return st->code;
         steps_this_run++;
         progress(r, loss, rate_start, steps_this_run, 0);
-        if (now_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
+        if (ws_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
             if (save_checkpoint(r, argv, argc, st)) return st->code;
-            last_checkpoint = now_seconds();
+            last_checkpoint = ws_seconds();
         }
     }
     progress(r, loss, rate_start, steps_this_run, 1);
@@ -349,7 +285,7 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     memset(&r, 0, sizeof r);
     r.opt = opt;
     *interrupted = 0;
-    r.start = now_seconds();
+    r.start = ws_seconds();
     int rc = fit_run_setup(&r, resume, argv, argc, st);
     if (!rc) rc = run_schedule(&r, argv, argc, interrupted, st);
     if (!rc) rc = save_checkpoint(&r, argv, argc, st);
@@ -359,7 +295,7 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
         rc = test_losses ? evaluate(&r, WS_TEST, &test_loss, test_losses, st) : st->code;
     }
     if (!rc) {
-        r.s.elapsed = elapsed(&r);
+        r.s.elapsed = ws_fit_state_elapsed(&r.s, r.start);
         rc = ws_fit_write_outputs(opt, &r.scene, &r.s, test_losses, test_loss, st);
     }
     free(test_losses);

@@ -1,10 +1,33 @@
-/* fit_options.c: the one check of a fit's options (see fit.h).
+/* fit_options.c: the defaults and the one check of a fit's options (see
+ * fit_options.h).
  *
  * The bounds keep every count the schedule multiplies (views per batch x
  * batches x inner steps x epochs, as a long) and every allocation sized by
  * an option far from overflow, and refuse values that cannot describe a
  * fit (a negative count, a zero thickness) before anything is loaded. */
-#include "fit/fit.h"
+#include <string.h>
+#include "fit/fit_options.h"
+
+void ws_fit_options_default(ws_fit_options *o) {
+    memset(o, 0, sizeof *o);
+    ws_loss_options_default(&o->loss);
+    o->size = 224;
+    o->batch_size = 1;
+    o->epochs = 10;
+    o->inner_steps = 30;
+    o->n_curves = 25;
+    o->eval_every = 10;
+    o->threads = 0;
+    o->learning_rate = 0.005;
+    o->thickness = 0.02;
+    o->radius = 0.8;
+    o->length = 0.02;
+    o->overlap = 0.6;
+    o->cutoff = 4.0;
+    o->seed = 0;
+    o->checkpoint_minutes = 5.0;
+    o->snapshot_every = 30;
+}
 
 /* Counts: views per batch, epochs and Adam steps per batch at most 10^6
  * (their product with 65536 batches stays below 2^63), curves at most 10^5

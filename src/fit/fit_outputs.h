@@ -4,7 +4,8 @@
  * Every file is written to a temporary name and renamed. */
 #ifndef WS_FIT_OUTPUTS_H
 #define WS_FIT_OUTPUTS_H
-#include "fit/fit.h"
+#include "fit/fit_options.h"
+#include "fit/fit_state.h"
 #include "io/scene.h"
 
 /* test_losses: one per test view (NULL: not evaluated, e.g. after an

@@ -1,0 +1,29 @@
+/* fit_options.h: the settings of `wiresketch fit` (METHOD.md sections 5-7),
+ * read by the loop, the checkpoint's command line and the outputs. */
+#ifndef WS_FIT_OPTIONS_H
+#define WS_FIT_OPTIONS_H
+#include <stdint.h>
+#include "nn/base/status.h"
+#include "objective/loss.h"
+
+typedef struct {
+    const char *scene_dir;
+    const char *out_dir;
+    const char *init_curves;   /* NULL: the random initialisation of METHOD.md section 2 */
+    ws_loss_options loss;
+    int size;                  /* working resolution (the model's with CLIP) */
+    int batch_size, epochs, inner_steps, n_curves, eval_every, threads;
+    double learning_rate, thickness, radius, length, overlap, cutoff;
+    uint64_t seed;
+    int max_steps;             /* stop after this many steps in all (0: no limit) */
+    double checkpoint_minutes; /* checkpoint at least this often */
+    int snapshot_every;        /* steps between frames of evolution.gif */
+    int quiet;                 /* no progress line */
+} ws_fit_options;
+
+void ws_fit_options_default(ws_fit_options *opt);
+/* Every option in its range (WS_EUSAGE naming the option otherwise); the
+ * command line and a checkpoint's stored arguments both pass here. */
+int ws_fit_options_check(const ws_fit_options *opt, ws_status *st);
+
+#endif
