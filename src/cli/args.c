@@ -130,3 +130,43 @@ int ws_cli_fail(const ws_status *st) {
     fprintf(stderr, "wiresketch: %s\n", st->msg);
     return ws_exit_code(st);
 }
+
+/* "%g" when it reads back as v, else "%.17g". */
+static int put_number(char *buf, size_t size, double v) {
+    char six[32];
+    snprintf(six, sizeof six, "%g", v);
+    return snprintf(buf, size, strtod(six, NULL) == v ? "%g" : "%.17g", v);
+}
+
+void ws_arg_value(const ws_arg *a, char *buf, size_t size) {
+    buf[0] = '\0';
+    switch (a->kind) {
+    case WS_ARG_FLAG:
+        snprintf(buf, size, "%s", *(const int *)a->dest ? "yes" : "no");
+        break;
+    case WS_ARG_INT:
+        snprintf(buf, size, "%d", *(const int *)a->dest);
+        break;
+    case WS_ARG_DOUBLE:
+    case WS_ARG_CUTOFF:
+        if (isinf(*(const double *)a->dest))
+            snprintf(buf, size, "inf");
+        else
+            put_number(buf, size, *(const double *)a->dest);
+        break;
+    case WS_ARG_STRING: {
+        const char *v = *(const char *const *)a->dest;
+        snprintf(buf, size, "%s", v ? v : "");
+        break;
+    }
+    case WS_ARG_DOUBLES: {
+        const ws_arg_list *list = a->dest;
+        size_t used = 0;
+        for (int k = 0; k < list->n && used < size; k++) {
+            if (k) used += (size_t)snprintf(buf + used, size - used, " ");
+            if (used < size) used += (size_t)put_number(buf + used, size - used, list->v[k]);
+        }
+        break;
+    }
+    }
+}

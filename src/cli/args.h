@@ -45,6 +45,11 @@ typedef struct {
 int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
                   int *npositional, int *help, ws_status *st);
 
+/* The value an option holds now (after parsing, or its default) as text:
+ * "yes"/"no" for a flag, "%g" numbers (17 digits when 6 do not give the
+ * value back), "inf", the string or "" for none, a list as "1 0.5 2". */
+void ws_arg_value(const ws_arg *a, char *buf, size_t size);
+
 /* Prints the usage and every option of spec to stdout. */
 void ws_args_usage(const ws_command_spec *spec);
 

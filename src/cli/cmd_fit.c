@@ -18,10 +18,31 @@ static void request_stop(int sig) {
     ws_fit_stop_requested = 1;
 }
 
+/* The report's settings table, made from the option list itself so that
+ * it shows every option of the run (defaults included) and cannot drift
+ * from it: one row per option but --resume, named as on the command line. */
+#define MAX_SETTINGS 64
+typedef struct {
+    int n;
+    ws_report_item items[MAX_SETTINGS];
+    char text[MAX_SETTINGS][2][512];
+} fit_settings;
+
+static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
+    out->n = 0;
+    for (int k = 0; k < nargs && out->n < MAX_SETTINGS; k++) {
+        if (!strcmp(args[k].name, "--resume")) continue;
+        char(*text)[512] = out->text[out->n];
+        snprintf(text[0], sizeof text[0], "%s", args[k].name + 2);
+        ws_arg_value(&args[k], text[1], sizeof text[1]);
+        out->items[out->n++] = (ws_report_item){text[0], text[1]};
+    }
+}
+
 /* Parses the fit's own arguments (those of a new run, or those a checkpoint
- * stored) into opt. */
+ * stored) into opt; settings (or NULL) receives the report's table. */
 static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **resume_dir, int *help,
-                     ws_status *st) {
+                     fit_settings *settings, ws_status *st) {
     ws_fit_options_default(opt);
     const char *loss_name = "clip";
     double edges_weight = 1.0;
@@ -74,8 +95,18 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
     opt->seed = (uint64_t)(unsigned)seed;
-    if (ws_cli_check_size(opt->size, st) || ws_fit_options_check(opt, st)) return st->code;
-    return ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st);
+    if (ws_cli_check_size(opt->size, st) || ws_fit_options_check(opt, st) ||
+        ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st))
+        return st->code;
+    if (settings) {
+        /* the layer weights in effect, also when the defaults are */
+        layers.n = opt->loss.n_layer_weights;
+        memcpy(layers.v, opt->loss.layer_weights, sizeof(double) * layers.n);
+        fill_settings(args, (int)(sizeof args / sizeof args[0]), settings);
+        opt->settings = settings->items;
+        opt->n_settings = settings->n;
+    }
+    return WS_OK;
 }
 
 /* A checkpoint's stored arguments are input like the command line: they
@@ -91,7 +122,7 @@ static int check_stored_arguments(const char *path, int argc, char **argv, ws_st
     ws_fit_options stored;
     const char *resume_dir;
     int help;
-    if (parse_fit(argc, argv, &stored, &resume_dir, &help, st) == WS_EUSAGE) {
+    if (parse_fit(argc, argv, &stored, &resume_dir, &help, NULL, st) == WS_EUSAGE) {
         char why[sizeof st->msg];
         snprintf(why, sizeof why, "%s", st->msg);
         return ws_fail(st, WS_EINPUT, "%s: stored arguments: %s", path, why);
@@ -137,14 +168,15 @@ int cmd_fit(int argc, char **argv) {
     ws_fit_options opt;
     const char *resume_dir;
     int help;
-    if (parse_fit(argc, argv, &opt, &resume_dir, &help, &st)) return ws_cli_fail(&st);
+    static fit_settings settings;
+    if (parse_fit(argc, argv, &opt, &resume_dir, &help, &settings, &st)) return ws_cli_fail(&st);
     if (help) return 0;
     int run_argc = argc, nsaved = 0, rc = WS_OK, interrupted = 0;
     char **run_argv = argv, **saved = NULL;
     const char *dir = resume_dir;
     if (dir) {
         rc = resume_arguments(dir, argc, argv, &run_argc, &run_argv, &nsaved, &saved, &st);
-        if (!rc) rc = parse_fit(run_argc, run_argv, &opt, &resume_dir, &help, &st);
+        if (!rc) rc = parse_fit(run_argc, run_argv, &opt, &resume_dir, &help, &settings, &st);
         opt.out_dir = dir; /* the run continues where its checkpoint is now */
     }
     if (!rc) {

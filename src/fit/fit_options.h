@@ -3,6 +3,7 @@
 #ifndef WS_FIT_OPTIONS_H
 #define WS_FIT_OPTIONS_H
 #include <stdint.h>
+#include "io/report.h"
 #include "nn/base/status.h"
 #include "objective/loss.h"
 
@@ -19,6 +20,10 @@ typedef struct {
     double checkpoint_minutes; /* checkpoint at least this often */
     int snapshot_every;        /* steps between frames of evolution.gif */
     int quiet;                 /* no progress line */
+    /* report.html's settings table: every option of the run with its value
+     * (the command line derives it from its option list); NULL: none */
+    const ws_report_item *settings;
+    int n_settings;
 } ws_fit_options;
 
 void ws_fit_options_default(ws_fit_options *opt);

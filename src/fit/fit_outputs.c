@@ -122,21 +122,8 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
         }
     }
     char text[12][64];
-    snprintf(text[0], 64, "%d", s->curves.n);
     snprintf(text[1], 64, "%ld (%ld skipped)", s->global_step, s->skipped_steps);
     snprintf(text[2], 64, "%.6g", test_loss);
-    snprintf(text[3], 64, "%g", opt->learning_rate);
-    snprintf(text[4], 64, "%g / %g", s->curves.thickness, s->curves.overlap);
-    snprintf(text[5], 64, "%d", opt->loss.num_aug);
-    snprintf(text[6], 64, "%g", opt->cutoff);
-    snprintf(text[7], 64, "%llu", (unsigned long long)opt->seed);
-    const char *loss_name = ws_loss_uses_clip(&opt->loss) ? (opt->loss.edges_weight ? "clip+edges" : "clip")
-                                                          : "edges";
-    ws_report_item settings[] = {
-        {"loss", loss_name},        {"curves", text[0]},          {"learning rate", text[3]},
-        {"thickness / overlap", text[4]}, {"augmentations", text[5]}, {"cut-off (sigmas)", text[6]},
-        {"seed", text[7]},
-    };
     ws_report_item metrics[6] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
     int nmetrics = 2;
     if (q->have_surface) {
@@ -155,8 +142,8 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
     ws_report rep = {0};
     rep.title = "wiresketch fit";
     rep.scene_path = scene->dir;
-    rep.settings = settings;
-    rep.n_settings = (int)(sizeof settings / sizeof settings[0]);
+    rep.settings = opt->settings;
+    rep.n_settings = opt->settings ? opt->n_settings : 0;
     rep.metrics = metrics;
     rep.n_metrics = nmetrics;
     rep.train_step = steps;

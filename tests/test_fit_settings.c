@@ -1,0 +1,79 @@
+/* test_fit_settings.c: report.html's settings table shows every option of
+ * `fit` (each option `fit --help` lists, but --resume) with the value the
+ * run used: given values as given, defaults as defaults, and the same
+ * table after --resume. A short edge-loss fit of the committed fixture. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "check.h"
+#include "cli_run.h"
+
+static char bin[512], tmp[256];
+static char report[1 << 20];
+
+static void read_report(const char *dir) {
+    char path[600];
+    snprintf(path, sizeof path, "%s/report.html", dir);
+    FILE *f = fopen(path, "rb");
+    size_t n = f ? fread(report, 1, sizeof report - 1, f) : 0;
+    if (f) fclose(f);
+    report[n] = '\0';
+}
+
+/* The row of option `name` holds `value`. */
+static int has_row(const char *name, const char *value) {
+    char row[1024];
+    snprintf(row, sizeof row, "<tr><th>%s</th><td>%s</td></tr>", name, value);
+    return strstr(report, row) != NULL;
+}
+
+static int has_name(const char *name) {
+    char row[600];
+    snprintf(row, sizeof row, "<tr><th>%s</th><td>", name);
+    return strstr(report, row) != NULL;
+}
+
+int main(void) {
+    const char *build = getenv("BUILD");
+    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_settings.%ld", (long)getpid());
+    static char out[1 << 16];
+    char run_dir[300];
+    snprintf(run_dir, sizeof run_dir, "%s/run", tmp);
+    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    int rc = run_cmd(out, sizeof out,
+                     "%s fit tests/fixtures/scene_small --out %s/run --loss edges --size 64 --max-steps 2 "
+                     "--radius 0.7 --length 0.05 --epochs 3 --inner-steps 2 --n-curves 7 --thickness 0.03 "
+                     "--learning-rate 0.0125 --cutoff inf --seed 9 --threads 1 --quiet",
+                     bin, tmp);
+    CHECK(rc == 0, "fit: %s", out);
+    read_report(run_dir);
+    static const char *const given[][2] = {
+        {"loss", "edges"},    {"size", "64"},         {"max-steps", "2"},      {"radius", "0.7"},
+        {"length", "0.05"},   {"epochs", "3"},        {"inner-steps", "2"},    {"n-curves", "7"},
+        {"thickness", "0.03"}, {"learning-rate", "0.0125"}, {"cutoff", "inf"}, {"seed", "9"},
+        {"quiet", "yes"},     {"overlap", "0.6"},     {"batch-size", "1"},     {"eval-every", "10"},
+        {"clip-conv-layer-weights", "0 0 1 1 0"},     {"init", ""},
+    };
+    for (size_t k = 0; k < sizeof given / sizeof given[0]; k++)
+        CHECK(has_row(given[k][0], given[k][1]), "settings row %s = '%s'", given[k][0], given[k][1]);
+    /* every option of --help has its row */
+    rc = run_cmd(out, sizeof out, "%s fit --help", bin);
+    int options = 0, rows = 0;
+    for (char *line = strtok(out, "\n"); line; line = strtok(NULL, "\n")) {
+        char name[128];
+        if (sscanf(line, "  --%127s", name) != 1 || !strcmp(name, "resume")) continue;
+        options++;
+        rows += has_name(name);
+        CHECK(has_name(name), "no settings row for --%s", name);
+    }
+    CHECK(options >= 25 && rows == options, "%d of %d options in the table", rows, options);
+    /* a resumed run with an override shows it */
+    rc = run_cmd(out, sizeof out, "%s fit --resume %s/run --max-steps 3 --quiet", bin, tmp);
+    CHECK(rc == 0, "resume: %s", out);
+    read_report(run_dir);
+    CHECK(has_row("max-steps", "3") && has_row("radius", "0.7"), "resumed table: stored and overridden");
+    run_cmd(out, sizeof out, "rm -rf %s", tmp);
+    return check_summary();
+}
