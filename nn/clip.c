@@ -221,6 +221,7 @@ const wf_arch *clip_model_arch(const clip_model *m) { return &m->arch; }
 
 struct clip_run {
     clip_run_options opt;
+    const char *model_name;    /* the weight file, named in messages */
     int blocks;                /* blocks recorded: last_block + 1, or all for the embedding */
     nn_tape tape;
     nn_tensor *images;         /* graph input [B,3,R,R] */
@@ -254,6 +255,7 @@ int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options 
     clip_run *r = ws_calloc(1, sizeof *r, "clip run", st);
     if (!r) return st->code;
     r->opt = *opt;
+    r->model_name = m->file ? wf_path(m->file) : "clip (random weights)";
     r->blocks = opt->need_embedding ? a->layers : opt->last_block + 1;
     r->hidden = ws_calloc((size_t)r->blocks, sizeof *r->hidden, "clip run", st);
     r->seed_hidden = ws_calloc((size_t)opt->last_block + 1, sizeof *r->seed_hidden, "clip run", st);
@@ -312,7 +314,8 @@ int clip_forward(clip_run *r, const float *images, ws_status *st) {
     nn_tape_forward(&r->tape);
     const nn_tensor *last = r->embedding ? r->embedding : r->hidden[r->blocks - 1];
     if (first_nonfinite(last->data, last->numel) >= 0)
-        return ws_fail(st, WS_ENUMERIC, "clip: the forward pass produced a non-finite value");
+        return ws_fail(st, WS_ENUMERIC, "%s: the forward pass produced a non-finite value",
+                       r->model_name);
     r->forward_done = 1;
     return WS_OK;
 }

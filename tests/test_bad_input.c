@@ -432,7 +432,7 @@ static void test_curve_files(void) {
          "JSON syntax error near line 1"},
         {"{\"thickness\": 0.02, \"overlap\": 0.6, \"curves\": [[[0, 0, 0], [1e300, 0, 0], "
          "[0, 1e300, 0], [0, 0, 1e300]]]}",
-         "curves: curve 0 is too long to measure"},
+         "curve 0 is too long to measure"},
         {"{\"thickness\": -1, \"overlap\": 0.6, \"curves\": []}", "thickness -1 is not positive"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -440,8 +440,14 @@ static void test_curve_files(void) {
         int rc = run("fit %s/scene --out %s --init %s " FIT, tmp, out, path);
         CHECK(ANSWER(1, rc, "%s: %s", path, cases[k].message), "curve file %zu", k);
     }
+    /* render and eval read curve files through the same loader */
+    write_text(path, cases[5].text);
+    int rc = run("render %s --scene %s/scene --out %s/render_long --size 32", path, tmp, tmp);
+    CHECK(ANSWER(1, rc, "%s: %s", path, cases[5].message), "render: curve too long");
+    rc = run("eval %s/scene --curves %s --loss edges --size 32", tmp, path);
+    CHECK(ANSWER(1, rc, "%s: %s", path, cases[5].message), "eval: curve too long");
     snprintf(path, sizeof path, "%s/no_such_curves.json", tmp);
-    int rc = run("fit %s/scene --out %s --init %s " FIT, tmp, out, path);
+    rc = run("fit %s/scene --out %s --init %s " FIT, tmp, out, path);
     CHECK(ANSWER(1, rc, "%s: cannot open: No such file or directory", path), "missing curve file");
     rc = run("eval %s/scene --curves %s --loss edges", tmp, path);
     CHECK(ANSWER(1, rc, "%s: cannot open: No such file or directory", path), "eval: missing curves");
@@ -627,6 +633,12 @@ static void test_output_faults(void) {
     CHECK(checkpoint_loads(path), "the last checkpoint was damaged by the full disk");
     rc = run("fit --resume %s", dir);
     CHECK(rc == 0, "resume after the full disk failed");
+    /* a PNG that does not fit: named, with the reason from errno */
+    snprintf(dir, sizeof dir, "%s/full_png", tmp);
+    rc = run_limited(512, "render %s/scene/gt_curves.json --scene %s/scene --out %s --size 200", tmp, tmp,
+                     dir);
+    CHECK(ANSWER(1, rc, "%s/r_0.png: write failed: File too large", dir), "full disk in a PNG");
+    CHECK(no_partial_outputs(dir), "outputs after a failed PNG");
     /* a real full disk, when a tmpfs can be mounted (root) */
     snprintf(dir, sizeof dir, "%s/tmpfs", tmp);
     sh("mkdir -p %s", dir);
@@ -661,13 +673,15 @@ static void test_numeric_faults(void) {
     write_edited(path, w, len, data, huge, nbytes);
     free(huge);
     free(w);
+    int rc = run("embed --weights %s %s/scene/rgb/train/r_0.png", path, tmp);
+    CHECK(ANSWER(1, rc, "%s: the forward pass produced a non-finite value", path), "embed overflows");
     snprintf(dir, sizeof dir, "%s/overflow", tmp);
     run("fit %s/scene --out %s --loss clip --weights %s --size 8 --clip-conv-layer-weights 1 "
         "--num-aug 0 --max-steps 3 --eval-every 0 --threads 1 --quiet", tmp, dir, path);
     for (int step = 0; step < 3; step++) {
         snprintf(want, sizeof want, "grep -qx 'wiresketch: step %d: non-finite loss or gradient "
-                                    "(clip: the forward pass produced a non-finite value); step "
-                                    "skipped' %s/stderr.txt", step, tmp);
+                                    "(%s: the forward pass produced a non-finite value); step "
+                                    "skipped' %s/stderr.txt", step, path, tmp);
         CHECK(sh("%s", want), "step %d: the non-finite loss was not reported", step);
     }
     ws_fit_state s;

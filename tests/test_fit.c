@@ -254,7 +254,7 @@ static void test_unusable_steps_refused(void) {
         fclose(f);
     }
     snprintf(args, sizeof args, FIT " --out %s/g --init %s", tmp, tmp, a);
-    CHECK(run(args) == 1 && stderr_has("huge.json: curves: curve 0 is too long to measure"),
+    CHECK(run(args) == 1 && stderr_has("huge.json: curve 0 is too long to measure"),
           "unusable --init accepted");
 }
 

@@ -145,18 +145,8 @@ static int init_state(fit_run *r, ws_status *st) {
                                      o->thickness, o->overlap, &s->rng, st)) {
         return st->code;
     }
-    /* Curves that cannot be sampled now would fail every step: refused
-     * before the first, naming where they came from. */
-    ws_gaussians g = {0};
-    int rc = ws_curves_sample(&s->curves, &g, st);
-    ws_gaussians_free(&g);
-    if (rc) {
-        char why[sizeof st->msg];
-        snprintf(why, sizeof why, "%s", st->msg);
-        if (o->init_curves) return ws_fail(st, WS_EINPUT, "%s: %s", o->init_curves, why);
-        return ws_fail(st, WS_EUSAGE, "--radius %g, --length %g: the initial curves cannot be sampled (%s)",
-                       o->radius, o->length, why);
-    }
+    /* Both sample: a loaded file's curves were measured by the loader, and
+     * random ones lie within the bounded --radius and --length. */
     s->n_train = r->scene.split[WS_TRAIN].n;
     s->order = ws_malloc((size_t)s->n_train * sizeof(int), "view order", st);
     if (!s->order || ws_adam_init(&s->adam, s->curves.n * 12, o->learning_rate, st)) return st->code;

@@ -234,12 +234,21 @@ int ws_png_read_alpha(const char *path, int width, int height, const float backg
     return rc;
 }
 
+/* Our own write function, so that a failed write says why (errno: "No
+ * space left on device") instead of libpng's "Write Error". */
+static void write_data(png_structp png, png_bytep data, size_t length) {
+    png_io *io = png_get_io_ptr(png);
+    if (fwrite(data, 1, length, io->fp) != length) png_error(png, strerror(errno ? errno : EIO));
+}
+
+static void flush_data(png_structp png) {}
+
 /* Stage of the writer: everything from the header to the end chunk. */
 static int write_stage(png_structp png, png_infop info, const ws_image *img, png_bytep row,
-                       FILE *fp) {
+                       png_io *io) {
     if (setjmp(png_jmpbuf(png))) return -1;
     const int w = img->width, h = img->height, nc = img->channels;
-    png_init_io(png, fp);
+    png_set_write_fn(png, io, write_data, flush_data);
     png_set_IHDR(png, info, w, h, 8, nc == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
@@ -271,9 +280,10 @@ int ws_png_write(const char *path, const ws_image *img, ws_status *st) {
     if (!info)
         rc = ws_fail(st, WS_ENOMEM, "%s: out of memory creating a PNG encoder", path);
     else if (!(rc = ws_outfile_open(&f, path, st))) {
-        if (write_stage(png, info, img, row, f.fp)) {
+        io.fp = f.fp;
+        if (write_stage(png, info, img, row, &io)) {
             ws_outfile_abort(&f);
-            rc = ws_fail(st, WS_EIO, "%s: cannot write PNG (%s)", path, io.reason);
+            rc = ws_fail(st, WS_EIO, "%s: write failed: %s", path, io.reason);
         } else {
             rc = ws_outfile_commit(&f, st);
         }

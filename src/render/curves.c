@@ -270,6 +270,12 @@ static int parse_curves(const cJSON *root, const char *path, ws_curves *c, ws_st
             }
             j++;
         }
+        /* Every reader samples the curves next: one it could not measure
+         * is refused here, where the file can be named. */
+        double cum[WS_ARC_SAMPLES];
+        arc_length_table(c, ci, cum);
+        if (!isfinite(cum[WS_ARC_SAMPLES - 1]))
+            return ws_fail(st, WS_EINPUT, "%s: curve %d is too long to measure", path, ci);
         ci++;
     }
     return WS_OK;
