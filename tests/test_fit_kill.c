@@ -7,13 +7,20 @@
  * before its first checkpoint to deep into the run, the new fit and the
  * resumed ones alike. After every kill, DIR/checkpoint.bin is either absent
  * or loads completely, and `fit --resume DIR` either continues from it (one
- * more step, exit 0) or says that there is no checkpoint (exit 1). The
- * moments are printed, so a failure can be replayed. */
+ * more step, exit 0) or says that there is no checkpoint (exit 1), and
+ * removes the temporary file the kill left (its PID is dead). The moments
+ * are printed, so a failure can be replayed.
+ *
+ * Other commands end on SIGTERM, removing their temporary files first; a
+ * run writing into a directory removes stale temporaries of dead PIDs and
+ * keeps those of live ones. */
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -58,8 +65,8 @@ static long checkpoint_step(void) {
     return step;
 }
 
-/* Temporaries in dir: each is a checkpoint write a kill interrupted (they
- * stay, and are never read). */
+/* Temporaries in dir: each is a checkpoint write a kill interrupted (never
+ * read; the next run writing into dir removes them). */
 static int temporaries(void) {
     char cmd[600];
     int n = 0;
@@ -101,6 +108,75 @@ static int fit_and_kill(int resume, int ms) {
     int status;
     waitpid(pid, &status, 0);
     return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
+/* Is process pid blocked opening a FIFO (no reader yet)? The kernel's wait
+ * channel says so, or else the system call it sleeps in. */
+static int blocked_in_fifo_open(pid_t pid) {
+    char path[64], text[256] = "";
+    snprintf(path, sizeof path, "/proc/%ld/wchan", (long)pid);
+    FILE *f = fopen(path, "r");
+    if (f) {
+        text[fread(text, 1, sizeof text - 1, f)] = '\0';
+        fclose(f);
+    }
+    if (!strcmp(text, "wait_for_partner")) return 1;
+    snprintf(path, sizeof path, "/proc/%ld/syscall", (long)pid);
+    f = fopen(path, "r");
+    long nr = -1;
+    if (f) {
+        if (fscanf(f, "%ld", &nr) != 1) nr = -1;
+        fclose(f);
+    }
+    return nr == SYS_openat;
+}
+
+/* SIGTERM while an output is being written: render's first temporary name
+ * is made a FIFO beforehand (the child knows its PID before exec), so the
+ * render blocks opening it, its temporary file live, when the signal comes.
+ * The handler removes it, and the process ends by SIGTERM. */
+static void test_sigterm_removes_temporaries(void) {
+    char out[300], fifo[400], curves[300], scene[300];
+    snprintf(out, sizeof out, "%s/render", tmp);
+    snprintf(scene, sizeof scene, "%s/scene", tmp);
+    snprintf(curves, sizeof curves, "%s/scene/gt_curves.json", tmp);
+    mkdir(out, 0777);
+    pid_t pid = fork();
+    if (pid == 0) {
+        snprintf(fifo, sizeof fifo, "%s/r_0.png.tmp.%ld", out, (long)getpid());
+        int null = open("/dev/null", O_WRONLY);
+        if (mkfifo(fifo, 0644) != 0 || null < 0 || dup2(null, 1) < 0 || dup2(null, 2) < 0) _exit(126);
+        execl(bin, bin, "render", curves, "--scene", scene, "--out", out, "--size", "64", (char *)NULL);
+        _exit(127);
+    }
+    snprintf(fifo, sizeof fifo, "%s/r_0.png.tmp.%ld", out, (long)pid);
+    int blocked = 0;
+    for (int i = 0; i < 6000 && !blocked; i++) { /* up to 30 s on a loaded machine */
+        blocked = blocked_in_fifo_open(pid);
+        if (!blocked) usleep(5000);
+    }
+    CHECK(blocked, "render never reached its first output");
+    kill(pid, SIGTERM);
+    int status;
+    waitpid(pid, &status, 0);
+    CHECK(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM, "render did not end by SIGTERM");
+    CHECK(access(fifo, F_OK) != 0, "SIGTERM left %s", fifo);
+}
+
+/* A run writing into a directory removes NAME.tmp.PID of a dead PID and
+ * keeps one of a live PID (this test's own). */
+static void test_stale_temporaries(void) {
+    char out[300], dead[400], live[400], args[1024];
+    snprintf(out, sizeof out, "%s/export", tmp);
+    mkdir(out, 0777);
+    snprintf(dead, sizeof dead, "%s/curves.obj.tmp.999999999", out);
+    snprintf(live, sizeof live, "%s/other.obj.tmp.%ld", out, (long)getpid());
+    fclose(fopen(dead, "w"));
+    fclose(fopen(live, "w"));
+    snprintf(args, sizeof args, "export %s/scene/gt_curves.json --obj %s/curves.obj", tmp, out);
+    CHECK(run(args) == 0, "export failed");
+    CHECK(access(dead, F_OK) != 0, "the stale temporary of a dead PID stayed");
+    CHECK(access(live, F_OK) == 0, "the temporary of a live PID was removed");
 }
 
 int main(void) {
@@ -148,9 +224,13 @@ int main(void) {
         } else if (step >= 0) {
             CHECK(rc == 0 && checkpoint_step() == step + 1,
                   "seed %u round %d: resume from step %ld failed (exit %d)", seed, round, step, rc);
+            CHECK(temporaries() == 0, "seed %u round %d: the resumed run left stale temporaries", seed,
+                  round);
             resumed++;
         }
     }
+    test_sigterm_removes_temporaries();
+    test_stale_temporaries();
     CHECK(killed >= 8, "only %d of 10 fits were still running when killed", killed);
     CHECK(resumed >= 7, "only %d rounds had a checkpoint to resume", resumed);
     printf("kill -9 at random moments (seed %u): %d killed, %d resumed, %d without checkpoint, %d "

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <strings.h>
 #include <unistd.h>
+#include "base/outfile.h"
 #include "cli/commands.h"
 
 static void usage(FILE *out) {
@@ -45,6 +46,7 @@ static void tune_runtime(char **argv) {
 
 int main(int argc, char **argv) {
     tune_runtime(argv);
+    ws_outfile_remove_on_signals(); /* no temporary file outlives SIGINT or SIGTERM */
     if (argc < 2) {
         usage(stderr);
         return 2;
