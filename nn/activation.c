@@ -34,14 +34,14 @@ static size_t chunk_len(size_t n, long c) {
     return n - start < CHUNK ? n - start : CHUNK;
 }
 
-void quick_gelu_forward(float *out, const float *z, size_t n) {
+void nn_quick_gelu_forward(float *out, const float *z, size_t n) {
     long chunks = (long)((n + CHUNK - 1) / CHUNK);
 #pragma omp parallel for schedule(static) if (nn_fork(n))
     for (long c = 0; c < chunks; c++)
         forward_chunk(out + (size_t)c * CHUNK, z + (size_t)c * CHUNK, chunk_len(n, c));
 }
 
-void quick_gelu_backward(float *dz, const float *dout, const float *z, size_t n, int acc) {
+void nn_quick_gelu_backward(float *dz, const float *dout, const float *z, size_t n, int acc) {
     long chunks = (long)((n + CHUNK - 1) / CHUNK);
 #pragma omp parallel for schedule(static) if (nn_fork(n))
     for (long c = 0; c < chunks; c++) {
@@ -51,18 +51,18 @@ void quick_gelu_backward(float *dz, const float *dout, const float *z, size_t n,
 }
 
 static void forward(const nn_op *op) {
-    quick_gelu_forward(op->out->data, op->in[0]->data, op->out->numel);
+    nn_quick_gelu_forward(op->out->data, op->in[0]->data, op->out->numel);
 }
 
 static void backward(const nn_op *op) {
     nn_tensor *z = op->in[0];
     if (!z->grad) return;
     int acc = nn_grad_begin(z);
-    quick_gelu_backward(z->grad, op->out->grad, z->data, z->numel, acc);
+    nn_quick_gelu_backward(z->grad, op->out->grad, z->data, z->numel, acc);
 }
 
 nn_tensor *nn_quick_gelu(nn_tape *t, nn_tensor *z) {
-    nn_op *op = nn_tape_append(t, "quick_gelu", forward, backward);
+    nn_op *op = nn_tape_append(t, NN_OP_QUICK_GELU, forward, backward);
     nn_tape_read(t, op, 0, z, 1);
     return nn_tape_output(t, op, z->ndim, z->shape);
 }

@@ -84,11 +84,11 @@ static size_t head_backward_work(int T, int D) {
     return (size_t)D * round_lanes(T) + 3 * (size_t)T * round_lanes(D) + (size_t)T * T;
 }
 
-size_t attention_forward_work(int B, int T, int C, int H) {
+size_t nn_attention_forward_work(int B, int T, int C, int H) {
     return (size_t)B * H * head_forward_work(T, C / H);
 }
 
-size_t attention_backward_work(int B, int T, int C, int H) {
+size_t nn_attention_backward_work(int B, int T, int C, int H) {
     return (size_t)B * H * head_backward_work(T, C / H);
 }
 
@@ -110,8 +110,8 @@ NN_SIMD_CLONES static void head_forward(float *out, size_t out_row, float *probs
     }
 }
 
-void attention_forward(float *out, float *probs, float *work, const float *qkv, int B, int T,
-                       int C, int H) {
+void nn_attention_forward(float *out, float *probs, float *work, const float *qkv, int B, int T,
+                          int C, int H) {
     int D = C / H;
     size_t row = 3 * (size_t)C;
 #pragma omp parallel for collapse(2) schedule(static) if (nn_fork((size_t)B * T * T * C))
@@ -157,8 +157,8 @@ NN_SIMD_CLONES static void head_backward(float *dq, float *dk, float *dv, int ac
     }
 }
 
-void attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
-                        float *work, int B, int T, int C, int H, int acc) {
+void nn_attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
+                           float *work, int B, int T, int C, int H, int acc) {
     int D = C / H;
     size_t row = 3 * (size_t)C;
 #pragma omp parallel for collapse(2) schedule(static) if (nn_fork((size_t)B * T * T * C))
@@ -175,20 +175,20 @@ void attention_backward(float *dqkv, const float *dout, const float *qkv, const 
 
 /* n[0] = B, n[1] = T, n[2] = C, n[3] = H; saved: probs [B,H,T,T]. */
 static void forward(const nn_op *op) {
-    attention_forward(op->out->data, op->saved->data, op->work[0]->data, op->in[0]->data,
-                      op->n[0], op->n[1], op->n[2], op->n[3]);
+    nn_attention_forward(op->out->data, op->saved->data, op->work[0]->data, op->in[0]->data,
+                         op->n[0], op->n[1], op->n[2], op->n[3]);
 }
 
 static void backward(const nn_op *op) {
     nn_tensor *x = op->in[0];
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
-    attention_backward(x->grad, op->out->grad, x->data, op->saved->data, op->work[1]->data,
-                       op->n[0], op->n[1], op->n[2], op->n[3], acc);
+    nn_attention_backward(x->grad, op->out->grad, x->data, op->saved->data, op->work[1]->data,
+                          op->n[0], op->n[1], op->n[2], op->n[3], acc);
 }
 
 nn_tensor *nn_attention(nn_tape *t, nn_tensor *qkv, int heads) {
-    nn_op *op = nn_tape_append(t, "attention", forward, backward);
+    nn_op *op = nn_tape_append(t, NN_OP_ATTENTION, forward, backward);
     nn_tape_read(t, op, 0, qkv, 1);
     int T = nn_dim(qkv, 1), C = nn_dim(qkv, 0) / 3, B = nn_rows(qkv) / T;
     op->n[0] = B;
@@ -196,8 +196,8 @@ nn_tensor *nn_attention(nn_tape *t, nn_tensor *qkv, int heads) {
     op->n[2] = C;
     op->n[3] = heads;
     nn_tape_saved(t, op, (size_t)B * heads * T * T);
-    nn_tape_workspace(t, op, attention_forward_work(B, T, C, heads), 0);
-    nn_tape_workspace(t, op, attention_backward_work(B, T, C, heads), 1);
+    nn_tape_workspace(t, op, nn_attention_forward_work(B, T, C, heads), 0);
+    nn_tape_workspace(t, op, nn_attention_backward_work(B, T, C, heads), 1);
     int shape[3] = {B, T, C};
     return nn_tape_output(t, op, 3, shape);
 }

@@ -10,15 +10,15 @@
 #include "tape.h"
 
 /* Floats of scratch the forward / backward need (`work`). */
-size_t attention_forward_work(int B, int T, int C, int H);
-size_t attention_backward_work(int B, int T, int C, int H);
+size_t nn_attention_forward_work(int B, int T, int C, int H);
+size_t nn_attention_backward_work(int B, int T, int C, int H);
 
 /* out [B,T,C] (heads side by side), probs [B,H,T,T] kept for backward. */
-void attention_forward(float *out, float *probs, float *work, const float *qkv, int B, int T,
-                       int C, int H);
+void nn_attention_forward(float *out, float *probs, float *work, const float *qkv, int B, int T,
+                          int C, int H);
 /* dqkv [B,T,3C] from dout [B,T,C]; added to dqkv when acc. */
-void attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
-                        float *work, int B, int T, int C, int H, int acc);
+void nn_attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
+                           float *work, int B, int T, int C, int H, int acc);
 
 /* qkv [B,T,3C] -> [B,T,C]. */
 nn_tensor *nn_attention(nn_tape *t, nn_tensor *qkv, int heads);

@@ -348,9 +348,4 @@ int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embe
 
 size_t clip_run_bytes(const clip_run *r) { return nn_tape_bytes(&r->tape); }
 
-void clip_gemm_floor(clip_run *r, int backward) {
-    for (int k = 0; k < r->tape.nops; k++) {
-        int i = backward ? r->tape.nops - 1 - k : k;
-        nn_matmul_gemm_only(&r->tape.ops[i], backward);
-    }
-}
+const nn_tape *clip_run_tape(const clip_run *r) { return &r->tape; }

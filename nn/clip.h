@@ -3,11 +3,12 @@
  * The weights are frozen: only the gradient with respect to the input image
  * is ever computed. A clip_run holds every activation of one batch size and
  * stops the forward after the last block anything reads. */
-#ifndef WS_CLIP_H
-#define WS_CLIP_H
+#ifndef NN_CLIP_H
+#define NN_CLIP_H
 #include <stddef.h>
 #include <stdint.h>
 #include "base/status.h"
+#include "tape.h"
 #include "weightfile.h"
 
 typedef struct clip_model clip_model;
@@ -51,10 +52,8 @@ int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embe
 
 /* Bytes of the run's activation arena (values, saved state, gradients). */
 size_t clip_run_bytes(const clip_run *r);
-/* Runs only the GEMMs of the forward pass (backward: the input-gradient
- * GEMMs of the backward pass) on the run's own buffers and weights: the
- * time no implementation of the same products can beat (clip_bench.h).
- * The backward needs a run made with need_grad. Clobbers activations. */
-void clip_gemm_floor(clip_run *r, int backward);
+/* The run's op tape, for tools that walk it (the benchmarks' GEMM floor,
+ * matmul.h's nn_op_gemm). */
+const nn_tape *clip_run_tape(const clip_run *r);
 
 #endif

@@ -19,7 +19,7 @@ static size_t segment(size_t s, int C, int R, int p, size_t *patch_off) {
     return ((b * C + c) * R + (size_t)gy * p + ky) * R + (size_t)gx * p;
 }
 
-void patchify_forward(float *patches, const float *img, int B, int C, int R, int p) {
+void nn_patchify_forward(float *patches, const float *img, int B, int C, int R, int p) {
     long n = (long)B * (R / p) * (R / p) * C * p;
     for (long s = 0; s < n; s++) {
         size_t po, io = segment((size_t)s, C, R, p, &po);
@@ -27,7 +27,8 @@ void patchify_forward(float *patches, const float *img, int B, int C, int R, int
     }
 }
 
-void patchify_backward(float *d_img, const float *d_patches, int B, int C, int R, int p, int acc) {
+void nn_patchify_backward(float *d_img, const float *d_patches, int B, int C, int R, int p,
+                          int acc) {
     long n = (long)B * (R / p) * (R / p) * C * p;
     for (long s = 0; s < n; s++) {
         size_t po, io = segment((size_t)s, C, R, p, &po);
@@ -35,8 +36,8 @@ void patchify_backward(float *d_img, const float *d_patches, int B, int C, int R
     }
 }
 
-void tokens_forward(float *x, const float *emb, const float *cls, const float *pos, int B, int T,
-                    int W) {
+void nn_tokens_forward(float *x, const float *emb, const float *cls, const float *pos, int B, int T,
+                       int W) {
     for (int b = 0; b < B; b++)
         for (int t = 0; t < T; t++) {
             float *xt = x + ((size_t)b * T + t) * W;
@@ -47,7 +48,7 @@ void tokens_forward(float *x, const float *emb, const float *cls, const float *p
         }
 }
 
-void tokens_backward(float *d_emb, const float *dx, int B, int T, int W, int acc) {
+void nn_tokens_backward(float *d_emb, const float *dx, int B, int T, int W, int acc) {
     for (int b = 0; b < B; b++)
         for (int t = 1; t < T; t++) {
             float *d = d_emb + ((size_t)b * (T - 1) + t - 1) * W;
@@ -57,11 +58,11 @@ void tokens_backward(float *d_emb, const float *dx, int B, int T, int W, int acc
         }
 }
 
-void class_token_forward(float *out, const float *x, int B, int T, int W) {
+void nn_class_token_forward(float *out, const float *x, int B, int T, int W) {
     for (int b = 0; b < B; b++) memcpy(out + (size_t)b * W, x + (size_t)b * T * W, (size_t)W * sizeof *out);
 }
 
-void class_token_backward(float *dx, const float *dout, int B, int T, int W, int acc) {
+void nn_class_token_backward(float *dx, const float *dout, int B, int T, int W, int acc) {
     for (int b = 0; b < B; b++) {
         float *d = dx + (size_t)b * T * W;
         const float *g = dout + (size_t)b * W;
@@ -76,18 +77,18 @@ void class_token_backward(float *dx, const float *dout, int B, int T, int W, int
 
 /* patchify: n[0] = B, n[1] = C, n[2] = R, n[3] = p. */
 static void patchify_fwd(const nn_op *op) {
-    patchify_forward(op->out->data, op->in[0]->data, op->n[0], op->n[1], op->n[2], op->n[3]);
+    nn_patchify_forward(op->out->data, op->in[0]->data, op->n[0], op->n[1], op->n[2], op->n[3]);
 }
 
 static void patchify_bwd(const nn_op *op) {
     nn_tensor *x = op->in[0];
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
-    patchify_backward(x->grad, op->out->grad, op->n[0], op->n[1], op->n[2], op->n[3], acc);
+    nn_patchify_backward(x->grad, op->out->grad, op->n[0], op->n[1], op->n[2], op->n[3], acc);
 }
 
 nn_tensor *nn_patchify(nn_tape *t, nn_tensor *img, int patch) {
-    nn_op *op = nn_tape_append(t, "patchify", patchify_fwd, patchify_bwd);
+    nn_op *op = nn_tape_append(t, NN_OP_PATCHIFY, patchify_fwd, patchify_bwd);
     nn_tape_read(t, op, 0, img, 0);
     op->n[0] = img->shape[0];
     op->n[1] = img->shape[1];
@@ -100,18 +101,19 @@ nn_tensor *nn_patchify(nn_tape *t, nn_tensor *img, int patch) {
 
 /* tokens: n[0] = B, n[1] = T, n[2] = W; w[0] cls, w[1] pos. */
 static void tokens_fwd(const nn_op *op) {
-    tokens_forward(op->out->data, op->in[0]->data, op->w[0], op->w[1], op->n[0], op->n[1], op->n[2]);
+    nn_tokens_forward(op->out->data, op->in[0]->data, op->w[0], op->w[1], op->n[0], op->n[1],
+                      op->n[2]);
 }
 
 static void tokens_bwd(const nn_op *op) {
     nn_tensor *x = op->in[0];
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
-    tokens_backward(x->grad, op->out->grad, op->n[0], op->n[1], op->n[2], acc);
+    nn_tokens_backward(x->grad, op->out->grad, op->n[0], op->n[1], op->n[2], acc);
 }
 
 nn_tensor *nn_tokens(nn_tape *t, nn_tensor *emb, const float *cls, const float *pos) {
-    nn_op *op = nn_tape_append(t, "tokens", tokens_fwd, tokens_bwd);
+    nn_op *op = nn_tape_append(t, NN_OP_TOKENS, tokens_fwd, tokens_bwd);
     nn_tape_read(t, op, 0, emb, 0);
     op->w[0] = cls;
     op->w[1] = pos;
@@ -123,18 +125,18 @@ nn_tensor *nn_tokens(nn_tape *t, nn_tensor *emb, const float *cls, const float *
 
 /* class_token: n[0] = B, n[1] = T, n[2] = W. */
 static void class_token_fwd(const nn_op *op) {
-    class_token_forward(op->out->data, op->in[0]->data, op->n[0], op->n[1], op->n[2]);
+    nn_class_token_forward(op->out->data, op->in[0]->data, op->n[0], op->n[1], op->n[2]);
 }
 
 static void class_token_bwd(const nn_op *op) {
     nn_tensor *x = op->in[0];
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
-    class_token_backward(x->grad, op->out->grad, op->n[0], op->n[1], op->n[2], acc);
+    nn_class_token_backward(x->grad, op->out->grad, op->n[0], op->n[1], op->n[2], acc);
 }
 
 nn_tensor *nn_class_token(nn_tape *t, nn_tensor *x) {
-    nn_op *op = nn_tape_append(t, "class_token", class_token_fwd, class_token_bwd);
+    nn_op *op = nn_tape_append(t, NN_OP_CLASS_TOKEN, class_token_fwd, class_token_bwd);
     nn_tape_read(t, op, 0, x, 0);
     op->n[0] = x->shape[0];
     op->n[1] = x->shape[1];

@@ -3,8 +3,8 @@
 #include "layernorm.h"
 #include "parallel.h"
 
-void layernorm_forward(float *out, float *stats, const float *x, const float *gamma,
-                       const float *beta, int M, int C) {
+void nn_layernorm_forward(float *out, float *stats, const float *x, const float *gamma,
+                          const float *beta, int M, int C) {
 #pragma omp parallel for schedule(static) if (nn_fork((size_t)M * C))
     for (int i = 0; i < M; i++) {
         const float *xi = x + (size_t)i * C;
@@ -24,8 +24,8 @@ void layernorm_forward(float *out, float *stats, const float *x, const float *ga
     }
 }
 
-void layernorm_backward(float *dx, const float *dout, const float *x, const float *stats,
-                        const float *gamma, int M, int C, int acc) {
+void nn_layernorm_backward(float *dx, const float *dout, const float *x, const float *stats,
+                           const float *gamma, int M, int C, int acc) {
 #pragma omp parallel for schedule(static) if (nn_fork((size_t)M * C))
     for (int i = 0; i < M; i++) {
         const float *xi = x + (size_t)i * C, *gi = dout + (size_t)i * C;
@@ -50,20 +50,20 @@ void layernorm_backward(float *dx, const float *dout, const float *x, const floa
 
 /* n[0] = M, n[1] = C; w[0] gamma, w[1] beta; saved: stats [M,2]. */
 static void forward(const nn_op *op) {
-    layernorm_forward(op->out->data, op->saved->data, op->in[0]->data, op->w[0], op->w[1],
-                      op->n[0], op->n[1]);
+    nn_layernorm_forward(op->out->data, op->saved->data, op->in[0]->data, op->w[0], op->w[1],
+                         op->n[0], op->n[1]);
 }
 
 static void backward(const nn_op *op) {
     nn_tensor *x = op->in[0];
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
-    layernorm_backward(x->grad, op->out->grad, x->data, op->saved->data, op->w[0], op->n[0],
-                       op->n[1], acc);
+    nn_layernorm_backward(x->grad, op->out->grad, x->data, op->saved->data, op->w[0], op->n[0],
+                          op->n[1], acc);
 }
 
 nn_tensor *nn_layernorm(nn_tape *t, nn_tensor *x, const float *gamma, const float *beta) {
-    nn_op *op = nn_tape_append(t, "layernorm", forward, backward);
+    nn_op *op = nn_tape_append(t, NN_OP_LAYERNORM, forward, backward);
     nn_tape_read(t, op, 0, x, 1);
     op->w[0] = gamma;
     op->w[1] = beta;

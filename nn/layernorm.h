@@ -11,11 +11,11 @@
  * the shifted row, rstd) for the backward. A constant row (a blank image)
  * is exactly 0 after the shift: variance 0, rstd = eps^-1/2, out = beta
  * exactly, and nothing divides by zero. */
-void layernorm_forward(float *out, float *stats, const float *x, const float *gamma,
-                       const float *beta, int M, int C);
+void nn_layernorm_forward(float *out, float *stats, const float *x, const float *gamma,
+                          const float *beta, int M, int C);
 /* dx [M,C] from dout [M,C]; added to dx when acc. */
-void layernorm_backward(float *dx, const float *dout, const float *x, const float *stats,
-                        const float *gamma, int M, int C, int acc);
+void nn_layernorm_backward(float *dx, const float *dout, const float *x, const float *stats,
+                           const float *gamma, int M, int C, int acc);
 
 nn_tensor *nn_layernorm(nn_tape *t, nn_tensor *x, const float *gamma, const float *beta);
 

@@ -9,18 +9,31 @@
 
 /* out [M,N] = in [M,K] @ W^T + bias, W [N,K] (PyTorch Linear layout);
  * with w_kn, W is [K,N] and out = in @ W. bias [N] or NULL. */
-void matmul_forward(float *out, const float *in, const float *w, const float *bias, int M, int K,
-                    int N, int w_kn);
+void nn_matmul_forward(float *out, const float *in, const float *w, const float *bias, int M, int K,
+                       int N, int w_kn);
 /* d_in [M,K] = d_out [M,N] @ W (w_kn: @ W^T); added to d_in when acc. */
-void matmul_backward(float *d_in, const float *d_out, const float *w, int M, int K, int N,
-                     int w_kn, int acc);
+void nn_matmul_backward(float *d_in, const float *d_out, const float *w, int M, int K, int N,
+                        int w_kn, int acc);
 
 /* x [..., K] -> [..., N]. */
 nn_tensor *nn_matmul(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N, int w_kn);
 
-/* The GEMM floor of a benchmark: runs op's bare GEMM alone on its own
- * buffers (forward: no bias; backward: the input-gradient GEMM, only when
- * the input has a gradient). Returns 0 when op is not a matmul. */
-int nn_matmul_gemm_only(const nn_op *op, int backward);
+/* One matrix product, row-major and dense: c [m,n] = a [m,k] @ b + beta c,
+ * b [k,n], or b [n,k] read transposed when trans_b. Every GEMM of nn/
+ * runs through nn_gemm_run. */
+typedef struct {
+    int m, n, k, trans_b;
+    const float *a, *b;
+    float *c;
+} nn_gemm;
+
+void nn_gemm_run(const nn_gemm *g, float beta);
+
+/* The GEMM an op of the tape runs, for tools that walk a tape (the GEMM
+ * floor of the benchmarks): the forward's product (without its bias), or
+ * the backward's input-gradient product. Returns 0 and leaves g alone when
+ * the op runs none: not a matmul, or no gradient flows to its input. Valid
+ * once the tape is planned (the buffers exist). */
+int nn_op_gemm(const nn_op *op, int backward, nn_gemm *g);
 
 #endif

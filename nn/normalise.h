@@ -5,11 +5,11 @@
 #include "tape.h"
 
 /* img, out [B,C,HW]; mean, std [C]. */
-void normalise_forward(float *out, const float *img, const float *mean, const float *std, int B,
-                       int C, int HW);
+void nn_normalise_forward(float *out, const float *img, const float *mean, const float *std, int B,
+                          int C, int HW);
 /* d_img = d_out / std_c; added when acc. */
-void normalise_backward(float *d_img, const float *d_out, const float *std, int B, int C, int HW,
-                        int acc);
+void nn_normalise_backward(float *d_img, const float *d_out, const float *std, int B, int C, int HW,
+                           int acc);
 
 /* img [B,C,H,W] -> same shape. mean and std must outlive the tape. */
 nn_tensor *nn_normalise(nn_tape *t, nn_tensor *img, const float *mean, const float *std);

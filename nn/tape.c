@@ -61,7 +61,18 @@ nn_tensor *nn_tape_input(nn_tape *t, int ndim, const int *shape) {
 
 void nn_tape_keep(nn_tape *t, nn_tensor *x) { x->keep = 1; }
 
-nn_op *nn_tape_append(nn_tape *t, const char *name, nn_op_fn forward, nn_op_fn backward) {
+const char *nn_op_kind_name(nn_op_kind kind) {
+    static const char *const names[NN_OP_KINDS] = {
+        [NN_OP_SEED] = "seed",           [NN_OP_NORMALISE] = "normalise",
+        [NN_OP_PATCHIFY] = "patchify",   [NN_OP_TOKENS] = "tokens",
+        [NN_OP_CLASS_TOKEN] = "class_token", [NN_OP_LAYERNORM] = "layernorm",
+        [NN_OP_MATMUL] = "matmul",       [NN_OP_ATTENTION] = "attention",
+        [NN_OP_RESIDUAL] = "residual",   [NN_OP_QUICK_GELU] = "quick_gelu",
+    };
+    return kind >= 0 && kind < NN_OP_KINDS ? names[kind] : "?";
+}
+
+nn_op *nn_tape_append(nn_tape *t, nn_op_kind kind, nn_op_fn forward, nn_op_fn backward) {
     nn_op *op;
     if (t->nops < t->max_ops) {
         op = &t->ops[t->nops++];
@@ -70,7 +81,7 @@ nn_op *nn_tape_append(nn_tape *t, const char *name, nn_op_fn forward, nn_op_fn b
         op = &t->ops[t->max_ops];
     }
     memset(op, 0, sizeof *op);
-    op->name = name;
+    op->kind = kind;
     op->forward = forward;
     op->backward = backward;
     return op;
@@ -131,7 +142,7 @@ static void seed_backward(const nn_op *op) {
 }
 
 void nn_tape_seed(nn_tape *t, nn_tensor *x, const float *const *slot) {
-    nn_op *op = nn_tape_append(t, "seed", NULL, seed_backward);
+    nn_op *op = nn_tape_append(t, NN_OP_SEED, NULL, seed_backward);
     op->in[0] = x;
     op->seed = slot;
     int i = op_index(t, op);

@@ -16,8 +16,27 @@
 typedef struct nn_op nn_op;
 typedef void (*nn_op_fn)(const nn_op *op);
 
+/* What an op computes: tools that walk a tape (benchmarks, profiles) ask
+ * this, never the op's functions. */
+typedef enum {
+    NN_OP_SEED,
+    NN_OP_NORMALISE,
+    NN_OP_PATCHIFY,
+    NN_OP_TOKENS,
+    NN_OP_CLASS_TOKEN,
+    NN_OP_LAYERNORM,
+    NN_OP_MATMUL,
+    NN_OP_ATTENTION,
+    NN_OP_RESIDUAL,
+    NN_OP_QUICK_GELU,
+    NN_OP_KINDS
+} nn_op_kind;
+
+/* "matmul", "layernorm", ... */
+const char *nn_op_kind_name(nn_op_kind kind);
+
 struct nn_op {
-    const char *name;
+    nn_op_kind kind;
     nn_op_fn forward;          /* NULL for a seed op (backward only) */
     nn_op_fn backward;
     nn_tensor *out;            /* NULL for a seed op */
@@ -55,7 +74,7 @@ void nn_tape_seed(nn_tape *t, nn_tensor *x, const float *const *slot);
 /* For op constructors: appends an op, declares what it reads, and creates
  * its output (and saved state). needed_by_backward: the op's backward
  * reads x's values, so they must survive until then. */
-nn_op *nn_tape_append(nn_tape *t, const char *name, nn_op_fn forward, nn_op_fn backward);
+nn_op *nn_tape_append(nn_tape *t, nn_op_kind kind, nn_op_fn forward, nn_op_fn backward);
 void nn_tape_read(nn_tape *t, nn_op *op, int slot, nn_tensor *x, int needed_by_backward);
 nn_tensor *nn_tape_output(nn_tape *t, nn_op *op, int ndim, const int *shape);
 nn_tensor *nn_tape_saved(nn_tape *t, nn_op *op, size_t numel);

@@ -6,8 +6,8 @@
  * file is mmap'ed; f16 tensors are widened to f32 once, at open. A file that
  * is truncated, has a bad magic, an unknown version, a malformed table or a
  * bad checksum is refused with one line naming the file and the problem. */
-#ifndef WS_WEIGHTFILE_H
-#define WS_WEIGHTFILE_H
+#ifndef NN_WEIGHTFILE_H
+#define NN_WEIGHTFILE_H
 #include <stdint.h>
 #include "base/status.h"
 

@@ -131,9 +131,9 @@ static void test_matmul(int w_kn, int with_bias) {
     memcpy(before, dx2, (size_t)c.M * c.K * sizeof *before);
     c.w = w;
     c.bias = with_bias ? bias : NULL;
-    matmul_forward(out, x, w, c.bias, c.M, c.K, c.N, w_kn);
-    matmul_backward(dx, g, w, c.M, c.K, c.N, w_kn, 0);
-    matmul_backward(dx2, g, w, c.M, c.K, c.N, w_kn, 1);
+    nn_matmul_forward(out, x, w, c.bias, c.M, c.K, c.N, w_kn);
+    nn_matmul_backward(dx, g, w, c.M, c.K, c.N, w_kn, 0);
+    nn_matmul_backward(dx2, g, w, c.M, c.K, c.N, w_kn, 1);
     op_case oc = {w_kn ? "matmul (W [K,N])" : "matmul (W [N,K])", matmul_ref, &c,
                   (size_t)c.M * c.K, (size_t)c.M * c.N};
     check_op(&oc, x, out, g, dx, 1e-3, 1e-5, 1000);
@@ -174,9 +174,9 @@ static void test_layernorm(int blank) {
     memcpy(before, dx2, n * sizeof *before);
     c.gamma = gamma;
     c.beta = beta;
-    layernorm_forward(out, stats, x, gamma, beta, c.M, c.C);
-    layernorm_backward(dx, g, x, stats, gamma, c.M, c.C, 0);
-    layernorm_backward(dx2, g, x, stats, gamma, c.M, c.C, 1);
+    nn_layernorm_forward(out, stats, x, gamma, beta, c.M, c.C);
+    nn_layernorm_backward(dx, g, x, stats, gamma, c.M, c.C, 0);
+    nn_layernorm_backward(dx2, g, x, stats, gamma, c.M, c.C, 1);
     int finite = 1;
     double off_beta = 0;
     for (size_t i = 0; i < n; i++) finite &= isfinite(out[i]) && isfinite(dx[i]);
@@ -232,13 +232,13 @@ static void test_attention(const char *name, attention_ctx c, double scale, doub
     for (size_t r = 0; r < (size_t)c.B * c.T; r++)
         for (int j = 0; j < 2 * c.C; j++) qkv[r * 3 * c.C + j] *= (float)scale;
     float *out = malloc(no * sizeof *out), *probs = malloc((size_t)c.B * c.H * c.T * c.T * sizeof *probs);
-    float *work = malloc(attention_backward_work(c.B, c.T, c.C, c.H) * sizeof *work);
-    float *fwork = malloc(attention_forward_work(c.B, c.T, c.C, c.H) * sizeof *fwork);
+    float *work = malloc(nn_attention_backward_work(c.B, c.T, c.C, c.H) * sizeof *work);
+    float *fwork = malloc(nn_attention_forward_work(c.B, c.T, c.C, c.H) * sizeof *fwork);
     float *dx = malloc(nq * sizeof *dx), *dx2 = randoms(nq, -1, 1), *before = malloc(nq * sizeof *before);
     memcpy(before, dx2, nq * sizeof *before);
-    attention_forward(out, probs, fwork, qkv, c.B, c.T, c.C, c.H);
-    attention_backward(dx, g, qkv, probs, work, c.B, c.T, c.C, c.H, 0);
-    attention_backward(dx2, g, qkv, probs, work, c.B, c.T, c.C, c.H, 1);
+    nn_attention_forward(out, probs, fwork, qkv, c.B, c.T, c.C, c.H);
+    nn_attention_backward(dx, g, qkv, probs, work, c.B, c.T, c.C, c.H, 0);
+    nn_attention_backward(dx2, g, qkv, probs, work, c.B, c.T, c.C, c.H, 1);
     int finite = 1;
     for (size_t i = 0; i < nq; i++) finite &= isfinite(dx[i]);
     for (size_t i = 0; i < no; i++) finite &= isfinite(out[i]);
@@ -266,9 +266,9 @@ static void test_quick_gelu(void) {
     float *before = malloc(n * sizeof *before);
     memcpy(before, dz2, n * sizeof *before);
     gelu_n = n;
-    quick_gelu_forward(out, z, n);
-    quick_gelu_backward(dz, g, z, n, 0);
-    quick_gelu_backward(dz2, g, z, n, 1);
+    nn_quick_gelu_forward(out, z, n);
+    nn_quick_gelu_backward(dz, g, z, n, 0);
+    nn_quick_gelu_backward(dz2, g, z, n, 1);
     CHECK(out[50] == 100.0f && out[51] == 0.0f && dz[50] == g[50] && dz[51] == 0.0f,
           "quick_gelu(+-100) = %g, %g with slopes %g, %g: want 100, 0, 1, 0", out[50], out[51],
           dz[50] / g[50], dz[51] / g[51]);
@@ -293,10 +293,10 @@ static void test_residual(void) {
     float *dab = malloc(2 * n * sizeof *dab), *d2 = randoms(n, -1, 1), *before = malloc(n * sizeof *before);
     memcpy(before, d2, n * sizeof *before);
     res_n = n;
-    residual_forward(out, ab, ab + n, n);
-    residual_backward(dab, g, n, 0);
-    residual_backward(dab + n, g, n, 0);
-    residual_backward(d2, g, n, 1);
+    nn_residual_forward(out, ab, ab + n, n);
+    nn_residual_backward(dab, g, n, 0);
+    nn_residual_backward(dab + n, g, n, 0);
+    nn_residual_backward(d2, g, n, 1);
     op_case oc = {"residual", residual_ref, NULL, 2 * n, n};
     check_op(&oc, ab, out, g, dab, 1e-3, 1e-5, 1000);
     check_accumulates("residual", dab, d2, before, n);
@@ -344,17 +344,17 @@ static void test_image_ops(void) {
     float *dx = malloc(n * sizeof *dx), *dx2 = randoms(n, -1, 1), *before = malloc(n * sizeof *before);
 
     memcpy(before, dx2, n * sizeof *before);
-    normalise_forward(out, x, mean, std, c.B, c.C, c.R * c.R);
-    normalise_backward(dx, g, std, c.B, c.C, c.R * c.R, 0);
-    normalise_backward(dx2, g, std, c.B, c.C, c.R * c.R, 1);
+    nn_normalise_forward(out, x, mean, std, c.B, c.C, c.R * c.R);
+    nn_normalise_backward(dx, g, std, c.B, c.C, c.R * c.R, 0);
+    nn_normalise_backward(dx2, g, std, c.B, c.C, c.R * c.R, 1);
     op_case on = {"normalise", normalise_ref, &c, n, n};
     check_op(&on, x, out, g, dx, 1e-3, 1e-5, 1000);
     check_accumulates("normalise", dx, dx2, before, n);
 
     memcpy(before, dx2, n * sizeof *before);
-    patchify_forward(out, x, c.B, c.C, c.R, c.p);
-    patchify_backward(dx, g, c.B, c.C, c.R, c.p, 0);
-    patchify_backward(dx2, g, c.B, c.C, c.R, c.p, 1);
+    nn_patchify_forward(out, x, c.B, c.C, c.R, c.p);
+    nn_patchify_backward(dx, g, c.B, c.C, c.R, c.p, 0);
+    nn_patchify_backward(dx2, g, c.B, c.C, c.R, c.p, 1);
     op_case op = {"patchify", patchify_ref, &c, n, n};
     check_op(&op, x, out, g, dx, 1e-3, 1e-5, 1000);
     check_accumulates("patchify", dx, dx2, before, n);
@@ -394,17 +394,17 @@ static void test_token_ops(void) {
     c.pos = pos;
 
     memcpy(before, de2, ne * sizeof *before);
-    tokens_forward(x, emb, cls, pos, c.B, c.T, c.W);
-    tokens_backward(de, gx, c.B, c.T, c.W, 0);
-    tokens_backward(de2, gx, c.B, c.T, c.W, 1);
+    nn_tokens_forward(x, emb, cls, pos, c.B, c.T, c.W);
+    nn_tokens_backward(de, gx, c.B, c.T, c.W, 0);
+    nn_tokens_backward(de2, gx, c.B, c.T, c.W, 1);
     op_case ot = {"tokens", tokens_ref, &c, ne, nx};
     check_op(&ot, emb, x, gx, de, 1e-3, 1e-5, 1000);
     check_accumulates("tokens", de, de2, before, ne);
 
     memcpy(before, dx2, nx * sizeof *before);
-    class_token_forward(cout, x, c.B, c.T, c.W);
-    class_token_backward(dx, gc, c.B, c.T, c.W, 0);
-    class_token_backward(dx2, gc, c.B, c.T, c.W, 1);
+    nn_class_token_forward(cout, x, c.B, c.T, c.W);
+    nn_class_token_backward(dx, gc, c.B, c.T, c.W, 0);
+    nn_class_token_backward(dx2, gc, c.B, c.T, c.W, 1);
     op_case oc = {"class_token", class_token_ref, &c, nx, nc};
     check_op(&oc, x, cout, gc, dx, 1e-3, 1e-5, 1000);
     check_accumulates("class_token", dx, dx2, before, nx);
@@ -516,16 +516,16 @@ static void test_tape(void) {
     /* by hand */
     float a[M * C], stats[2 * M], zz[M * F], gz[M * F], yy[M * C];
     float dgz[M * F], dz[M * F], da[M * C], ref_dx[M * C];
-    layernorm_forward(a, stats, x, gamma, beta, M, C);
-    matmul_forward(zz, a, w1, b1, M, C, F, 0);
-    quick_gelu_forward(gz, zz, M * F);
-    matmul_forward(yy, gz, w2, NULL, M, F, C, 0);
-    residual_forward(yy, x, yy, M * C);
-    matmul_backward(dgz, seed, w2, M, F, C, 0, 0);
-    quick_gelu_backward(dz, dgz, zz, M * F, 0);
-    matmul_backward(da, dz, w1, M, C, F, 0, 0);
+    nn_layernorm_forward(a, stats, x, gamma, beta, M, C);
+    nn_matmul_forward(zz, a, w1, b1, M, C, F, 0);
+    nn_quick_gelu_forward(gz, zz, M * F);
+    nn_matmul_forward(yy, gz, w2, NULL, M, F, C, 0);
+    nn_residual_forward(yy, x, yy, M * C);
+    nn_matmul_backward(dgz, seed, w2, M, F, C, 0, 0);
+    nn_quick_gelu_backward(dz, dgz, zz, M * F, 0);
+    nn_matmul_backward(da, dz, w1, M, C, F, 0, 0);
     memcpy(ref_dx, seed, sizeof ref_dx);
-    layernorm_backward(ref_dx, da, x, stats, gamma, M, C, 1);
+    nn_layernorm_backward(ref_dx, da, x, stats, gamma, M, C, 1);
     CHECK(!memcmp(y->data, yy, sizeof yy), "tape forward differs from the kernels called by hand");
     CHECK(!memcmp(dx, ref_dx, sizeof ref_dx), "tape backward differs from the kernels called by hand");
     CHECK(in->grad_ready, "the input's gradient must be marked ready");

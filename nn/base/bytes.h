@@ -1,8 +1,12 @@
 /* bytes.h: little-endian byte buffers for the binary files wiresketch writes
  * itself (checkpoints): a growable writer and a bounds-checked reader, so
- * that a truncated or hostile file is refused, never read past its end. */
-#ifndef WS_BYTES_H
-#define WS_BYTES_H
+ * that a truncated or hostile file is refused, never read past its end.
+ *
+ * nn/base holds the project's base types, shared by both layers (nn/ and
+ * src/), so its names keep the project's ws_ prefix; the rest of nn/ uses
+ * nn_ (and clip_, wf_ for the CLIP tower and its weight file). */
+#ifndef NN_BASE_BYTES_H
+#define NN_BASE_BYTES_H
 #include <stddef.h>
 #include <stdint.h>
 #include "status.h"

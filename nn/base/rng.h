@@ -3,9 +3,13 @@
  * xoshiro256** seeded through splitmix64: the same seed gives the same
  * stream on every machine and compiler. Every random choice of a run (curve
  * initialisation, view order, augmentations) draws from a ws_rng, so a seed
- * fixes a run; the state is plain data, so checkpoints save and restore it. */
-#ifndef WS_RNG_H
-#define WS_RNG_H
+ * fixes a run; the state is plain data, so checkpoints save and restore it.
+ *
+ * nn/base holds the project's base types, shared by both layers (nn/ and
+ * src/), so its names keep the project's ws_ prefix; the rest of nn/ uses
+ * nn_ (and clip_, wf_ for the CLIP tower and its weight file). */
+#ifndef NN_BASE_RNG_H
+#define NN_BASE_RNG_H
 #include <stdint.h>
 
 typedef struct {

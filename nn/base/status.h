@@ -7,9 +7,12 @@
  *     if (ws_scene_load(&scene, dir, &opt, st)) return st->code;
  *
  * The command line prints st->msg on stderr and exits with ws_exit_code().
- */
-#ifndef WS_STATUS_H
-#define WS_STATUS_H
+ *
+ * nn/base holds the project's base types, shared by both layers (nn/ and
+ * src/), so its names keep the project's ws_ prefix; the rest of nn/ uses
+ * nn_ (and clip_, wf_ for the CLIP tower and its weight file). */
+#ifndef NN_BASE_STATUS_H
+#define NN_BASE_STATUS_H
 #include <stddef.h>
 
 enum {

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "fit/adam.h"
 #include "bench/bench.h"
+#include "bench/clip_bench.h"
 #include "base/threads.h"
 
 /* The CLIP runs of a default step, for the floor: the 1 + A stroke images
@@ -83,11 +84,11 @@ int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c
         double t2 = ws_seconds();
         t.seconds[WS_TIME_OPTIMISER] = t2 - t1;
         t.seconds[WS_TIME_TOTAL] = t2 - t0;
-        clip_gemm_floor(fr.strokes, 0);
+        ws_clip_gemm_floor(fr.strokes, 0);
         double t3 = ws_seconds();
-        clip_gemm_floor(fr.strokes, 1);
+        ws_clip_gemm_floor(fr.strokes, 1);
         double t4 = ws_seconds();
-        clip_gemm_floor(fr.photos, 0);
+        ws_clip_gemm_floor(fr.photos, 0);
         double t5 = ws_seconds();
         if (r < 0) continue;
         if (t.seconds[WS_TIME_TOTAL] < res->best.seconds[WS_TIME_TOTAL]) res->best = t;

@@ -7,6 +7,7 @@
 #include <sys/resource.h>
 #include <time.h>
 #include "bench/clip_bench.h"
+#include "nn/matmul.h"
 #include "nn/parallel.h"
 #include "nn/base/rng.h"
 
@@ -25,8 +26,17 @@ static float *random_floats(size_t n, ws_rng *rng, double lo, double hi, ws_stat
     return x;
 }
 
-int clip_bench_run(const clip_model *m, int batch, int rounds, clip_bench_result *res,
-                   ws_status *st) {
+void ws_clip_gemm_floor(clip_run *r, int backward) {
+    const nn_tape *t = clip_run_tape(r);
+    for (int k = 0; k < t->nops; k++) {
+        const nn_op *op = &t->ops[backward ? t->nops - 1 - k : k];
+        nn_gemm g;
+        if (nn_op_gemm(op, backward, &g)) nn_gemm_run(&g, 0.0f);
+    }
+}
+
+int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_result *res,
+                      ws_status *st) {
     const wf_arch *a = clip_model_arch(m);
     if (rounds < 1) return ws_fail(st, WS_EUSAGE, "clip bench: rounds %d must be at least 1", rounds);
     clip_run *run;
@@ -49,7 +59,7 @@ int clip_bench_run(const clip_model *m, int batch, int rounds, clip_bench_result
     }
     for (int k = 0; k < SEEDED_BLOCKS && 2 + k < a->layers; k++) d_hidden[2 + k] = d_blocks + k * hidden;
 
-    *res = (clip_bench_result){.batch = batch, .rounds = rounds, .threads = omp_get_max_threads()};
+    *res = (ws_clip_bench_result){.batch = batch, .rounds = rounds, .threads = omp_get_max_threads()};
     res->forward = res->forward_backward = res->floor_forward = res->floor_forward_backward = INFINITY;
     /* one unmeasured round: page faults of the arena, OpenBLAS's threads */
     for (int r = -1; r < rounds; r++) {
@@ -64,9 +74,9 @@ int clip_bench_run(const clip_model *m, int batch, int rounds, clip_bench_result
             goto done;
         }
         double t2 = now();
-        clip_gemm_floor(run, 0);
+        ws_clip_gemm_floor(run, 0);
         double t3 = now();
-        clip_gemm_floor(run, 1);
+        ws_clip_gemm_floor(run, 1);
         double t4 = now();
         if (r < 0) continue;
         res->forward = fmin(res->forward, t1 - t0);

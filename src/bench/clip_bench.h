@@ -5,8 +5,8 @@
  * the same buffers and weights: what no implementation of the same
  * products can beat. Rounds alternate the real passes and the floor, so
  * that a busy machine slows both alike; each figure is the best round. */
-#ifndef NN_CLIP_BENCH_H
-#define NN_CLIP_BENCH_H
+#ifndef WS_CLIP_BENCH_H
+#define WS_CLIP_BENCH_H
 #include <stddef.h>
 #include "nn/clip.h"
 
@@ -18,11 +18,18 @@ typedef struct {
     long peak_rss_kb;                             /* of the whole process */
     char blas_core[32];                           /* OpenBLAS's kernel set */
     int nn_parallel;                              /* nn ops fork OpenMP teams */
-} clip_bench_result;
+} ws_clip_bench_result;
 
 /* Times `rounds` rounds on a batch of random images with a gradient seed
  * on the embedding and on blocks 2 and 3 (the default loss's features). */
-int clip_bench_run(const clip_model *m, int batch, int rounds, clip_bench_result *res,
-                   ws_status *st);
+int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_result *res,
+                      ws_status *st);
+
+/* Runs only the run's GEMMs (nn_op_gemm) through cblas_sgemm, on its own
+ * buffers and weights: the forward products without their biases, or the
+ * backward's input-gradient products (a run made with need_grad). The
+ * time no implementation of the same products can beat. Clobbers the
+ * run's activations. */
+void ws_clip_gemm_floor(clip_run *r, int backward);
 
 #endif

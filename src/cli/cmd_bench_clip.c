@@ -1,5 +1,5 @@
 /* cmd_bench_clip.c: `wiresketch bench clip`: forward and forward+backward
- * time of CLIP's image tower against its GEMM floor (nn/clip_bench.h), by
+ * time of CLIP's image tower against its GEMM floor (bench/clip_bench.h), by
  * default on a full-size ViT-B/32 with random weights, for the batch of a
  * default step (the unaugmented stroke image and 4 augmentations). */
 #include <stdio.h>
@@ -9,8 +9,8 @@
 #include "cli/commands.h"
 
 int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
-    clip_bench_result r;
-    if (ws_cli_bench_model(ctx, st) || clip_bench_run(ctx->model, ctx->batch, ctx->rounds, &r, st)) return st->code;
+    ws_clip_bench_result r;
+    if (ws_cli_bench_model(ctx, st) || ws_clip_bench_run(ctx->model, ctx->batch, ctx->rounds, &r, st)) return st->code;
     const wf_arch *a = clip_model_arch(ctx->model);
     cJSON *j = cJSON_AddObjectToObject(out, "clip");
     cJSON_AddStringToObject(j, "weights", ctx->weights ? ctx->weights : "random");
