@@ -14,6 +14,7 @@
 #include "render/edges.h"
 #include "objective/loss.h"
 #include "objective/loss_l2.h"
+#include "objective/view_cache.h"
 #include "nn/similarity.h"
 
 void ws_loss_options_default(ws_loss_options *opt) {
@@ -52,11 +53,9 @@ typedef struct {
     clip_run *train_run;  /* 1 + A stroke images, with tape */
     clip_run *single_run; /* item 0 alone, with tape (evaluation, grad, cache) */
     clip_run *photo_run;  /* A augmented photos, no tape */
-    float *cache[WS_NSPLITS]; /* per view: features of the unaugmented photo */
-    unsigned char *cached[WS_NSPLITS];
+    ws_view_cache photo_cache; /* per view: features of the unaugmented photo */
     int bank;             /* N banked transforms per training view (0: none) */
-    float *bank_features; /* n_train x N x feature_size */
-    unsigned char *bank_ready; /* n_train: that view's N features are computed */
+    ws_view_cache bank_cache; /* per training view: N x feature_size, the photo under each transform */
     float *strokes;       /* (1 + A) x 3 x R x R */
     float *photos;        /* A x 3 x R x R (zeroed: a bank's last batch may not fill it) */
     float *targets;       /* A x feature_size: features of the augmented photos */
@@ -66,18 +65,24 @@ typedef struct {
     float *d_embedding;   /* (1 + A) x out_dim */
 } clip_part;
 
+/* Item a of a view's step: a = 0 is the image itself, a = 1..A its
+ * augmentations (the same transform for the strokes and the photo). */
+typedef struct {
+    int identity;          /* item 0: no transform */
+    ws_aug_params params;  /* the transform (not identity) */
+    int bank_index;        /* its index in the view's bank; -1: drawn fresh */
+} loss_item;
+
 struct ws_loss {
     ws_loss_options opt;
     const ws_scene *scene;
     int W, H, A;
     int use_clip;
     clip_part clip;
-    float *edge_maps[WS_NSPLITS];    /* per view: the photo's edge map */
-    unsigned char *edged[WS_NSPLITS];
+    ws_view_cache edge_cache;        /* per view: the photo's edge map */
     ws_edges_workspace *edges_ws;
-    ws_aug_params *params;           /* A */
-    int banked_step;                 /* this step's transforms come from the bank */
-    int *pick;                       /* A: their indices in the bank */
+    loss_item items[1 + WS_LOSS_MAX_AUG]; /* this step's items, 0 the identity */
+    int banked_step;                 /* items 1..A come from the view's bank */
     int *bank_order;                 /* N: scratch for drawing distinct indices */
     ws_aug_workspace *aug_ws;
     ws_step_timing *timing;          /* NULL: no clock is read */
@@ -128,20 +133,11 @@ static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_s
         if (clip_run_create(&c->photo_run, c->model, &ro, st)) return st->code;
     }
     size_t image = (size_t)3 * c->res * c->res;
-    for (int s = 0; s < WS_NSPLITS; s++) {
-        int n = scene->split[s].n;
-        c->cache[s] = ws_malloc((size_t)n * c->feature_size * sizeof(float), "photo features", st);
-        c->cached[s] = c->cache[s] ? ws_calloc((size_t)n, 1, "photo features", st) : NULL;
-        if (!c->cached[s]) return st->code;
-    }
     c->bank = A > 0 ? opt->aug_bank : 0;
-    if (c->bank) {
-        size_t n = (size_t)scene->split[WS_TRAIN].n;
-        c->bank_features = ws_malloc(n * c->bank * c->feature_size * sizeof(float),
-                                     "augmentation bank features", st);
-        c->bank_ready = c->bank_features ? ws_calloc(n, 1, "augmentation bank", st) : NULL;
-        if (!c->bank_ready) return st->code;
-    }
+    if (ws_view_cache_init(&c->photo_cache, scene, c->feature_size, "photo features", st) ||
+        ws_view_cache_init(&c->bank_cache, scene, (size_t)c->bank * c->feature_size,
+                           "augmentation bank features", st))
+        return st->code;
     size_t hidden = (size_t)(1 + A) * c->tokens * c->width;
     if (!(c->strokes = ws_malloc((1 + A) * image * sizeof(float), "stroke images", st)) ||
         !(c->photos = ws_calloc((A ? A : 1) * image, sizeof(float), "photo images", st)) ||
@@ -160,12 +156,8 @@ static void clip_part_free(clip_part *c) {
     clip_run_free(c->single_run);
     clip_run_free(c->photo_run);
     if (c->owns_model) clip_model_free(c->model);
-    for (int s = 0; s < WS_NSPLITS; s++) {
-        free(c->cache[s]);
-        free(c->cached[s]);
-    }
-    free(c->bank_features);
-    free(c->bank_ready);
+    ws_view_cache_free(&c->photo_cache);
+    ws_view_cache_free(&c->bank_cache);
     free(c->strokes);
     free(c->photos);
     free(c->targets);
@@ -195,18 +187,11 @@ int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *sc
     L->use_clip = ws_loss_uses_clip(opt);
     size_t pixels = (size_t)L->W * L->H;
     if (L->use_clip && clip_part_create(&L->clip, opt, scene, L->A, st)) return st->code;
-    if (opt->edges_weight != 0) {
-        if (ws_edges_workspace_create(&L->edges_ws, L->W, L->H, st)) return st->code;
-        for (int s = 0; s < WS_NSPLITS; s++) {
-            int n = scene->split[s].n;
-            L->edge_maps[s] = ws_malloc((size_t)n * pixels * sizeof(float), "edge maps", st);
-            L->edged[s] = L->edge_maps[s] ? ws_calloc((size_t)n, 1, "edge maps", st) : NULL;
-            if (!L->edged[s]) return st->code;
-        }
-    }
-    if (!(L->params = ws_calloc(L->A ? L->A : 1, sizeof *L->params, "augmentations", st)) ||
-        !(L->pick = ws_calloc(L->A ? L->A : 1, sizeof *L->pick, "augmentation bank", st)) ||
-        !(L->bank_order = ws_calloc(opt->aug_bank ? opt->aug_bank : 1, sizeof *L->bank_order,
+    if (opt->edges_weight != 0 && (ws_edges_workspace_create(&L->edges_ws, L->W, L->H, st) ||
+                                   ws_view_cache_init(&L->edge_cache, scene, pixels, "edge maps", st)))
+        return st->code;
+    L->items[0].identity = 1;
+    if (!(L->bank_order = ws_calloc(opt->aug_bank ? opt->aug_bank : 1, sizeof *L->bank_order,
                                     "augmentation bank", st)) ||
         !(L->alpha_f = ws_malloc(pixels * sizeof(float), "stroke image", st)) ||
         !(L->stroke_aug = ws_malloc(pixels * sizeof(float), "stroke image", st)) ||
@@ -219,14 +204,9 @@ int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *sc
 void ws_loss_free(ws_loss *L) {
     if (!L) return;
     if (L->use_clip) clip_part_free(&L->clip);
-    for (int s = 0; s < WS_NSPLITS; s++) {
-        free(L->edge_maps[s]);
-        free(L->edged[s]);
-    }
+    ws_view_cache_free(&L->edge_cache);
     ws_edges_workspace_free(L->edges_ws);
     ws_aug_workspace_free(L->aug_ws);
-    free(L->params);
-    free(L->pick);
     free(L->bank_order);
     free(L->alpha_f);
     free(L->stroke_aug);
@@ -238,8 +218,7 @@ void ws_loss_free(ws_loss *L) {
 void ws_loss_set_timing(ws_loss *L, ws_step_timing *t) { L->timing = t; }
 
 size_t ws_loss_bank_bytes(const ws_loss *L) {
-    const clip_part *c = &L->clip;
-    return L->use_clip ? (size_t)L->scene->split[WS_TRAIN].n * c->bank * c->feature_size * sizeof(float) : 0;
+    return L->use_clip ? ws_view_cache_full_bytes(&L->clip.bank_cache, WS_TRAIN) : 0;
 }
 
 /* Copies image `item`'s features out of a run into dst (feature_size floats). */
@@ -252,19 +231,14 @@ static void gather_features(const clip_part *c, const clip_run *run, int item, f
                c->out_dim * sizeof(float));
 }
 
-/* The unaugmented photo's features, computed once per view. */
-static int photo_features(ws_loss *L, const ws_view *v, int split, int view, const float **out,
-                          ws_status *st) {
+/* Fills a slot of the photo cache: the unaugmented photo's features. */
+static int fill_photo_features(void *ctx, int split, int view, float *slot, ws_status *st) {
+    ws_loss *L = ctx;
     clip_part *c = &L->clip;
-    float *slot = c->cache[split] + (size_t)view * c->feature_size;
-    if (!c->cached[split][view]) {
-        double t0 = ws_time_start(L->timing);
-        if (clip_forward(c->single_run, v->photo.data, st)) return st->code;
-        ws_time_add(L->timing, WS_TIME_CLIP_PHOTO, t0);
-        gather_features(c, c->single_run, 0, slot);
-        c->cached[split][view] = 1;
-    }
-    *out = slot;
+    double t0 = ws_time_start(L->timing);
+    if (clip_forward(c->single_run, L->scene->split[split].views[view].photo.data, st)) return st->code;
+    ws_time_add(L->timing, WS_TIME_CLIP_PHOTO, t0);
+    gather_features(c, c->single_run, 0, slot);
     return WS_OK;
 }
 
@@ -324,22 +298,39 @@ static int bank_transform(const ws_loss *L, int view, int k, ws_aug_params *p, w
     return ws_aug_sample(p, &rng, L->W, L->H, st);
 }
 
-/* The photo's features under each of training view `view`'s N banked
- * transforms, in batches k = 0..A-1, A..2A-1, ... whatever step asks first,
- * so that they are the same bits in a resumed run. A last batch that is not
- * full leaves the other images of the buffer as they are (finite: the
- * buffer starts zeroed; images of a batch do not mix). */
-static int fill_bank(ws_loss *L, const ws_view *v, int view, ws_status *st) {
+/* Item `it` of an image (C x H x W) into out: a copy for the identity,
+ * else its transform. */
+static int item_forward(ws_loss *L, const loss_item *it, const float *in, int C, float *out, ws_status *st) {
+    if (!it->identity) return ws_aug_forward(&it->params, in, C, L->H, L->W, out, L->aug_ws, st);
+    memcpy(out, in, (size_t)C * L->H * L->W * sizeof(float));
+    return WS_OK;
+}
+
+/* The gradient of item_forward (1 channel): din = item^T dout. */
+static int item_backward(ws_loss *L, const loss_item *it, const float *dout, float *din, ws_status *st) {
+    if (!it->identity) return ws_aug_backward(&it->params, dout, 1, L->H, L->W, din, L->aug_ws, st);
+    memcpy(din, dout, (size_t)L->H * L->W * sizeof(float));
+    return WS_OK;
+}
+
+/* Fills a slot of the bank cache: the photo's features under each of
+ * training view `view`'s N banked transforms, in batches k = 0..A-1,
+ * A..2A-1, ... whatever step asks first, so that they are the same bits in
+ * a resumed run. A last batch that is not full leaves the other images of
+ * the buffer as they are (finite: the buffer starts zeroed; images of a
+ * batch do not mix). */
+static int fill_bank(void *ctx, int split, int view, float *out, ws_status *st) {
+    ws_loss *L = ctx;
     clip_part *c = &L->clip;
+    const ws_view *v = &L->scene->split[split].views[view];
     size_t image = (size_t)3 * L->W * L->H;
-    float *out = c->bank_features + (size_t)view * c->bank * c->feature_size;
     for (int k0 = 0; k0 < c->bank; k0 += L->A) {
         int m = c->bank - k0 < L->A ? c->bank - k0 : L->A;
         double t0 = ws_time_start(L->timing);
         for (int a = 0; a < m; a++) {
-            ws_aug_params p;
-            if (bank_transform(L, view, k0 + a, &p, st) ||
-                ws_aug_forward(&p, v->photo.data, 3, L->H, L->W, c->photos + a * image, L->aug_ws, st))
+            loss_item it = {0, {0}, k0 + a};
+            if (bank_transform(L, view, k0 + a, &it.params, st) ||
+                item_forward(L, &it, v->photo.data, 3, c->photos + a * image, st))
                 return st->code;
         }
         ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
@@ -349,56 +340,51 @@ static int fill_bank(ws_loss *L, const ws_view *v, int view, ws_status *st) {
         for (int a = 0; a < m; a++)
             gather_features(c, c->photo_run, a, out + (size_t)(k0 + a) * c->feature_size);
     }
-    c->bank_ready[view] = 1;
     return WS_OK;
 }
 
-/* targets[0..A): the photo's features under this step's A transforms:
- * from the bank, or computed now (one CLIP forward without tape). */
+/* targets[a], a = 1..A: the photo's features under item a: from the
+ * view's bank, or computed now (one CLIP forward without tape). */
 static int augmented_photo_features(ws_loss *L, const ws_view *v, int view, const float **targets,
                                     ws_status *st) {
     clip_part *c = &L->clip;
     if (L->banked_step) {
-        if (!c->bank_ready[view] && fill_bank(L, v, view, st)) return st->code;
-        const float *bank = c->bank_features + (size_t)view * c->bank * c->feature_size;
-        for (int a = 0; a < L->A; a++) targets[a] = bank + (size_t)L->pick[a] * c->feature_size;
+        const float *bank;
+        if (ws_view_cache_get(&c->bank_cache, WS_TRAIN, view, fill_bank, L, &bank, st)) return st->code;
+        for (int a = 1; a <= L->A; a++) targets[a] = bank + (size_t)L->items[a].bank_index * c->feature_size;
         return WS_OK;
     }
     size_t image = (size_t)3 * L->W * L->H;
     double t0 = ws_time_start(L->timing);
-    for (int a = 0; a < L->A; a++)
-        if (ws_aug_forward(&L->params[a], v->photo.data, 3, L->H, L->W, c->photos + a * image,
-                           L->aug_ws, st))
-            return st->code;
+    for (int a = 1; a <= L->A; a++)
+        if (item_forward(L, &L->items[a], v->photo.data, 3, c->photos + (a - 1) * image, st)) return st->code;
     ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
     t0 = ws_time_start(L->timing);
     if (clip_forward(c->photo_run, c->photos, st)) return st->code;
     ws_time_add(L->timing, WS_TIME_CLIP_PHOTO, t0);
-    for (int a = 0; a < L->A; a++) {
-        float *slot = c->targets + a * c->feature_size;
-        gather_features(c, c->photo_run, a, slot);
+    for (int a = 1; a <= L->A; a++) {
+        float *slot = c->targets + (a - 1) * c->feature_size;
+        gather_features(c, c->photo_run, a - 1, slot);
         targets[a] = slot;
     }
     return WS_OK;
 }
 
-/* The CLIP terms of one view for n items (n = 1 + A when augmenting) and,
- * when dalpha is given, their gradient added to it. */
+/* The CLIP terms of one view for items 0..n-1 (n = 1 + A when
+ * augmenting) and, when dalpha is given, their gradient added to it. */
 static int clip_view(ws_loss *L, const ws_view *v, int split, int view, int n, double *loss,
                      double *dalpha, ws_status *st) {
     clip_part *c = &L->clip;
     size_t pixels = (size_t)L->W * L->H, image = 3 * pixels;
     const float *targets[1 + WS_LOSS_MAX_AUG];
-    if (photo_features(L, v, split, view, &targets[0], st)) return st->code;
-    to_rgb(L->alpha_f, pixels, c->strokes);
+    if (ws_view_cache_get(&c->photo_cache, split, view, fill_photo_features, L, &targets[0], st)) return st->code;
     double t0 = ws_time_start(L->timing);
-    for (int a = 1; a < n; a++) {
-        if (ws_aug_forward(&L->params[a - 1], L->alpha_f, 1, L->H, L->W, L->stroke_aug, L->aug_ws, st))
-            return st->code;
+    for (int a = 0; a < n; a++) {
+        if (item_forward(L, &L->items[a], L->alpha_f, 1, L->stroke_aug, st)) return st->code;
         to_rgb(L->stroke_aug, pixels, c->strokes + a * image);
     }
     ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
-    if (n > 1 && augmented_photo_features(L, v, view, targets + 1, st)) return st->code;
+    if (n > 1 && augmented_photo_features(L, v, view, targets, st)) return st->code;
     clip_run *run = n > 1 ? c->train_run : c->single_run;
     t0 = ws_time_start(L->timing);
     if (clip_forward(run, c->strokes, st)) return st->code;
@@ -413,38 +399,31 @@ static int clip_view(ws_loss *L, const ws_view *v, int split, int view, int n, d
     for (int a = 0; a < n; a++) {
         const float *d = c->d_images + a * image;
         for (size_t i = 0; i < pixels; i++) L->d_stroke[i] = d[i] + d[pixels + i] + d[2 * pixels + i];
-        const float *dsrc = L->d_stroke;
-        if (a > 0) {
-            t0 = ws_time_start(L->timing);
-            if (ws_aug_backward(&L->params[a - 1], L->d_stroke, 1, L->H, L->W, L->stroke_aug, L->aug_ws, st))
-                return st->code;
-            ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
-            dsrc = L->stroke_aug;
-        }
-        for (size_t i = 0; i < pixels; i++) dalpha[i] += dsrc[i];
+        t0 = ws_time_start(L->timing);
+        if (item_backward(L, &L->items[a], L->d_stroke, L->stroke_aug, st)) return st->code;
+        ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
+        for (size_t i = 0; i < pixels; i++) dalpha[i] += L->stroke_aug[i];
     }
     return WS_OK;
 }
 
-/* The edge map of a view's photo, computed once. */
-static const float *edge_map(ws_loss *L, const ws_view *v, int split, int view) {
-    size_t pixels = (size_t)L->W * L->H;
-    float *slot = L->edge_maps[split] + (size_t)view * pixels;
-    if (!L->edged[split][view]) {
-        ws_edges_target(v->photo.data, L->W, L->H, slot);
-        L->edged[split][view] = 1;
-    }
-    return slot;
+/* Fills a slot of the edge cache: the edge map of the view's photo. */
+static int fill_edge_map(void *ctx, int split, int view, float *slot, ws_status *st) {
+    ws_loss *L = ctx;
+    ws_edges_target(L->scene->split[split].views[view].photo.data, L->W, L->H, slot);
+    return WS_OK;
 }
 
-/* This step's A transforms: fresh from rng, or (a training view with a
- * bank) A distinct ones of the view's bank, chosen with rng. */
+/* This step's items 1..A: fresh transforms from rng, or (a training view
+ * with a bank) A distinct ones of the view's bank, chosen with rng. */
 static int draw_transforms(ws_loss *L, int split, int view, ws_rng *rng, ws_status *st) {
     int N = L->opt.aug_bank;
     L->banked_step = split == WS_TRAIN && N > 0;
     if (!L->banked_step) {
-        for (int a = 0; a < L->A; a++)
-            if (ws_aug_sample(&L->params[a], rng, L->W, L->H, st)) return st->code;
+        for (int a = 1; a <= L->A; a++) {
+            L->items[a].bank_index = -1;
+            if (ws_aug_sample(&L->items[a].params, rng, L->W, L->H, st)) return st->code;
+        }
         return WS_OK;
     }
     for (int k = 0; k < N; k++) L->bank_order[k] = k;
@@ -453,8 +432,8 @@ static int draw_transforms(ws_loss *L, int split, int view, ws_rng *rng, ws_stat
         int k = L->bank_order[j];
         L->bank_order[j] = L->bank_order[a];
         L->bank_order[a] = k;
-        L->pick[a] = k;
-        if (bank_transform(L, view, k, &L->params[a], st)) return st->code;
+        L->items[1 + a].bank_index = k;
+        if (bank_transform(L, view, k, &L->items[1 + a].params, st)) return st->code;
     }
     return WS_OK;
 }
@@ -473,7 +452,8 @@ int ws_loss_view(ws_loss *L, int split, int view, const double *alpha, int augme
     if (L->use_clip && clip_view(L, v, split, view, n, &loss, dalpha, st)) return st->code;
     if (L->opt.edges_weight != 0) {
         double w = L->opt.edges_weight;
-        const float *edges = edge_map(L, v, split, view);
+        const float *edges;
+        if (ws_view_cache_get(&L->edge_cache, split, view, fill_edge_map, L, &edges, st)) return st->code;
         loss += w * ws_edges_loss_forward(alpha, edges, L->W, L->H, L->edges_ws);
         if (dalpha) {
             ws_edges_loss_backward(alpha, edges, L->W, L->H, L->edges_ws, L->edge_dalpha);

@@ -63,7 +63,9 @@ void ws_loss_free(ws_loss *loss);
 
 /* From now on add the time of augmentation and CLIP to t (NULL: stop). */
 void ws_loss_set_timing(ws_loss *loss, ws_step_timing *t);
-/* Bytes of the augmentation bank's photo features (0 without a bank). */
+/* Bytes of the augmentation bank's photo features once every training view
+ * has been used (0 without a bank): a view's are allocated when it is first
+ * used, as are its cached photo features and edge map. */
 size_t ws_loss_bank_bytes(const ws_loss *loss);
 
 /* The loss of view `view` of `split` for the stroke image alpha (H x W).
