@@ -107,6 +107,7 @@ static const struct {
     {"weights", "tensor_name_newline.bin", ": tensor table entry 0 has a malformed name"},
     {"weights", "tensors_200000.bin", ": 200000 tensors in the table, a 1-layer CLIP tower has 20"},
     {"weights", "tensor_beyond_layers.bin", ": 21 tensors in the table, a 1-layer CLIP tower has 20"},
+    {"curves", "too_long_to_measure.json", ": curve 0 is too long to measure"},
     {"checkpoint", "thickness_negative.bin", ": corrupt checkpoint (curve thickness or overlap)"},
 };
 enum { NREGRESSIONS = sizeof regressions / sizeof regressions[0] };

@@ -314,6 +314,9 @@ def scene_regressions():
 def regressions_corpus():
     weight_regressions()
     scene_regressions()
+    write_regression("curves", "too_long_to_measure.json", json.dumps({
+        "thickness": 0.02, "overlap": 0.6,
+        "curves": [[[0, 0, 0], [1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300]]]}).encode())
 
 
 def main():
