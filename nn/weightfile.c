@@ -47,8 +47,10 @@ enum { WF_MAX_WIDTH = 65536, WF_MAX_LAYERS = 4096, WF_MAX_RESOLUTION = 16384 };
  * before anything is allocated for it; with names unique and every tower
  * tensor looked up by clip.c, the table then holds exactly the tower. */
 enum { WF_TENSORS_PER_LAYER = 12, WF_TENSORS_OUTSIDE_LAYERS = 8 };
-/* The largest weight file mapped: ViT-B/32 in f32 is 350 MB, ViT-L/14 1.2 GB. */
-#define WF_MAX_FILE_BYTES ((uint64_t)16 << 30)
+/* The largest weight file mapped: ViT-B/32's tower in f32 is 350 MB,
+ * ViT-L/14's 1.2 GB. The bound also bounds the work of refusing a hostile
+ * file (its checksum reads every byte; f16 is widened to twice its size). */
+#define WF_MAX_FILE_BYTES ((uint64_t)4 << 30)
 
 struct wf_file {
     char *path;

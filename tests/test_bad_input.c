@@ -283,6 +283,11 @@ static void test_special_files(void) {
     CHECK(sh("rm %s && truncate -s 65M %s", path, path), "truncate failed");
     rc = run("fit %s --out %s " FIT, s, out);
     CHECK(ANSWER(1, rc, "%s: larger than 67108864 bytes", path), "huge transforms");
+    snprintf(path, sizeof path, "%s/w_huge.bin", tmp); /* sparse: no disk used */
+    CHECK(sh("truncate -s 5G %s", path), "truncate failed");
+    rc = run("embed --weights %s %s", path, image);
+    CHECK(ANSWER(1, rc, "%s: larger than 4294967296 bytes", path), "5 GB weight file");
+    unlink(path);
     CHECK(no_partial_outputs(out), "outputs after a special file");
 }
 
