@@ -718,6 +718,11 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "--batch-size: 2147483647 is not in [1, 1000000]"), "huge --batch-size");
     rc = run("fit %s/scene --out %s " FIT " --overlap 1", tmp, out);
     CHECK(ANSWER(2, rc, "--overlap: 1 is not in [0, 1)"), "--overlap 1");
+    rc = run("fit %s/scene --out %s " FIT " --edges-weight -1", tmp, out);
+    CHECK(ANSWER(2, rc, "loss weights (--clip-weight, --clip-conv-loss, --clip-fc-loss-weight, "
+                        "--clip-conv-layer-weights, --edges-weight) must be >= 0"),
+          "negative loss weight");
+    CHECK(access(out, F_OK) != 0, "a fit with options out of range created its output directory");
     snprintf(path, sizeof path, "%s/empty.json", tmp);
     write_text(path, "{\"thickness\": 0.5, \"overlap\": 0, \"curves\": []}");
     rc = run("fit %s/scene --out %s " FIT " --init %s", tmp, out, path);

@@ -95,8 +95,9 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
     opt->seed = (uint64_t)(unsigned)seed;
-    if (ws_cli_check_size(opt->size, st) || ws_fit_options_check(opt, st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st))
+    if (ws_cli_check_size(opt->size, st) ||
+        ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st) ||
+        ws_fit_options_check(opt, st))
         return st->code;
     if (settings) {
         /* the layer weights in effect, also when the defaults are */

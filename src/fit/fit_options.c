@@ -64,5 +64,5 @@ int ws_fit_options_check(const ws_fit_options *o, ws_status *st) {
     if (!(o->checkpoint_minutes > 0))
         return ws_fail(st, WS_EUSAGE, "--checkpoint-minutes: %g is not positive", o->checkpoint_minutes);
     if (o->threads < 0) return ws_fail(st, WS_EUSAGE, "--threads: %d is negative", o->threads);
-    return WS_OK;
+    return ws_loss_options_check(&o->loss, st);
 }

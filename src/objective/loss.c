@@ -166,9 +166,7 @@ static void clip_part_free(clip_part *c) {
     free(c->d_embedding);
 }
 
-int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *scene,
-                   ws_status *st) {
-    *out = NULL;
+int ws_loss_options_check(const ws_loss_options *opt, ws_status *st) {
     if (opt->num_aug < 0 || opt->num_aug > WS_LOSS_MAX_AUG)
         return ws_fail(st, WS_EUSAGE, "--num-aug: %d is not in 0..%d", opt->num_aug, WS_LOSS_MAX_AUG);
     if (opt->aug_bank < 0 || opt->aug_bank > 4096 || (opt->aug_bank > 0 && opt->aug_bank < opt->num_aug))
@@ -176,6 +174,21 @@ int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *sc
                        "--aug-bank: %d is not 0 or in %d..4096 (a step uses --num-aug %d distinct "
                        "transforms of the bank)",
                        opt->aug_bank, opt->num_aug, opt->num_aug);
+    /* a negative weight would make its term a reward for looking unlike the photo */
+    int negative = opt->conv_weight < 0 || opt->fc_weight < 0 || opt->global_weight < 0 ||
+                   opt->edges_weight < 0 || opt->l2_weight < 0;
+    for (int l = 0; l < opt->n_layer_weights; l++) negative |= opt->layer_weights[l] < 0;
+    if (negative)
+        return ws_fail(st, WS_EUSAGE, "loss weights (--clip-weight, --clip-conv-loss, "
+                                      "--clip-fc-loss-weight, --clip-conv-layer-weights, "
+                                      "--edges-weight) must be >= 0");
+    return WS_OK;
+}
+
+int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *scene,
+                   ws_status *st) {
+    *out = NULL;
+    if (ws_loss_options_check(opt, st)) return st->code;
     ws_loss *L = ws_calloc(1, sizeof *L, "loss", st);
     if (!L) return st->code;
     *out = L;
