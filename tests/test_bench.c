@@ -14,7 +14,7 @@
 #include "bench/bench.h"
 #include "check.h"
 #include "synth/synth.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 #include "wiresketch.h"
 
 static char bin[512], tmp[256];
@@ -231,10 +231,10 @@ int main(void) {
     /* one thread: this process cannot make OpenMP's idle threads sleep
      * (OMP_WAIT_POLICY is read before main), and spinning ones would take
      * most of the time of the many small steps below */
-    ws_threads_set(1);
+    ws_status st = {0};
+    CHECK(ws_runtime_init(1, &st) == WS_OK, "runtime: %s", st.msg);
     char dir[300];
     snprintf(dir, sizeof dir, "%s/scene", tmp);
-    ws_status st = {0};
     ws_synth_options syn;
     ws_synth_options_default(&syn);
     syn.size = 64;

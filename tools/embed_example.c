@@ -48,9 +48,12 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: embed_example SCENE CURVES.json\n");
         return 2;
     }
+    /* as `wiresketch` does: OpenMP's idle threads sleep (a re-run with
+     * OMP_WAIT_POLICY=passive), then threads and OpenBLAS's kernels */
+    ws_runtime_reexec_if_needed(argv);
     ws_status st;
     ws_status_clear(&st);
-    if (run(argv[1], argv[2], &st)) {
+    if (ws_runtime_init(0, &st) || run(argv[1], argv[2], &st)) {
         fprintf(stderr, "embed_example: %s\n", st.msg);
         return ws_exit_code(&st);
     }

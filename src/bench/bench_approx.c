@@ -14,7 +14,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "bench/bench.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 
 /* One setting: an objective, the cut-off its splatting uses, a thread
  * count (0: leave as it is) and the training view. */
@@ -50,7 +50,7 @@ static double part_seconds(const ws_step_timing *t, int part) {
 
 static int run(const setting *s, const ws_rng *rng0, outcome *o, int measured, ws_status *st) {
     ws_objective_set_cutoff(s->objective, s->cutoff);
-    if (s->threads) ws_threads_set(s->threads);
+    if (s->threads && ws_runtime_init(s->threads, st)) return st->code;
     ws_rng rng = *rng0;
     ws_step_timing t;
     memset(&t, 0, sizeof t);
@@ -391,7 +391,7 @@ static int f16_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, i
 /* Row: all cores against one thread. */
 static int threads_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, int max, int *n,
                        ws_status *st) {
-    int threads = ws_threads_get();
+    int threads = ws_runtime_threads();
     ws_bench_approx_row *row = new_row(rows, max, n, "threads", "1 thread", "step", st);
     if (!row) return st->code;
     snprintf(row->setting, sizeof row->setting, "%d threads", threads);
@@ -400,7 +400,7 @@ static int threads_row(const ws_bench_approx_input *in, ws_bench_approx_row *row
     int rc = step_for(&s, in, &lo, st);
     setting set[2] = {{s, in->sketch, 4, 1, 0}, {s, in->sketch, 4, threads, 0}};
     if (!rc) rc = measure(set, 2, in->rounds, PART_STEP, 1, &row, st);
-    ws_threads_set(threads);
+    if (!rc) rc = ws_runtime_init(threads, st);
     snprintf(row->note, sizeof row->note, "%s",
              row->grad_error == 0 && row->loss_error == 0
                  ? "bit-identical: every sum is split the same way whatever the thread count"

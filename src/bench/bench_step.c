@@ -6,7 +6,7 @@
 #include "fit/adam.h"
 #include "bench/bench.h"
 #include "bench/clip_bench.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 
 /* The CLIP runs of a default step, for the floor: the 1 + A stroke images
  * with tape and the A augmented photos without. */
@@ -101,7 +101,7 @@ int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c
     res->curves = c->n;
     res->views = 1;
     res->num_aug = lo.num_aug;
-    res->threads = ws_threads_get();
+    res->threads = ws_runtime_threads();
     goto done;
 fail:
     rc = st->code;

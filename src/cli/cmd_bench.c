@@ -10,7 +10,7 @@
 #include "cli/args.h"
 #include "cli/cli_bench.h"
 #include "cli/commands.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 
 static const struct {
     const char *name;
@@ -70,9 +70,12 @@ static cJSON *machine(void) {
     cJSON *m = cJSON_CreateObject();
     cJSON_AddStringToObject(m, "cpu", cpu);
     cJSON_AddNumberToObject(m, "cores", omp_get_num_procs());
-    cJSON_AddNumberToObject(m, "threads", ws_threads_get());
+    cJSON_AddNumberToObject(m, "threads", ws_runtime_threads());
     cJSON_AddStringToObject(m, "openblas", openblas_get_config());
+    const ws_blas_kernels *k = ws_runtime_kernels();
     cJSON_AddStringToObject(m, "kernels", openblas_get_corename());
+    cJSON_AddStringToObject(m, "kernels_openblas_chose", k->before);
+    cJSON_AddStringToObject(m, "kernels_why", k->why);
     cJSON_AddItemToObject(m, "load_average", ws_cli_bench_number(load[0]));
     return m;
 }
@@ -131,14 +134,15 @@ int cmd_bench(int argc, char **argv) {
                                 "--aug-bank at least 4");
         return ws_cli_fail(&st);
     }
-    ws_threads_set(ctx.threads);
+    if (ws_runtime_init(ctx.threads, &st)) return ws_cli_fail(&st);
     cJSON *out = cJSON_CreateObject(), *m = machine();
     cJSON_AddItemToObject(out, "machine", m);
     if (!ctx.json)
-        printf("machine: %s, %d cores, %d threads; %s; kernels %s; load average %.2f at the start\n",
-               cJSON_GetObjectItem(m, "cpu")->valuestring, omp_get_num_procs(), ws_threads_get(),
-               openblas_get_config(), openblas_get_corename(),
-               cJSON_GetObjectItem(m, "load_average")->valuedouble);
+        printf("machine: %s, %d cores, %d threads; %s; kernels %s (OpenBLAS chose %s: %s); load average "
+               "%.2f at the start\n",
+               cJSON_GetObjectItem(m, "cpu")->valuestring, omp_get_num_procs(), ws_runtime_threads(),
+               openblas_get_config(), openblas_get_corename(), ws_runtime_kernels()->before,
+               ws_runtime_kernels()->why, cJSON_GetObjectItem(m, "load_average")->valuedouble);
     int rc = WS_OK;
     for (int i = 0; i < NPARTS && !rc; i++)
         if (only < 0 || only == i) rc = parts[i].run(&ctx, out, &st);

@@ -14,7 +14,7 @@
 #include "cli/commands.h"
 #include "metrics/quality.h"
 #include "objective/objective.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 
 static void print_number(const char *key, double v) {
     if (isfinite(v))
@@ -124,7 +124,7 @@ int cmd_eval(int argc, char **argv) {
                 lo.weights_path);
         return ws_cli_fail(&st);
     }
-    ws_threads_set(threads);
+    if (ws_runtime_init(threads, &st)) return ws_cli_fail(&st);
     if (evaluate_sketch(pos[0], curves_path, split_name, size, loss_name, with_loss ? &lo : NULL,
                         &so, gt_points, gt_curves, &st))
         return ws_cli_fail(&st);

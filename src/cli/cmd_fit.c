@@ -11,7 +11,7 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "fit/fit.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 
 static void request_stop(int sig) {
     (void)sig;
@@ -180,8 +180,8 @@ int cmd_fit(int argc, char **argv) {
         if (!rc) rc = parse_fit(run_argc, run_argv, &opt, &resume_dir, &help, &settings, &st);
         opt.out_dir = dir; /* the run continues where its checkpoint is now */
     }
+    if (!rc) rc = ws_runtime_init(opt.threads, &st);
     if (!rc) {
-        ws_threads_set(opt.threads);
         rc = ws_fit(&opt, (const char *const *)run_argv, run_argc, dir != NULL, &interrupted, &st);
     }
     if (dir && run_argv != argv) free(run_argv);

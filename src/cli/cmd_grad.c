@@ -12,7 +12,7 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "objective/objective.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 
 /* Loss and dL/dP (curves->n x 4 x 3) of view `view` of `split`. */
 static int view_gradient(const ws_curves *curves, const ws_scene *scene, int split, int view,
@@ -76,9 +76,8 @@ int cmd_grad(int argc, char **argv) {
     if (help) return 0;
     lo.global_weight = 0; /* it compares augmented items only */
     if (ws_cli_require(curves_path, "--curves", &st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st))
+        ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st) || ws_runtime_init(threads, &st))
         return ws_cli_fail(&st);
-    ws_threads_set(threads);
     ws_curves curves = {0};
     ws_scene scene = {0};
     int split;

@@ -15,7 +15,7 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "nn/base/status.h"
-#include "base/threads.h"
+#include "base/runtime.h"
 
 /* The private directory of this process, made by fuzz_setup(). */
 static char fuzz_dir[256];
@@ -34,7 +34,8 @@ static void fuzz_setup(const char *target) {
     snprintf(fuzz_dir, sizeof fuzz_dir, "%s/ws_fuzz_%s_XXXXXX", base, target);
     if (!mkdtemp(fuzz_dir)) abort();
     atexit(fuzz_cleanup);
-    ws_threads_set(1);
+    ws_status st = {0};
+    if (ws_runtime_init(1, &st)) abort();
 }
 
 /* Writes data to fuzz_dir/name; the full path goes to path (4096 bytes). */
