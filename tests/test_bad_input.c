@@ -522,6 +522,12 @@ static void test_stored_arguments(const unsigned char *c, size_t len) {
     rc = run("fit --resume %s", dir);
     CHECK(ANSWER(1, rc, "%s: stored arguments: --epochs: -5 is not in [0, 1000000]", path),
           "stored --epochs -5");
+    const char *many_threads[] = {scene, "--loss", "edges", "--threads", "100000"};
+    write_with_arguments(path, c, len, many_threads, 5);
+    rc = run("fit --resume %s", dir);
+    CHECK(ANSWER(1, rc, "%s: stored arguments: --threads: 100000 is not in [0, 1024] (0: one per core)",
+                 path),
+          "stored --threads 100000");
     /* an override is checked as the command line it is */
     const char *good[] = {scene, "--loss", "edges", "--size", "32", "--threads", "1", "--quiet"};
     write_with_arguments(path, c, len, good, 8);
@@ -716,6 +722,12 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "--length: 1e+200 is not in [0, 1e+06]"), "--length 1e200");
     rc = run("fit %s/scene --out %s " FIT " --batch-size 2147483647", tmp, out);
     CHECK(ANSWER(2, rc, "--batch-size: 2147483647 is not in [1, 1000000]"), "huge --batch-size");
+    /* 100 000 threads overflowed libgomp's stack; the bound is WS_MAX_THREADS */
+    rc = run("fit %s/scene --out %s --loss edges --size 32 --quiet --threads 100000", tmp, out);
+    CHECK(ANSWER(2, rc, "--threads: 100000 is not in [0, 1024] (0: one per core)"), "fit --threads 100000");
+    rc = run("grad %s/scene --curves %s/scene/gt_curves.json --loss edges --size 32 --threads 100000", tmp,
+             tmp);
+    CHECK(ANSWER(2, rc, "--threads: 100000 is not in [0, 1024] (0: one per core)"), "grad --threads 100000");
     rc = run("fit %s/scene --out %s " FIT " --overlap 1", tmp, out);
     CHECK(ANSWER(2, rc, "--overlap: 1 is not in [0, 1)"), "--overlap 1");
     rc = run("fit %s/scene --out %s " FIT " --edges-weight -1", tmp, out);

@@ -84,10 +84,15 @@ static void choose_kernels(void) {
     }
 }
 
-int ws_runtime_init(int threads, ws_status *st) {
+int ws_runtime_check_threads(int threads, ws_status *st) {
     if (threads < 0 || threads > WS_MAX_THREADS)
         return ws_fail(st, WS_EUSAGE, "--threads: %d is not in [0, %d] (0: one per core)", threads,
                        WS_MAX_THREADS);
+    return WS_OK;
+}
+
+int ws_runtime_init(int threads, ws_status *st) {
+    if (ws_runtime_check_threads(threads, st)) return st->code;
     if (!kernels_chosen) {
         choose_kernels();
         kernels_chosen = 1;

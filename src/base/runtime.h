@@ -38,6 +38,8 @@
  * WS_MAX_THREADS); WS_EUSAGE otherwise. May be called again to change the
  * thread count; the kernels are chosen once. */
 int ws_runtime_init(int threads, ws_status *st);
+/* The thread-count check alone (options checked before anything runs). */
+int ws_runtime_check_threads(int threads, ws_status *st);
 
 /* The thread count in force. */
 int ws_runtime_threads(void);

@@ -6,6 +6,7 @@
  * an option far from overflow, and refuse values that cannot describe a
  * fit (a negative count, a zero thickness) before anything is loaded. */
 #include <string.h>
+#include "base/runtime.h"
 #include "fit/fit_options.h"
 
 void ws_fit_options_default(ws_fit_options *o) {
@@ -63,6 +64,6 @@ int ws_fit_options_check(const ws_fit_options *o, ws_status *st) {
         return ws_fail(st, WS_EUSAGE, "--max-steps, --eval-every and --snapshot-every must be >= 0");
     if (!(o->checkpoint_minutes > 0))
         return ws_fail(st, WS_EUSAGE, "--checkpoint-minutes: %g is not positive", o->checkpoint_minutes);
-    if (o->threads < 0) return ws_fail(st, WS_EUSAGE, "--threads: %d is negative", o->threads);
+    if (ws_runtime_check_threads(o->threads, st)) return st->code;
     return ws_loss_options_check(&o->loss, st);
 }
