@@ -348,4 +348,4 @@ int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embe
 
 size_t clip_run_bytes(const clip_run *r) { return nn_tape_bytes(&r->tape); }
 
-const nn_tape *clip_run_tape(const clip_run *r) { return &r->tape; }
+nn_tape *clip_run_tape(clip_run *r) { return &r->tape; }

@@ -53,7 +53,7 @@ int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embe
 /* Bytes of the run's activation arena (values, saved state, gradients). */
 size_t clip_run_bytes(const clip_run *r);
 /* The run's op tape, for tools that walk it (the benchmarks' GEMM floor,
- * matmul.h's nn_op_gemm). */
-const nn_tape *clip_run_tape(const clip_run *r);
+ * matmul.h's nn_op_gemm) or profile it (nn_tape_profile). */
+nn_tape *clip_run_tape(clip_run *r);
 
 #endif

@@ -2,6 +2,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include "tape.h"
 
 int nn_tape_init(nn_tape *t, int max_ops, int with_grad, ws_status *st) {
@@ -261,17 +262,37 @@ done:
     return rc;
 }
 
+void nn_tape_profile(nn_tape *t, double *seconds) { t->op_seconds = seconds; }
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Runs fn(op), timed into op_seconds[slot] when profiling. */
+static void run_op(const nn_tape *t, nn_op_fn fn, const nn_op *op, int slot) {
+    if (!t->op_seconds) {
+        fn(op);
+        return;
+    }
+    double t0 = now();
+    fn(op);
+    t->op_seconds[slot] = now() - t0;
+}
+
 void nn_tape_forward(nn_tape *t) {
     for (int i = 0; i < t->nops; i++)
-        if (t->ops[i].forward) t->ops[i].forward(&t->ops[i]);
+        if (t->ops[i].forward) run_op(t, t->ops[i].forward, &t->ops[i], i);
 }
 
 void nn_tape_backward(nn_tape *t) {
     for (int i = 0; i < t->ntensors; i++) t->tensors[i].grad_ready = 0;
+    if (t->op_seconds) memset(t->op_seconds + t->nops, 0, (size_t)t->nops * sizeof *t->op_seconds);
     for (int i = t->nops - 1; i >= 0; i--) {
         const nn_op *op = &t->ops[i];
         if (op->out && !(op->out->grad && op->out->grad_ready)) continue;
-        op->backward(op);
+        run_op(t, op->backward, op, t->nops + i);
     }
 }
 

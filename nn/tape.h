@@ -57,6 +57,8 @@ typedef struct {
     int overflow;              /* more ops than max_ops were recorded */
     void *block;               /* the one allocation */
     size_t keep_floats, scratch_floats, grad_floats;
+    /* NULL, or 2 * nops seconds that each replay fills (nn_tape_profile). */
+    double *op_seconds;
 } nn_tape;
 
 int nn_tape_init(nn_tape *t, int max_ops, int with_grad, ws_status *st);
@@ -90,6 +92,11 @@ void nn_tape_forward(nn_tape *t);
 /* Replays the tape in reverse from the seeds; ops no gradient reaches are
  * skipped. A graph input whose gradient never arrived keeps grad_ready 0. */
 void nn_tape_backward(nn_tape *t);
+/* From now on every replay writes the time of op i's forward to
+ * seconds[i] and of its backward to seconds[nops + i] (0 when it did not
+ * run); seconds has 2 * nops entries, or is NULL to stop. For profiles:
+ * it reads the clock twice per op. */
+void nn_tape_profile(nn_tape *t, double *seconds);
 /* Bytes of the arena. */
 size_t nn_tape_bytes(const nn_tape *t);
 

@@ -219,6 +219,10 @@ static void test_command(void) {
         cJSON *x = cJSON_GetObjectItem(clip, keys[k]);
         CHECK(cJSON_IsNumber(x) && x->valuedouble > 0, "clip.%s missing", keys[k]);
     }
+    cJSON *matmul = cJSON_GetObjectItem(cJSON_GetObjectItem(clip, "ops"), "matmul");
+    CHECK(cJSON_IsNumber(cJSON_GetObjectItem(matmul, "forward")) &&
+              cJSON_GetObjectItem(matmul, "forward")->valuedouble > 0,
+          "clip.ops.matmul.forward missing");
     CHECK(cJSON_GetArraySize(j) == 2, "bench clip printed more than the machine and its part");
     cJSON_Delete(j);
 }

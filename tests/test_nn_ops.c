@@ -548,6 +548,60 @@ static void test_tape(void) {
     free(gamma), free(beta), free(w1), free(w2), free(b1), free(x), free(seed), free(dx);
 }
 
+/* Tools walk a tape through op kinds, nn_op_gemm and nn_tape_profile:
+ * x -> matmul (bias) -> quick_gelu -> matmul, seeded on the output. */
+static void test_tape_walk(void) {
+    enum { M = 3, C = 4, F = 5 };
+    ws_status st;
+    ws_status_clear(&st);
+    float *w1 = randoms(F * C, -0.5, 0.5), *b1 = randoms(F, -0.1, 0.1), *w2 = randoms(F * C, -0.5, 0.5);
+    float *x = randoms(M * C, -1, 1), *seed = randoms(M * C, -1, 1), dx[M * C];
+    nn_tape t;
+    CHECK(nn_tape_init(&t, 4, 1, &st) == WS_OK, "%s", st.msg);
+    int shape[2] = {M, C};
+    nn_tensor *in = nn_tape_input(&t, 2, shape);
+    nn_tensor *y = nn_matmul(&t, nn_quick_gelu(&t, nn_matmul(&t, in, w1, b1, F, 0)), w2, NULL, C, 1);
+    const float *slot = seed;
+    nn_tape_seed(&t, y, &slot);
+    CHECK(nn_tape_plan(&t, &st) == WS_OK, "%s", st.msg);
+    static const nn_op_kind kinds[] = {NN_OP_MATMUL, NN_OP_QUICK_GELU, NN_OP_MATMUL, NN_OP_SEED};
+    CHECK(t.nops == 4, "%d ops recorded", t.nops);
+    for (int i = 0; i < 4 && i < t.nops; i++)
+        CHECK(t.ops[i].kind == kinds[i], "op %d is a %s", i, nn_op_kind_name(t.ops[i].kind));
+    CHECK(!strcmp(nn_op_kind_name(NN_OP_QUICK_GELU), "quick_gelu"), "kind name");
+
+    double seconds[8];
+    nn_tape_profile(&t, seconds);
+    in->data = x;
+    in->grad = dx;
+    nn_tape_forward(&t);
+    nn_tape_backward(&t);
+    nn_tape_profile(&t, NULL);
+    for (int i = 0; i < 8; i++)
+        CHECK(seconds[i] >= 0 && seconds[i] < 10, "op time %d: %g s", i, seconds[i]);
+
+    /* the GEMMs as described: the first matmul's without its bias, the
+     * second's with w [K,N]; backward: the input gradients */
+    nn_gemm g;
+    CHECK(!nn_op_gemm(&t.ops[1], 0, &g) && !nn_op_gemm(&t.ops[3], 1, &g), "only matmuls have GEMMs");
+    CHECK(nn_op_gemm(&t.ops[0], 0, &g) && g.m == M && g.n == F && g.k == C && g.trans_b == 1 &&
+              g.a == x && g.b == w1 && g.c == t.ops[0].out->data,
+          "first forward GEMM: %d x %d x %d, trans %d", g.m, g.n, g.k, g.trans_b);
+    float z[M * F];
+    memcpy(z, g.c, sizeof z);
+    nn_gemm_run(&g, 0.0f);
+    for (int i = 0; i < M * F; i++)
+        CHECK(fabsf(z[i] - b1[i % F] - g.c[i]) < 1e-5f, "GEMM without bias: %g vs %g", g.c[i], z[i] - b1[i % F]);
+    CHECK(nn_op_gemm(&t.ops[2], 0, &g) && g.m == M && g.n == C && g.k == F && g.trans_b == 0 && g.b == w2,
+          "second forward GEMM");
+    CHECK(nn_op_gemm(&t.ops[2], 1, &g) && g.m == M && g.n == F && g.k == C && g.trans_b == 1 &&
+              g.a == y->grad && g.c == t.ops[2].in[0]->grad,
+          "second backward GEMM");
+    CHECK(nn_op_gemm(&t.ops[0], 1, &g) && g.c == dx && g.m == M && g.n == C && g.k == F, "first backward GEMM");
+    nn_tape_free(&t);
+    free(w1), free(b1), free(w2), free(x), free(seed);
+}
+
 int main(void) {
     ws_rng_seed(&rng, 42);
     for (int w_kn = 0; w_kn < 2; w_kn++)
@@ -566,5 +620,6 @@ int main(void) {
     test_similarity();
     test_fastmath();
     test_tape();
+    test_tape_walk();
     return check_summary();
 }

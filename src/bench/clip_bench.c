@@ -52,8 +52,12 @@ int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_
     float *d_images = ws_malloc(pixels * sizeof *d_images, "benchmark gradients", st);
     float *d_embedding = random_floats((size_t)batch * a->output_dim, &rng, -1, 1, st);
     float *d_blocks = random_floats(SEEDED_BLOCKS * hidden, &rng, -1e-3, 1e-3, st);
+    nn_tape *tape = clip_run_tape(run);
+    size_t nslots = 2 * (size_t)tape->nops;
+    double *op_seconds = ws_malloc(nslots * sizeof *op_seconds, "benchmark profile", st);
+    double *op_best = ws_malloc(nslots * sizeof *op_best, "benchmark profile", st);
     int rc = WS_OK;
-    if (!d_hidden || !images || !d_images || !d_embedding || !d_blocks) {
+    if (!d_hidden || !images || !d_images || !d_embedding || !d_blocks || !op_seconds || !op_best) {
         rc = st->code;
         goto done;
     }
@@ -61,6 +65,8 @@ int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_
 
     *res = (ws_clip_bench_result){.batch = batch, .rounds = rounds, .threads = omp_get_max_threads()};
     res->forward = res->forward_backward = res->floor_forward = res->floor_forward_backward = INFINITY;
+    for (size_t i = 0; i < nslots; i++) op_best[i] = INFINITY;
+    nn_tape_profile(tape, op_seconds);
     /* one unmeasured round: page faults of the arena, OpenBLAS's threads */
     for (int r = -1; r < rounds; r++) {
         double t0 = now();
@@ -83,6 +89,12 @@ int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_
         res->forward_backward = fmin(res->forward_backward, t2 - t0);
         res->floor_forward = fmin(res->floor_forward, t3 - t2);
         res->floor_forward_backward = fmin(res->floor_forward_backward, t4 - t2);
+        for (size_t i = 0; i < nslots; i++) op_best[i] = fmin(op_best[i], op_seconds[i]);
+    }
+    nn_tape_profile(tape, NULL);
+    for (int i = 0; i < tape->nops; i++) {
+        res->op_forward[tape->ops[i].kind] += tape->ops[i].forward ? op_best[i] : 0.0;
+        res->op_backward[tape->ops[i].kind] += op_best[tape->nops + i];
     }
     res->arena_bytes = clip_run_bytes(run);
     struct rusage ru;
@@ -96,5 +108,7 @@ done:
     free(d_images);
     free(d_embedding);
     free(d_blocks);
+    free(op_seconds);
+    free(op_best);
     return rc;
 }

@@ -4,7 +4,9 @@
  * the backward's input-gradient products) through cblas_sgemm alone, on
  * the same buffers and weights: what no implementation of the same
  * products can beat. Rounds alternate the real passes and the floor, so
- * that a busy machine slows both alike; each figure is the best round. */
+ * that a busy machine slows both alike; each figure is the best round.
+ * The rounds also time every op of the tape (nn_tape_profile), to show
+ * where the time above the floor goes. */
 #ifndef WS_CLIP_BENCH_H
 #define WS_CLIP_BENCH_H
 #include <stddef.h>
@@ -18,6 +20,8 @@ typedef struct {
     long peak_rss_kb;                             /* of the whole process */
     char blas_core[32];                           /* OpenBLAS's kernel set */
     int nn_parallel;                              /* nn ops fork OpenMP teams */
+    /* seconds per kind of op (nn_op_kind), each op's best round, summed */
+    double op_forward[NN_OP_KINDS], op_backward[NN_OP_KINDS];
 } ws_clip_bench_result;
 
 /* Times `rounds` rounds on a batch of random images with a gradient seed

@@ -8,6 +8,19 @@
 #include "bench/clip_bench.h"
 #include "cli/commands.h"
 
+/* Where the time goes, op by op, against the GEMM floor: matmul includes
+ * its GEMMs, so its excess over the floor is the share of its biases. */
+static void print_ops(const ws_clip_bench_result *r) {
+    double floor = r->floor_forward_backward;
+    printf("\n| op | forward (ms) | backward (ms) | share of the GEMM floor |\n"
+           "| --- | ---: | ---: | ---: |\n");
+    for (int k = 0; k < NN_OP_KINDS; k++) {
+        double f = r->op_forward[k], b = r->op_backward[k];
+        if (f + b > 0)
+            printf("| %s | %.1f | %.1f | %.3f |\n", nn_op_kind_name(k), 1e3 * f, 1e3 * b, (f + b) / floor);
+    }
+}
+
 int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     ws_clip_bench_result r;
     if (ws_cli_bench_model(ctx, st) || ws_clip_bench_run(ctx->model, ctx->batch, ctx->rounds, &r, st)) return st->code;
@@ -23,6 +36,13 @@ int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     cJSON_AddNumberToObject(j, "ratio_forward", r.forward / r.floor_forward);
     cJSON_AddNumberToObject(j, "ratio_forward_backward", r.forward_backward / r.floor_forward_backward);
     cJSON_AddNumberToObject(j, "arena_bytes", (double)r.arena_bytes);
+    cJSON *ops = cJSON_AddObjectToObject(j, "ops");
+    for (int k = 0; k < NN_OP_KINDS; k++) {
+        if (r.op_forward[k] + r.op_backward[k] <= 0) continue;
+        cJSON *o = cJSON_AddObjectToObject(ops, nn_op_kind_name(k));
+        cJSON_AddNumberToObject(o, "forward", r.op_forward[k]);
+        cJSON_AddNumberToObject(o, "backward", r.op_backward[k]);
+    }
     if (ctx->json) return WS_OK;
     printf("\n## CLIP image tower\n\n");
     printf("width %d, %d blocks, %d heads, patch %d, %d x %d, output %d (%s); batch %d, %d threads, "
@@ -36,6 +56,7 @@ int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     printf("| forward+backward | %.1f | %.1f | %.2f |\n", 1e3 * r.forward_backward,
            1e3 * r.floor_forward_backward, r.forward_backward / r.floor_forward_backward);
     printf("\nactivation arena %.1f MB\n", r.arena_bytes / 1e6);
+    print_ops(&r);
     return WS_OK;
 }
 
