@@ -10,9 +10,14 @@ int ws_open_regular(const char *path, uint64_t max_bytes, int *fd, uint64_t *byt
                     ws_status *st) {
     *fd = -1;
     *bytes = 0;
-    int f = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (f < 0) return ws_fail(st, WS_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    /* stat first, so that a device is not even opened (opening one can have
+     * effects: a tape rewinds, a terminal becomes the controlling one);
+     * fstat after the open decides, should the path change in between */
     struct stat sb;
+    if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+        return ws_fail(st, WS_EINPUT, "%s: not a regular file", path);
+    int f = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (f < 0) return ws_fail(st, WS_EINPUT, "%s: cannot open: %s", path, strerror(errno));
     int flags;
     if (fstat(f, &sb) != 0) {
         ws_fail(st, WS_EIO, "%s: cannot stat: %s", path, strerror(errno));

@@ -2,8 +2,9 @@
  *
  * A path may name a FIFO, a device or a directory: opening a FIFO for
  * reading blocks until a writer appears, and /dev/zero never ends. So the
- * file is opened with O_NONBLOCK (which cannot block), its type checked with
- * fstat, anything but a regular file refused ("PATH: not a regular file"),
+ * path's type is checked with stat (a device is not even opened), the file
+ * opened with O_NONBLOCK (which cannot block) and its type checked again
+ * with fstat, anything but a regular file refused ("PATH: not a regular file"),
  * its size checked against the caller's cap, and only then is O_NONBLOCK
  * cleared for ordinary blocking reads. Every reader of user files (scenes,
  * images, curve files, point clouds, checkpoints, weight files) goes
