@@ -1,0 +1,73 @@
+/* cmd_check.c: `wiresketch check SCENE`: whether every view's photo agrees
+ * with its camera (geometry/check.h): a table per split, then one line
+ * saying what is wrong and how to fix it. Exit 0 when consistent, 1 not. */
+#include <stdio.h>
+#include "cli/args.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "geometry/check.h"
+
+static void print_table(const ws_scene *scene, const ws_check_report *r) {
+    printf("%-6s %5s %6s %6s  %s\n", "split", "views", "mean", "worst", "views that disagree (agreement)");
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        const ws_check_split *c = &r->split[s];
+        if (c->n == 0) continue;
+        printf("%-6s %5d %6.3f %6.3f  ", ws_split_names[s], c->n, c->mean, c->worst);
+        for (int d = 0; d < c->ndisagree && d < 12; d++)
+            printf("%s%s (%.2f)", d ? ", " : "", scene->split[s].views[c->disagree[d]].name,
+                   c->agreement[c->disagree[d]]);
+        printf("%s\n", c->ndisagree > 12 ? ", ..." : c->ndisagree ? "" : "-");
+    }
+}
+
+int cmd_check(int argc, char **argv) {
+    const char *fixed_dir = NULL;
+    int size = 224, resolution = WS_CHECK_RESOLUTION;
+    const ws_arg args[] = {
+        {"--size", WS_ARG_INT, &size, 0, "working resolution in pixels, square [224]"},
+        {"--resolution", WS_ARG_INT, &resolution, 0, "hull voxels along its longest side [64]"},
+        {"--write-fixed", WS_ARG_STRING, &fixed_dir, 0,
+         "write a corrected copy of the scene here when the cause is found [none]"},
+    };
+    const ws_command_spec spec = {
+        "check SCENE [options]",
+        "Check that every view's silhouette agrees with the visual hull of the other views.",
+        args, sizeof args / sizeof args[0], 1, 1};
+    const char *pos[1];
+    int npos, help;
+    ws_status st;
+    ws_status_clear(&st);
+    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
+    if (help) return 0;
+    if (ws_cli_check_size(size, &st)) return ws_cli_fail(&st);
+    if (resolution < 8 || resolution > 512) {
+        ws_fail(&st, WS_EUSAGE, "--resolution: %d is not in [8, 512]", resolution);
+        return ws_cli_fail(&st);
+    }
+    ws_scene scene = {0};
+    ws_scene_options opt;
+    ws_scene_options_default(&opt);
+    opt.width = opt.height = size;
+    ws_check_report r;
+    if (ws_scene_load(&scene, pos[0], &opt, &st) || ws_check_scene(&scene, resolution, &r, &st)) {
+        ws_scene_free(&scene);
+        return ws_cli_fail(&st);
+    }
+    print_table(&scene, &r);
+    int code = r.consistent ? 0 : 1;
+    if (r.consistent) {
+        printf("consistent: every view agrees with the others\n");
+    } else {
+        printf("%s\n", r.line);
+        fprintf(stderr, "wiresketch: %s\n", r.line);
+    }
+    if (!r.consistent && fixed_dir) {
+        if (ws_check_write_fixed(&scene, &r, fixed_dir, &st))
+            code = ws_cli_fail(&st);
+        else
+            printf("wrote a corrected copy to %s\n", fixed_dir);
+    }
+    ws_check_report_free(&r);
+    ws_scene_free(&scene);
+    return code;
+}

@@ -1,0 +1,246 @@
+/* check.c: the scene check (see check.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "geometry/check.h"
+#include "geometry/hull.h"
+
+#define MAX_SHIFT 2
+#define FOCAL_STEPS 4 /* scales 2^(e / FOCAL_STEPS), e = -FOCAL_STEPS .. FOCAL_STEPS */
+
+/* A hypothesis: image k goes with camera `pair[k]` of the split (-1: none)
+ * after `flip` (OpenCV) and a focal scale. */
+typedef struct {
+    int shift, flip;
+    double focal_scale;
+} hypothesis;
+
+static int make_camera(const ws_camera *listed, const hypothesis *h, ws_camera *out, ws_status *st) {
+    double c2w[4][4];
+    memcpy(c2w, listed->c2w, sizeof c2w);
+    if (h->flip)
+        for (int i = 0; i < 3; i++) {
+            c2w[i][1] = -c2w[i][1];
+            c2w[i][2] = -c2w[i][2];
+        }
+    double angle = 2 * atan(0.5 * listed->width / (listed->focal * h->focal_scale));
+    return ws_camera_init(out, c2w, angle, listed->width, listed->height, "check", st);
+}
+
+/* Agreement of every image of the split with the others under hypothesis
+ * h; images without a camera under it get NAN. Returns the mean over the
+ * images that have one in *mean. */
+static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const double center[3],
+                           int resolution, const hypothesis *h, double *agreement, double *mean,
+                           ws_status *st) {
+    ws_camera *cams = ws_malloc(sizeof *cams * sp->n, "check cameras", st);
+    ws_hull_view *hv = cams ? ws_malloc(sizeof *hv * sp->n, "check views", st) : NULL;
+    double *a = hv ? ws_malloc(sizeof *a * sp->n, "check agreement", st) : NULL;
+    int *image = a ? ws_malloc(sizeof *image * sp->n, "check pairs", st) : NULL;
+    ws_hull hull = {0};
+    int m = 0, rc = image ? WS_OK : st->code;
+    for (int k = 0; k < sp->n && !rc; k++) {
+        agreement[k] = NAN;
+        int c = k + h->shift;
+        if (c < 0 || c >= sp->n) continue;
+        rc = make_camera(&sp->views[c].cam, h, &cams[m], st);
+        hv[m] = (ws_hull_view){.cam = &cams[m], .sil = &sil[k]};
+        image[m++] = k;
+    }
+    if (!rc && m > 0) rc = ws_hull_carve(hv, m, center, resolution, ws_hull_default_tolerance(m), &hull, st);
+    if (!rc && m > 0) rc = ws_hull_agreement(hv, m, &hull, a, st);
+    *mean = 0;
+    for (int k = 0; k < m && !rc; k++) {
+        agreement[image[k]] = a[k];
+        *mean += a[k] / m;
+    }
+    ws_hull_free(&hull);
+    free(cams);
+    free(hv);
+    free(a);
+    free(image);
+    return rc;
+}
+
+static int check_split(const ws_scene *scene, int s, int resolution, ws_check_split *r,
+                       ws_status *st) {
+    const ws_split *sp = &scene->split[s];
+    *r = (ws_check_split){.n = sp->n, .focal_scale = 1};
+    if (sp->n == 0) return WS_OK;
+    ws_silhouette *sil = ws_calloc(sp->n, sizeof *sil, "silhouettes", st);
+    double *trial = sil ? ws_malloc(sizeof *trial * sp->n, "check agreement", st) : NULL;
+    r->agreement = trial ? ws_malloc(sizeof *r->agreement * sp->n, "check agreement", st) : NULL;
+    r->disagree = r->agreement ? ws_malloc(sizeof *r->disagree * sp->n, "check agreement", st) : NULL;
+    int rc = r->disagree ? WS_OK : st->code;
+    for (int k = 0; k < sp->n && !rc; k++)
+        rc = ws_silhouette_make(&sp->views[k].photo, NULL, &sil[k], st);
+    const hypothesis listed = {0, 0, 1.0};
+    if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &listed, r->agreement, &r->mean, st);
+    if (!rc) {
+        r->worst = 1;
+        for (int k = 0; k < sp->n; k++) {
+            r->worst = fmin(r->worst, r->agreement[k]);
+            if (r->agreement[k] < WS_CHECK_VIEW_OK) r->disagree[r->ndisagree++] = k;
+        }
+    }
+    int inconsistent = !rc && (r->mean < WS_CHECK_MEAN_OK || r->ndisagree > 0);
+    if (inconsistent) {
+        /* A few views that disagree with others that agree: bad frames. */
+        int allowed = sp->n / 10 > 1 ? sp->n / 10 : 1;
+        double others = 0;
+        for (int k = 0, d = 0; k < sp->n; k++) {
+            if (d < r->ndisagree && r->disagree[d] == k)
+                d++;
+            else
+                others += r->agreement[k] / (sp->n - r->ndisagree);
+        }
+        if (r->ndisagree > 0 && r->ndisagree <= allowed && sp->n > r->ndisagree &&
+            others >= WS_CHECK_MEAN_OK) {
+            r->cause = WS_CAUSE_BAD_FRAMES;
+            r->fixed_mean = others;
+            inconsistent = 0;
+        }
+    }
+    double best = r->mean + WS_CHECK_GAIN;
+    /* Every hypothesis of one cause, in a fixed order; ties keep the first. */
+    for (int shift = -MAX_SHIFT; shift <= MAX_SHIFT && !rc && inconsistent; shift++)
+        for (int flip = 0; flip <= 1 && !rc; flip++)
+            for (int e = -FOCAL_STEPS; e <= FOCAL_STEPS && !rc; e++) {
+                if ((shift != 0) + flip + (e != 0) != 1) continue;
+                hypothesis h = {shift, flip, pow(2.0, (double)e / FOCAL_STEPS)};
+                double mean;
+                rc = agreement_under(sp, sil, scene->center, resolution, &h, trial, &mean, st);
+                if (rc || !(mean >= WS_CHECK_MEAN_OK && mean > best)) continue;
+                best = r->fixed_mean = mean;
+                r->cause = shift ? WS_CAUSE_SHIFT : flip ? WS_CAUSE_OPENCV : WS_CAUSE_FOCAL;
+                r->shift = shift;
+                r->focal_scale = h.focal_scale;
+            }
+    if (inconsistent && r->cause == WS_CAUSE_NONE) {
+        r->cause = WS_CAUSE_UNKNOWN;
+        r->fixed_mean = r->mean;
+    }
+    for (int k = 0; sil && k < sp->n; k++) ws_silhouette_free(&sil[k]);
+    free(sil);
+    free(trial);
+    return rc;
+}
+
+/* One line for the first inconsistent split. */
+static void explain(const ws_scene *scene, int s, const ws_check_split *r, char *line, size_t size) {
+    const char *split = ws_split_names[s];
+    switch (r->cause) {
+    case WS_CAUSE_NONE:
+        line[0] = 0;
+        break;
+    case WS_CAUSE_SHIFT:
+        snprintf(line, size,
+                 "%.300s/transforms_%s.json: the image of frame k belongs to the camera of frame k%+d "
+                 "(agreement %.2f, re-paired %.2f); write a corrected copy with "
+                 "`wiresketch check %.300s --write-fixed DIR`",
+                 scene->dir, split, r->shift, r->mean, r->fixed_mean, scene->dir);
+        break;
+    case WS_CAUSE_OPENCV:
+        snprintf(line, size,
+                 "%.300s/transforms_%s.json: the cameras are in the OpenCV convention (y down, z "
+                 "forward; agreement %.2f, flipped %.2f); negate the second and third columns of "
+                 "every transform_matrix, or write a corrected copy with "
+                 "`wiresketch check %.300s --write-fixed DIR`",
+                 scene->dir, split, r->mean, r->fixed_mean, scene->dir);
+        break;
+    case WS_CAUSE_FOCAL: {
+        double listed = 2 * atan(0.5 * scene->split[s].views[0].cam.width /
+                                 scene->split[s].views[0].cam.focal);
+        double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
+        snprintf(line, size,
+                 "%.300s/transforms_%s.json: camera_angle_x %.4g does not fit the images; about %.4g "
+                 "does (focal x%.3g; agreement %.2f, corrected %.2f); fix camera_angle_x, or write "
+                 "a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
+                 scene->dir, split, listed, fixed, r->focal_scale, r->mean, r->fixed_mean, scene->dir);
+        break;
+    }
+    case WS_CAUSE_BAD_FRAMES: {
+        int at = snprintf(line, size, "%.300s/transforms_%s.json: frame%s", scene->dir, split,
+                          r->ndisagree > 1 ? "s" : "");
+        for (int d = 0; d < r->ndisagree && at > 0 && (size_t)at < size; d++) {
+            const ws_view *v = &scene->split[s].views[r->disagree[d]];
+            at += snprintf(line + at, size - at, "%s %d (%s, agreement %.2f)", d ? "," : "",
+                           r->disagree[d], v->name, r->agreement[r->disagree[d]]);
+        }
+        if (at > 0 && (size_t)at < size)
+            snprintf(line + at, size - at,
+                     " disagree%s with the other views (mean %.2f): fix %s transform_matrix or "
+                     "image, or remove %s",
+                     r->ndisagree > 1 ? "" : "s", r->fixed_mean, r->ndisagree > 1 ? "their" : "its",
+                     r->ndisagree > 1 ? "them" : "it");
+        break;
+    }
+    case WS_CAUSE_UNKNOWN:
+        snprintf(line, size,
+                 "%.300s/transforms_%s.json: the views do not agree with each other (mean agreement "
+                 "%.2f, worst %.2f) and no frame shift, OpenCV flip or field of view explains it; "
+                 "check the cameras and the images",
+                 scene->dir, split, r->mean, r->worst);
+        break;
+    }
+}
+
+/* A shift found in one split is usually in every split, but a split whose
+ * cameras form a regular orbit or spiral cannot show it (shifting such
+ * cameras by a frame turns them all alike, which keeps them consistent):
+ * the fix re-pairs every split that agrees as well re-paired. */
+static int shift_elsewhere(const ws_scene *scene, int resolution, ws_check_report *r, ws_status *st) {
+    int shift = 0;
+    for (int s = 0; s < WS_NSPLITS && !shift; s++)
+        if (r->split[s].cause == WS_CAUSE_SHIFT) shift = r->split[s].shift;
+    if (!shift) return WS_OK;
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        ws_check_split *c = &r->split[s];
+        if (c->n == 0 || c->cause != WS_CAUSE_NONE) continue;
+        const ws_split *sp = &scene->split[s];
+        ws_silhouette *sil = ws_calloc(sp->n, sizeof *sil, "silhouettes", st);
+        double *trial = sil ? ws_malloc(sizeof *trial * sp->n, "check agreement", st) : NULL;
+        int rc = trial ? WS_OK : st->code;
+        for (int k = 0; k < sp->n && !rc; k++) rc = ws_silhouette_make(&sp->views[k].photo, NULL, &sil[k], st);
+        const hypothesis h = {shift, 0, 1.0};
+        double mean = 0;
+        if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &h, trial, &mean, st);
+        if (!rc && mean >= WS_CHECK_MEAN_OK) c->repair_shift = shift;
+        for (int k = 0; sil && k < sp->n; k++) ws_silhouette_free(&sil[k]);
+        free(sil);
+        free(trial);
+        if (rc) return rc;
+    }
+    return WS_OK;
+}
+
+int ws_check_scene(const ws_scene *scene, int resolution, ws_check_report *r, ws_status *st) {
+    memset(r, 0, sizeof *r);
+    r->consistent = 1;
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        if (check_split(scene, s, resolution, &r->split[s], st)) {
+            ws_check_report_free(r);
+            return st->code;
+        }
+        if (r->split[s].cause == WS_CAUSE_SHIFT) r->split[s].repair_shift = r->split[s].shift;
+        if (r->split[s].cause != WS_CAUSE_NONE && r->consistent) {
+            r->consistent = 0;
+            explain(scene, s, &r->split[s], r->line, sizeof r->line);
+        }
+    }
+    if (shift_elsewhere(scene, resolution, r, st)) {
+        ws_check_report_free(r);
+        return st->code;
+    }
+    return WS_OK;
+}
+
+void ws_check_report_free(ws_check_report *r) {
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        free(r->split[s].agreement);
+        free(r->split[s].disagree);
+        r->split[s].agreement = NULL;
+        r->split[s].disagree = NULL;
+    }
+}

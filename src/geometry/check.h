@@ -1,0 +1,75 @@
+/* check.h: does every view's photo agree with its camera?
+ *
+ * A view's agreement is the IoU of its silhouette and the projection of
+ * the visual hull carved from the other views of its split (hull.h). In a
+ * consistent split every view agrees (a hull is never smaller than the
+ * object, so the IoU falls short of 1 by the hull's own excess: 0.7 - 0.8
+ * on the shared rose and duck at 224 px). A split is consistent when its
+ * mean agreement is at least WS_CHECK_MEAN_OK and no view is below
+ * WS_CHECK_VIEW_OK. Otherwise the usual causes are tried, each as a
+ * hypothesis whose mean agreement is measured the same way:
+ * - a frame shift: the image of frame k belongs to the camera of frame
+ *   k + s, s = -2 .. 2;
+ * - the OpenCV convention (y down, z forward): the second and third
+ *   columns of every transform_matrix negated;
+ * - a wrong field of view: the focal scaled by 2^(e/4), e = -4 .. 4;
+ * and a hypothesis is the diagnosis when it lifts the mean agreement to
+ * WS_CHECK_MEAN_OK or more and above the split's own by WS_CHECK_GAIN
+ * (the best such one wins). Failing that, when at most a tenth of the
+ * views (at least 1) disagree and the others agree on average, those views
+ * are bad frames (a wrong camera or image each); anything else is an
+ * inconsistency of unknown cause. */
+#ifndef WS_CHECK_H
+#define WS_CHECK_H
+#include "io/scene.h"
+#include "nn/base/status.h"
+
+#define WS_CHECK_MEAN_OK 0.98
+#define WS_CHECK_VIEW_OK 0.9
+#define WS_CHECK_GAIN 0.005
+#define WS_CHECK_RESOLUTION 64
+
+typedef enum {
+    WS_CAUSE_NONE,       /* consistent */
+    WS_CAUSE_SHIFT,      /* image k belongs to the camera of frame k + shift */
+    WS_CAUSE_OPENCV,     /* cameras in the OpenCV convention */
+    WS_CAUSE_FOCAL,      /* camera_angle_x wrong: the focal should be scaled by focal_scale */
+    WS_CAUSE_BAD_FRAMES, /* the views in `disagree` are wrong */
+    WS_CAUSE_UNKNOWN
+} ws_check_cause;
+
+typedef struct {
+    int n;                /* views; 0: the split is absent */
+    double *agreement;    /* n */
+    double mean, worst;
+    int ndisagree;
+    int *disagree;        /* ndisagree view indices, agreement below WS_CHECK_VIEW_OK */
+    ws_check_cause cause;
+    int shift;            /* WS_CAUSE_SHIFT */
+    double focal_scale;   /* WS_CAUSE_FOCAL: f_true / f_listed */
+    double fixed_mean;    /* mean agreement with the fix applied */
+    int repair_shift;     /* the shift the corrected copy applies to this split: its own, or
+                             another split's that fits it as well (check.c) */
+} ws_check_split;
+
+typedef struct {
+    ws_check_split split[WS_NSPLITS];
+    int consistent;       /* every split */
+    char line[1024];      /* what is wrong and how to fix it; "" when consistent */
+} ws_check_report;
+
+/* scene: loaded with its images. resolution: voxels along the hull's
+ * longest side (WS_CHECK_RESOLUTION). */
+int ws_check_scene(const ws_scene *scene, int resolution, ws_check_report *r, ws_status *st);
+void ws_check_report_free(ws_check_report *r);
+
+/* Writes a corrected copy of the scene into `out` (created if missing,
+ * not the scene itself): every split's transforms_SPLIT.json rewritten
+ * with its fix (frames re-paired, frames left without a camera by the
+ * shift dropped; second and third columns negated; camera_angle_x
+ * replaced; bad frames dropped), every other entry of the scene directory
+ * linked (symbolic links to absolute paths). */
+int ws_check_write_fixed(const ws_scene *scene, const ws_check_report *r, const char *out,
+                         ws_status *st);
+
+#endif
