@@ -54,7 +54,7 @@ int main(void) {
         {"length", "0.05"},   {"epochs", "3"},        {"inner-steps", "2"},    {"n-curves", "7"},
         {"thickness", "0.03"}, {"learning-rate", "0.0125"}, {"cutoff", "inf"}, {"seed", "9"},
         {"quiet", "yes"},     {"overlap", "0.6"},     {"batch-size", "1"},     {"eval-every", "10"},
-        {"clip-conv-layer-weights", "0 0 1 1 0"},     {"init", ""},
+        {"clip-conv-layer-weights", "0 0 1 1 0"},     {"init", "hull"},
     };
     for (size_t k = 0; k < sizeof given / sizeof given[0]; k++)
         CHECK(has_row(given[k][0], given[k][1]), "settings row %s = '%s'", given[k][0], given[k][1]);

@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include "fit/checkpoint.h"
 #include "fit/fit.h"
+#include "fit/init.h"
 #include "fit/fit_outputs.h"
 #include "base/outfile.h"
 #include "base/timing.h"
@@ -132,19 +133,12 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     fflush(stderr);
 }
 
-/* The state of a new fit: random (or given) curves, fresh Adam, first order. */
+/* The state of a new fit: initial curves (fit/init.h), fresh Adam, first order. */
 static int init_state(fit_run *r, ws_status *st) {
     const ws_fit_options *o = r->opt;
     ws_fit_state *s = &r->s;
     ws_rng_seed(&s->rng, o->seed);
-    if (o->init_curves) {
-        if (ws_curves_load(o->init_curves, &s->curves, st)) return st->code;
-        if (s->curves.n == 0)
-            return ws_fail(st, WS_EINPUT, "%s: no curves (a fit starts from at least one)", o->init_curves);
-    } else if (ws_curves_init_random(&s->curves, o->n_curves, r->scene.center, o->radius, o->length,
-                                     o->thickness, o->overlap, &s->rng, st)) {
-        return st->code;
-    }
+    if (ws_fit_init_curves(o, &r->scene, &s->rng, &s->curves, st)) return st->code;
     /* Both sample: a loaded file's curves were measured by the loader, and
      * random ones lie within the bounded --radius and --length. */
     s->n_train = r->scene.split[WS_TRAIN].n;
@@ -251,7 +245,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
                            "%s: stopped at batch %d, step %d of its epoch, which --batch-size %d and "
                            "--inner-steps %d do not have; resume with the run's own values",
                            path, r->s.batch_in_epoch, r->s.step_in_batch, o->batch_size, o->inner_steps);
-    } else if (init_state(r, st)) {
+    } else if ((!o->no_check && ws_fit_check_scene(&r->scene, st)) || init_state(r, st)) {
         return st->code;
     }
     ws_splat_options splat_opt;

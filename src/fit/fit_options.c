@@ -28,6 +28,7 @@ void ws_fit_options_default(ws_fit_options *o) {
     o->seed = 0;
     o->checkpoint_minutes = 5.0;
     o->snapshot_every = 30;
+    o->init_curves = "hull";
 }
 
 /* Counts: views per batch, epochs and Adam steps per batch at most 10^6

@@ -136,7 +136,7 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
         break;
     case WS_CAUSE_SHIFT:
         snprintf(line, size,
-                 "%.300s/transforms_%s.json: the image of frame k belongs to the camera of frame k%+d "
+                 "%.300s/transforms_%s.json: the image of frame k belongs to the camera listed for frame k%+d "
                  "(agreement %.2f, re-paired %.2f); write a corrected copy with "
                  "`wiresketch check %.300s --write-fixed DIR`",
                  scene->dir, split, r->shift, r->mean, r->fixed_mean, scene->dir);

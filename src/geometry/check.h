@@ -19,8 +19,8 @@
  * views (at least 1) disagree and the others agree on average, those views
  * are bad frames (a wrong camera or image each); anything else is an
  * inconsistency of unknown cause. */
-#ifndef WS_CHECK_H
-#define WS_CHECK_H
+#ifndef WS_GEOMETRY_CHECK_H
+#define WS_GEOMETRY_CHECK_H
 #include "io/scene.h"
 #include "nn/base/status.h"
 

@@ -80,7 +80,5 @@ void ws_camera_position(const ws_camera *cam, double pos[3]) {
 }
 
 void ws_camera_pixel_ray(const ws_camera *cam, double i, double j, double D[3]) {
-    D[0] = (j - 0.5 * cam->width) / cam->focal;
-    D[1] = -(i - 0.5 * cam->height) / cam->focal;
-    D[2] = -1.0;
+    ws_camera_ray(cam, j + WS_PIXEL_CENTER, i + WS_PIXEL_CENTER, D);
 }

@@ -50,10 +50,9 @@ static int valid_shape(double thickness, double overlap, ws_status *st) {
     return WS_OK;
 }
 
-/* A uniformly distributed unit vector orthogonal to `normal` (unit, or zero
- * for any direction): an isotropic normal draw projected onto the plane is
- * isotropic in the plane, so normalising it gives a uniform direction. */
-static void random_direction(ws_rng *rng, const double normal[3], double out[3]) {
+/* An isotropic normal draw projected onto the plane is isotropic in the
+ * plane, so normalising it gives a uniform direction. */
+void ws_random_direction(ws_rng *rng, const double normal[3], double out[3]) {
     for (;;) {
         double g[3] = {ws_rng_normal(rng), ws_rng_normal(rng), ws_rng_normal(rng)};
         double along = g[0] * normal[0] + g[1] * normal[1] + g[2] * normal[2];
@@ -78,18 +77,24 @@ int ws_curves_init_random(ws_curves *c, int n, const double center[3], double ra
     if (ws_curves_alloc(c, n, st)) return st->code;
     c->thickness = thickness;
     c->overlap = overlap;
-    static const double offsets[4] = {-0.5, -1.0 / 6.0, 1.0 / 6.0, 0.5};
     const double any[3] = {0, 0, 0};
     for (int ci = 0; ci < n; ci++) {
         double dir[3], tangent[3];
-        random_direction(rng, any, dir);
-        random_direction(rng, dir, tangent);
-        double *P = c->P + (size_t)ci * 12;
-        for (int j = 0; j < 4; j++)
-            for (int x = 0; x < 3; x++)
-                P[j * 3 + x] = center[x] + radius * dir[x] + offsets[j] * length * tangent[x];
+        ws_random_direction(rng, any, dir);
+        ws_random_direction(rng, dir, tangent);
+        double mid[3] = {center[0] + radius * dir[0], center[1] + radius * dir[1],
+                         center[2] + radius * dir[2]};
+        ws_curve_set_segment(c, ci, mid, tangent, length);
     }
     return WS_OK;
+}
+
+void ws_curve_set_segment(ws_curves *c, int ci, const double mid[3], const double dir[3],
+                          double length) {
+    static const double offsets[4] = {-0.5, -1.0 / 6.0, 1.0 / 6.0, 0.5};
+    double *P = c->P + (size_t)ci * 12;
+    for (int j = 0; j < 4; j++)
+        for (int x = 0; x < 3; x++) P[j * 3 + x] = mid[x] + offsets[j] * length * dir[x];
 }
 
 /* ---- sampling ---------------------------------------------------------- */

@@ -47,6 +47,15 @@ int ws_curves_init_random(ws_curves *c, int n, const double center[3], double ra
                           double length, double thickness, double overlap, ws_rng *rng,
                           ws_status *st);
 
+/* Curve ci becomes the straight segment of `length` centred at mid along
+ * the unit direction dir, control points at -1/2, -1/6, +1/6, +1/2. */
+void ws_curve_set_segment(ws_curves *c, int ci, const double mid[3], const double dir[3],
+                          double length);
+
+/* A uniform random unit vector orthogonal to `normal` (unit, or zero for
+ * any direction). */
+void ws_random_direction(ws_rng *rng, const double normal[3], double out[3]);
+
 /* Curve files: {"thickness": r, "overlap": o, "curves": [[[x,y,z] x 4], ...]}.
  * Reading checks every number is finite, every curve has 4 points of 3,
  * thickness > 0 and overlap in [0, 1); errors name the file and count curves

@@ -1,0 +1,32 @@
+/* init.c: initial curves and the scene check of a new fit (see init.h). */
+#include <string.h>
+#include "fit/init.h"
+#include "geometry/check.h"
+#include "geometry/surface.h"
+
+int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_rng *rng, ws_curves *c,
+                       ws_status *st) {
+    if (!strcmp(o->init_curves, "random"))
+        return ws_curves_init_random(c, o->n_curves, scene->center, o->radius, o->length,
+                                     o->thickness, o->overlap, rng, st);
+    if (!strcmp(o->init_curves, "hull")) {
+        ws_hull_surface s;
+        if (ws_scene_hull_surface(scene, WS_TRAIN, WS_HULL_INIT_RESOLUTION, &s, st)) return st->code;
+        int rc = ws_curves_init_hull(c, &s, o->n_curves, o->length, o->thickness, o->overlap, rng, st);
+        ws_hull_surface_free(&s);
+        return rc;
+    }
+    if (ws_curves_load(o->init_curves, c, st)) return st->code;
+    if (c->n == 0)
+        return ws_fail(st, WS_EINPUT, "%s: no curves (a fit starts from at least one)", o->init_curves);
+    return WS_OK;
+}
+
+int ws_fit_check_scene(const ws_scene *scene, ws_status *st) {
+    ws_check_report r;
+    if (ws_check_scene(scene, WS_CHECK_RESOLUTION, &r, st)) return st->code;
+    int rc = r.consistent ? WS_OK
+                          : ws_fail(st, WS_EINPUT, "%.900s (or go on anyway with --no-check)", r.line);
+    ws_check_report_free(&r);
+    return rc;
+}

@@ -1,0 +1,23 @@
+/* init.h: where a fit's curves start, and the scene check a new fit passes
+ * first.
+ *
+ * --init hull (the default): the curves start on the surface of the visual
+ * hull of the training views (geometry/surface.h, WS_HULL_INIT_RESOLUTION
+ * voxels along its longest side), spread by farthest-point sampling, as
+ * short strokes tangent to it. --init random: the original's sphere
+ * (METHOD.md section 2). Anything else names a curve file. */
+#ifndef WS_FIT_INIT_H
+#define WS_FIT_INIT_H
+#include "fit/fit_options.h"
+#include "io/scene.h"
+#include "nn/base/rng.h"
+#include "render/curves.h"
+
+int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_rng *rng, ws_curves *c,
+                       ws_status *st);
+
+/* Fails with WS_EINPUT and the check's one line (geometry/check.h), which
+ * ends naming --no-check, when the scene is not consistent. */
+int ws_fit_check_scene(const ws_scene *scene, ws_status *st);
+
+#endif

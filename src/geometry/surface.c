@@ -1,0 +1,138 @@
+/* surface.c: hull surfaces and the curves placed on them (see surface.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "geometry/surface.h"
+
+static int in_hull(const ws_hull *h, int x, int y, int z) {
+    if (x < 0 || y < 0 || z < 0 || x >= h->n[0] || y >= h->n[1] || z >= h->n[2]) return 0;
+    return ws_hull_in(h, ws_hull_index(h, x, y, z));
+}
+
+static int on_surface(const ws_hull *h, int x, int y, int z) {
+    return in_hull(h, x, y, z) && (!in_hull(h, x - 1, y, z) || !in_hull(h, x + 1, y, z) ||
+                                   !in_hull(h, x, y - 1, z) || !in_hull(h, x, y + 1, z) ||
+                                   !in_hull(h, x, y, z - 1) || !in_hull(h, x, y, z + 1));
+}
+
+int ws_hull_surface_make(const ws_hull *h, ws_hull_surface *s, ws_status *st) {
+    *s = (ws_hull_surface){0};
+    long count = 0;
+    for (int z = 0; z < h->n[2]; z++)
+        for (int y = 0; y < h->n[1]; y++)
+            for (int x = 0; x < h->n[0]; x++) count += on_surface(h, x, y, z);
+    s->p = ws_malloc(sizeof(double) * 3 * (count ? count : 1), "hull surface", st);
+    s->normal = s->p ? ws_malloc(sizeof(double) * 3 * (count ? count : 1), "hull surface", st) : NULL;
+    if (!s->normal) {
+        ws_hull_surface_free(s);
+        return st->code;
+    }
+    for (int z = 0; z < h->n[2]; z++)
+        for (int y = 0; y < h->n[1]; y++)
+            for (int x = 0; x < h->n[0]; x++) {
+                if (!on_surface(h, x, y, z)) continue;
+                double *p = s->p + 3 * s->n, *nv = s->normal + 3 * s->n;
+                ws_hull_voxel_center(h, x, y, z, p);
+                nv[0] = nv[1] = nv[2] = 0;
+                for (int dz = -1; dz <= 1; dz++)
+                    for (int dy = -1; dy <= 1; dy++)
+                        for (int dx = -1; dx <= 1; dx++)
+                            if (in_hull(h, x + dx, y + dy, z + dz)) {
+                                nv[0] -= dx;
+                                nv[1] -= dy;
+                                nv[2] -= dz;
+                            }
+                double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+                for (int a = 0; a < 3; a++) nv[a] = len > 0.5 ? nv[a] / len : 0.0;
+                s->n++;
+            }
+    return WS_OK;
+}
+
+void ws_hull_surface_free(ws_hull_surface *s) {
+    free(s->p);
+    free(s->normal);
+    *s = (ws_hull_surface){0};
+}
+
+int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_hull_surface *s,
+                          ws_status *st) {
+    const ws_split *sp = &scene->split[split];
+    *s = (ws_hull_surface){0};
+    ws_silhouette *sil = ws_calloc(sp->n ? sp->n : 1, sizeof *sil, "silhouettes", st);
+    ws_hull_view *hv = sil ? ws_malloc(sizeof *hv * (sp->n ? sp->n : 1), "hull views", st) : NULL;
+    ws_hull h = {0};
+    int rc = hv ? WS_OK : st->code;
+    for (int k = 0; k < sp->n && !rc; k++) {
+        rc = ws_silhouette_make(&sp->views[k].photo, NULL, &sil[k], st);
+        hv[k] = (ws_hull_view){.cam = &sp->views[k].cam, .sil = &sil[k]};
+    }
+    if (!rc) rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), &h, st);
+    if (!rc) rc = ws_hull_surface_make(&h, s, st);
+    if (!rc && s->n == 0)
+        rc = ws_fail(st, WS_EINPUT, "%s: the %s views' silhouettes have no common volume (try "
+                                    "`wiresketch check %s`)", scene->dir, ws_split_names[split], scene->dir);
+    if (rc) ws_hull_surface_free(s);
+    ws_hull_free(&h);
+    for (int k = 0; sil && k < sp->n; k++) ws_silhouette_free(&sil[k]);
+    free(sil);
+    free(hv);
+    return rc;
+}
+
+static double dist2(const double *a, const double *b) {
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+int ws_hull_surface_spread(const ws_hull_surface *s, const double *avoid, int navoid, int k,
+                           ws_rng *rng, int *picked, double *spacing, ws_status *st) {
+    if (k < 1 || k > s->n)
+        return ws_fail(st, WS_EINTERNAL, "surface: %d points asked of %d", k, s->n);
+    double *nearest = ws_malloc(sizeof(double) * s->n, "farthest-point distances", st);
+    if (!nearest) return st->code;
+    for (int i = 0; i < s->n; i++) {
+        nearest[i] = INFINITY;
+        for (int a = 0; a < navoid; a++) nearest[i] = fmin(nearest[i], dist2(s->p + 3 * i, avoid + 3 * a));
+    }
+    *spacing = 0;
+    for (int m = 0; m < k; m++) {
+        int best = 0;
+        if (m == 0 && navoid == 0) {
+            best = (int)ws_rng_below(rng, (uint64_t)s->n);
+        } else {
+            for (int i = 1; i < s->n; i++)
+                if (nearest[i] > nearest[best]) best = i;
+            *spacing = sqrt(nearest[best]);
+        }
+        picked[m] = best;
+        #pragma omp parallel for schedule(static) if (s->n > 20000)
+        for (int i = 0; i < s->n; i++) nearest[i] = fmin(nearest[i], dist2(s->p + 3 * i, s->p + 3 * best));
+    }
+    free(nearest);
+    return WS_OK;
+}
+
+int ws_curves_init_hull(ws_curves *c, const ws_hull_surface *s, int n, double length,
+                        double thickness, double overlap, ws_rng *rng, ws_status *st) {
+    /* Allocated and shaped by the random initialisation (which checks the
+     * shape), then every curve moved onto the surface. */
+    const double origin[3] = {0, 0, 0};
+    if (ws_curves_init_random(c, n, origin, 0, 0, thickness, overlap, rng, st)) return st->code;
+    int k = n < s->n ? n : s->n;
+    int *picked = ws_malloc(sizeof(int) * (k ? k : 1), "picked surface points", st);
+    double spacing = 0;
+    if (!picked || ws_hull_surface_spread(s, NULL, 0, k, rng, picked, &spacing, st)) {
+        free(picked);
+        ws_curves_free(c);
+        return st->code;
+    }
+    for (int ci = 0; ci < n; ci++) {
+        int at = picked[ci % k];
+        double dir[3];
+        ws_random_direction(rng, s->normal + 3 * at, dir);
+        ws_curve_set_segment(c, ci, s->p + 3 * at, dir, fmax(length, 0.5 * spacing));
+    }
+    free(picked);
+    return WS_OK;
+}
