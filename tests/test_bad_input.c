@@ -704,10 +704,11 @@ static void test_numeric_faults(void) {
     if (st.code) return;
     CHECK(s.global_step == 3 && s.skipped_steps == 3, "%ld steps, %ld skipped", s.global_step,
           s.skipped_steps);
-    CHECK(s.nsnap >= 1 && !memcmp(s.curves.P, s.snapshots, (size_t)s.curves.n * 12 * sizeof(double)),
+    size_t curve_bytes = (size_t)s.curves.n * WS_CURVE_FLOATS * sizeof(double);
+    CHECK(s.nsnap >= 1 && !memcmp(s.curves.P, s.snapshots, curve_bytes),
           "a refused step moved the control points");
     int moments = 1;
-    for (int i = 0; i < s.curves.n * 12; i++) moments &= s.adam.m[i] == 0 && s.adam.v[i] == 0;
+    for (int i = 0; i < s.curves.n * WS_CURVE_FLOATS; i++) moments &= s.adam.m[i] == 0 && s.adam.v[i] == 0;
     CHECK(moments && s.adam.step == 0, "a refused step reached Adam's moments");
     ws_fit_state_free(&s);
     ws_checkpoint_free_args(argc, argv);

@@ -77,7 +77,7 @@ static void test_bank_and_timing(const ws_scene *scene, const clip_model *m, con
           "a bank smaller than --num-aug: %s", st.msg);
     ws_loss_free(loss);
 
-    size_t bytes = (size_t)c->n * 12 * sizeof(double);
+    size_t bytes = (size_t)c->n * WS_CURVE_FLOATS * sizeof(double);
     double *g[4];
     for (int k = 0; k < 4; k++) g[k] = malloc(bytes);
     ws_objective *s[3] = {NULL, NULL, NULL};

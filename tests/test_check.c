@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "check.h"
 #include "geometry/check.h"
 #include "geometry/hull.h"
@@ -28,7 +29,7 @@ static int run(char *out, size_t size, const char *fmt, ...) {
     va_start(ap, fmt);
     vsnprintf(cmd, sizeof cmd, fmt, ap);
     va_end(ap);
-    char full[4200];
+    char full[WS_PATH_MAX];
     snprintf(full, sizeof full, "%s 2>&1", cmd);
     FILE *p = popen(full, "r");
     size_t n = p ? fread(out, 1, size - 1, p) : 0;
@@ -143,7 +144,7 @@ static void test_hull(const char *dir) {
     CHECK(ws_curves_init_hull(&c, &surf, 20, 0.02, 0.02, 0.6, &rng, &st) == WS_OK, "init: %s", st.msg);
     ws_curves c2;
     ws_curves_init_hull(&c2, &surf, 20, 0.02, 0.02, 0.6, &rng2, &st);
-    CHECK(!memcmp(c.P, c2.P, sizeof(double) * 12 * c.n), "hull init depends on the seed alone");
+    CHECK(!memcmp(c.P, c2.P, sizeof(double) * WS_CURVE_FLOATS * c.n), "hull init depends on the seed alone");
     /* every curve's middle lies on the surface, within a few voxels of the wire */
     double dist[20], diag = 0;
     for (int ci = 0; ci < c.n; ci++) {

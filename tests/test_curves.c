@@ -15,8 +15,8 @@ static double dist3(const double *a, const double *b) {
                 (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-static void set_curve(ws_curves *c, int ci, const double pts[12]) {
-    memcpy(c->P + (size_t)ci * 12, pts, 12 * sizeof(double));
+static void set_curve(ws_curves *c, int ci, const double pts[WS_CURVE_FLOATS]) {
+    memcpy(c->P + (size_t)ci * WS_CURVE_FLOATS, pts, WS_CURVE_FLOATS * sizeof(double));
 }
 
 static void test_bernstein(void) {
@@ -28,7 +28,7 @@ static void test_bernstein(void) {
     ws_curves c;
     ws_status st;
     CHECK(ws_curves_alloc(&c, 1, &st) == WS_OK, "alloc");
-    set_curve(&c, 0, (double[12]){1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
     double p[3];
     ws_curve_point(&c, 0, 0, p);
     CHECK(p[0] == 1 && p[1] == 2 && p[2] == 3, "curve starts at P0");
@@ -47,7 +47,7 @@ static void test_sampling_counts(void) {
     ws_curves_alloc(&c, 1, &st);
     c.thickness = 0.02;
     c.overlap = 0.6; /* spacing 0.016 */
-    set_curve(&c, 0, (double[12]){0, 0, 0, 0.1 / 3, 0, 0, 0.2 / 3, 0, 0, 0.1, 0, 0});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){0, 0, 0, 0.1 / 3, 0, 0, 0.2 / 3, 0, 0, 0.1, 0, 0});
     CHECK(ws_curves_sample(&c, &g, &st) == WS_OK, "sample: %s", st.msg);
     CHECK(g.n == 7, "L 0.1 / spacing 0.016 = 6.25 -> 7 Gaussians, got %d", g.n);
     CHECK(g.t[0] == 0 && g.t[g.n - 1] == 1, "t_0 = 0 and t_{M-1} = 1");
@@ -57,7 +57,7 @@ static void test_sampling_counts(void) {
 
     /* Uneven parametrisation (points bunched at the start): arc-length
      * inversion still spaces the Gaussians evenly. */
-    set_curve(&c, 0, (double[12]){0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0});
     ws_curves_sample(&c, &g, &st);
     CHECK(g.n == 63, "L 1 -> ceil(62.5) = 63 Gaussians, got %d", g.n);
     double lo = 1e9, hi = 0;
@@ -70,7 +70,7 @@ static void test_sampling_counts(void) {
     for (int k = 1; k < g.n; k++) CHECK(g.t[k] > g.t[k - 1], "t increasing at %d", k);
 
     /* A curved curve: consecutive chords are nearly equal. */
-    set_curve(&c, 0, (double[12]){0, 0, 0, 0.3, 0.5, 0, 0.8, -0.4, 0.2, 1, 0.1, 0.3});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){0, 0, 0, 0.3, 0.5, 0, 0.8, -0.4, 0.2, 1, 0.1, 0.3});
     ws_curves_sample(&c, &g, &st);
     lo = 1e9, hi = 0;
     for (int k = 1; k < g.n; k++) {
@@ -81,13 +81,13 @@ static void test_sampling_counts(void) {
     CHECK(hi / lo < 1.01, "curved: spacing even within 1%%: %g %g", lo, hi);
 
     /* Short curve (L < s): one Gaussian at the arc-length midpoint. */
-    set_curve(&c, 0, (double[12]){0, 0, 0, 0, 0, 0, 0, 0, 0, 0.01, 0, 0});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){0, 0, 0, 0, 0, 0, 0, 0, 0, 0.01, 0, 0});
     ws_curves_sample(&c, &g, &st);
     CHECK(g.n == 1, "L 0.01 < s: one Gaussian, got %d", g.n);
     CHECK(fabs(g.mu[0] - 0.005) < 1e-6, "at the arc-length midpoint x 0.005, got %g", g.mu[0]);
 
     /* Degenerate: all points equal. */
-    set_curve(&c, 0, (double[12]){1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3});
     ws_curves_sample(&c, &g, &st);
     CHECK(g.n == 1 && g.t[0] == 0.5, "degenerate: one Gaussian at t 0.5 (n %d)", g.n);
     CHECK(fabs(g.mu[0] - 1) < 1e-15 && fabs(g.mu[1] - 2) < 1e-15 && fabs(g.mu[2] - 3) < 1e-15,
@@ -95,7 +95,7 @@ static void test_sampling_counts(void) {
 
     /* Overlap 0: spacing 2 * thickness. */
     c.overlap = 0;
-    set_curve(&c, 0, (double[12]){0, 0, 0, 0.1 / 3, 0, 0, 0.2 / 3, 0, 0, 0.1, 0, 0});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){0, 0, 0, 0.1 / 3, 0, 0, 0.2 / 3, 0, 0, 0.1, 0, 0});
     ws_curves_sample(&c, &g, &st);
     CHECK(g.n == 3, "overlap 0: L 0.1 / 0.04 -> 3, got %d", g.n);
     ws_gaussians_free(&g);
@@ -107,9 +107,9 @@ static void test_cap_and_order(void) {
     ws_gaussians g = {0};
     ws_status st;
     ws_curves_alloc(&c, 3, &st);
-    set_curve(&c, 0, (double[12]){0, 0, 0, 0, 0, 0, 0, 0, 0, 0.1, 0, 0});
-    set_curve(&c, 1, (double[12]){0, 0, 0, 300, 0, 0, 700, 0, 0, 1000, 0, 0}); /* L 1000 */
-    set_curve(&c, 2, (double[12]){5, 5, 5, 5, 5, 5, 5, 5, 5, 5, 5, 5});
+    set_curve(&c, 0, (double[WS_CURVE_FLOATS]){0, 0, 0, 0, 0, 0, 0, 0, 0, 0.1, 0, 0});
+    set_curve(&c, 1, (double[WS_CURVE_FLOATS]){0, 0, 0, 300, 0, 0, 700, 0, 0, 1000, 0, 0}); /* L 1000 */
+    set_curve(&c, 2, (double[WS_CURVE_FLOATS]){5, 5, 5, 5, 5, 5, 5, 5, 5, 5, 5, 5});
     CHECK(ws_curves_sample(&c, &g, &st) == WS_OK, "long curve samples: %s", st.msg);
     int count[3] = {0, 0, 0}, ordered = 1;
     for (int k = 0; k < g.n; k++) {
@@ -277,7 +277,7 @@ static void test_init(void) {
     CHECK(c.n == n && c.thickness == 0.02 && c.overlap == 0.6, "init sets count and shape");
     double worst_r = 0, worst_len = 0, worst_dot = 0, worst_col = 0, mean[3] = {0, 0, 0};
     for (int ci = 0; ci < n; ci++) {
-        const double *P = c.P + (size_t)ci * 12;
+        const double *P = c.P + (size_t)ci * WS_CURVE_FLOATS;
         double mid[3], dir[3], radial[3];
         for (int x = 0; x < 3; x++) {
             mid[x] = 0.5 * (P[3 + x] + P[6 + x]);
@@ -304,7 +304,7 @@ static void test_init(void) {
     CHECK(m < 0.06, "points spread over the sphere: |mean direction| %g", m);
     ws_rng_seed(&rng, 99);
     ws_curves_init_random(&again, n, center, 0.8, 0.02, 0.02, 0.6, &rng, &st);
-    CHECK(!memcmp(again.P, c.P, sizeof(double) * n * 12), "same seed, same curves");
+    CHECK(!memcmp(again.P, c.P, sizeof(double) * n * WS_CURVE_FLOATS), "same seed, same curves");
     ws_curves_free(&again);
     ws_curves_free(&c);
     CHECK(ws_curves_init_random(&c, 3, center, 0.8, 0.02, -1, 0.6, &rng, &st) == WS_EINPUT &&

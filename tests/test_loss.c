@@ -58,7 +58,7 @@ static void make_curves(ws_curves *c, const double center[3], ws_rng *rng) {
 static void check_gradient(setup *s, ws_curves *c, int augment, const char *what) {
     ws_rng rng0;
     ws_rng_seed(&rng0, 99);
-    int np = c->n * 12;
+    int np = c->n * WS_CURVE_FLOATS;
     double *dP = malloc(np * sizeof(double));
     double base = loss_of(s, c, augment, &rng0, dP);
     CHECK(isfinite(base) && base > 0, "%s: loss %g", what, base);

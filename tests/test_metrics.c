@@ -452,7 +452,7 @@ static void test_surface_exact(void) {
 /* A straight curve from a to b, control points at thirds (uniform speed). */
 static void segment(ws_curves *c, int ci, const double a[3], const double b[3]) {
     for (int j = 0; j < 4; j++)
-        for (int x = 0; x < 3; x++) c->P[ci * 12 + j * 3 + x] = a[x] + (b[x] - a[x]) * j / 3.0;
+        for (int x = 0; x < 3; x++) c->P[ci * WS_CURVE_FLOATS + j * 3 + x] = a[x] + (b[x] - a[x]) * j / 3.0;
 }
 
 static void test_curve_metrics(void) {
@@ -467,7 +467,7 @@ static void test_curve_metrics(void) {
         return;
     }
     /* Bend the straight initial curves so that the sets are not trivial. */
-    for (int i = 0; i < 25 * 12; i++) a.P[i] += 0.1 * ws_rng_normal(&rng);
+    for (int i = 0; i < 25 * WS_CURVE_FLOATS; i++) a.P[i] += 0.1 * ws_rng_normal(&rng);
     ws_curve_metrics m, m2;
     int rc = ws_curve_metrics_compute(&a, &a, &m, &st);
     CHECK(rc == WS_OK && m.chamfer == 0 && m.precision == 1 && m.recall == 1 && m.fscore == 1,
@@ -478,8 +478,8 @@ static void test_curve_metrics(void) {
 
     /* Determinism across thread counts, with a perturbed result. */
     ws_curves_alloc(&b, 20, &st);
-    memcpy(b.P, a.P, 20 * 12 * sizeof(double));
-    for (int i = 0; i < 20 * 12; i++) b.P[i] += 0.02 * ws_rng_normal(&rng);
+    memcpy(b.P, a.P, 20 * WS_CURVE_FLOATS * sizeof(double));
+    for (int i = 0; i < 20 * WS_CURVE_FLOATS; i++) b.P[i] += 0.02 * ws_rng_normal(&rng);
     omp_set_num_threads(1);
     rc = ws_curve_metrics_compute(&b, &a, &m, &st);
     omp_set_num_threads(2);

@@ -48,7 +48,7 @@ static void make_curves(const ws_scene *scene, ws_curves *c) {
     for (int ci = 0; ci < 8; ci++)
         for (int j = 0; j < 4; j++)
             for (int x = 0; x < 3; x++)
-                c->P[ci * 12 + j * 3 + x] =
+                c->P[ci * WS_CURVE_FLOATS + j * 3 + x] =
                     scene->center[x] + 0.25 * ws_rng_normal(&rng) + 0.1 * j * (x == ci % 3);
 }
 
@@ -133,7 +133,7 @@ static void test_grad(const ws_curves *c, const char *curves_path) {
     ws_curves_sample(c, &g, &st);
     ws_splat_create(&s, 224, 224, &st);
     static double alpha[224 * 224], dalpha[224 * 224];
-    double *dmu = malloc(sizeof(double) * 3 * g.n), dP[8 * 12];
+    double *dmu = malloc(sizeof(double) * 3 * g.n), dP[8 * WS_CURVE_FLOATS];
     ws_splat_forward(s, &v->cam, g.mu, g.n, c->thickness, &opt, alpha, &st);
     double L = ws_loss_l2_forward(alpha, v->photo.data, 224 * 224);
     memset(dalpha, 0, sizeof dalpha);
@@ -147,8 +147,8 @@ static void test_grad(const ws_curves *c, const char *curves_path) {
         for (int j = 0; j < 4; j++)
             for (int x = 0; x < 3; x++) {
                 const cJSON *num = cJSON_GetArrayItem(cJSON_GetArrayItem(cJSON_GetArrayItem(jg, ci), j), x);
-                same &= num && num->valuedouble == dP[ci * 12 + j * 3 + x];
-                nonzero += dP[ci * 12 + j * 3 + x] != 0;
+                same &= num && num->valuedouble == dP[ci * WS_CURVE_FLOATS + j * 3 + x];
+                nonzero += dP[ci * WS_CURVE_FLOATS + j * 3 + x] != 0;
             }
     CHECK(same, "gradient printed exactly (8 x 4 x 3)");
     CHECK(nonzero > 48, "the gradient has content: %d non-zero", nonzero);

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "check.h"
 #include "io/gif.h"
 #include "io/report.h"
@@ -43,7 +44,7 @@ static int count(const char *s, const char *what) {
 
 /* No file and no temporary file beside it. */
 static int left_nothing(const char *path) {
-    char tmp[4200];
+    char tmp[WS_PATH_MAX];
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
     return access(path, F_OK) != 0 && access(tmp, F_OK) != 0;
 }
@@ -310,7 +311,7 @@ static void test_report(void) {
     c.thickness = 0.02;
     c.overlap = 0.6;
     for (int k = 0; k < 36; k++) c.P[k] = sin(1.7 * k);
-    c.P[12 + 5] = NAN; /* curve 1 is left out */
+    c.P[WS_CURVE_FLOATS + 5] = NAN; /* curve 1 is left out */
 
     enum { NT = 400 };
     long tstep[NT], vstep[5];

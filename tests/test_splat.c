@@ -326,12 +326,12 @@ static void check_curves_fd(const char *what, const ws_camera *cam, ws_curves *c
     ws_splat_create(&s, cam->width, cam->height, &st);
     /* h: the truncation error (h / thickness)^2 / 6 ~ 6e-8 stays below the
      * rounding error of L (~1e-16 L / h) of a smaller step. */
-    double *dP = malloc(sizeof(double) * 12 * c->n), gmax = 0, worst = 0, h = 3e-5;
+    double *dP = malloc(sizeof(double) * WS_CURVE_FLOATS * c->n), gmax = 0, worst = 0, h = 3e-5;
     curve_loss(s, cam, c, &g, opt, photo, dP);
-    CHECK(all_finite(dP, 12 * c->n), "%s: dL/dP finite", what);
-    for (int k = 0; k < 12 * c->n; k++) gmax = fmax(gmax, fabs(dP[k]));
+    CHECK(all_finite(dP, WS_CURVE_FLOATS * c->n), "%s: dL/dP finite", what);
+    for (int k = 0; k < WS_CURVE_FLOATS * c->n; k++) gmax = fmax(gmax, fabs(dP[k]));
     CHECK(gmax > 0, "%s: the gradient is not all zero", what);
-    for (int k = 0; k < 12 * c->n; k++) {
+    for (int k = 0; k < WS_CURVE_FLOATS * c->n; k++) {
         double saved = c->P[k];
         c->P[k] = saved + h;
         double Lp = curve_loss(s, cam, c, &g, opt, photo, NULL);

@@ -117,7 +117,7 @@ static void check_scene(const char *name, const char *dir_name, const int views[
         return;
     }
     int same = gt.n == obj.curves.n && gt.thickness == obj.curves.thickness;
-    for (int k = 0; same && k < gt.n * 12; k++) same = gt.P[k] == obj.curves.P[k];
+    for (int k = 0; same && k < gt.n * WS_CURVE_FLOATS; k++) same = gt.P[k] == obj.curves.P[k];
     CHECK(same, "%s: gt_curves.json holds the object's curves exactly", name);
 
     ws_scene sc;

@@ -26,13 +26,13 @@ static int run(const char *scene_dir, const char *curves_path, ws_status *st) {
     int rc = ws_scene_load(&scene, scene_dir, &so, st);
     if (!rc) rc = ws_curves_load(curves_path, &curves, st);
     if (!rc) rc = ws_objective_create(&obj, &scene, &lo, &sp, curves.n, st);
-    if (!rc && !(dP = ws_calloc((size_t)curves.n * 12, sizeof *dP, "dP", st))) rc = st->code;
+    if (!rc && !(dP = ws_calloc((size_t)curves.n * WS_CURVE_FLOATS, sizeof *dP, "dP", st))) rc = st->code;
     int split = scene.split[WS_TEST].n ? WS_TEST : WS_TRAIN;
     double value = 0;
     if (!rc) rc = ws_objective_view(obj, &curves, split, 0, 0, NULL, 1.0, &value, dP, st);
     if (!rc) {
         double norm = 0;
-        for (int i = 0; i < curves.n * 12; i++) norm += dP[i] * dP[i];
+        for (int i = 0; i < curves.n * WS_CURVE_FLOATS; i++) norm += dP[i] * dP[i];
         printf("view %s: %d curves, %d Gaussians, l2 loss %.6g, |dL/dP| %.6g\n",
                scene.split[split].views[0].name, curves.n, ws_objective_gaussians(obj)->n, value, sqrt(norm));
     }

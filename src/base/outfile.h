@@ -7,12 +7,13 @@
 #ifndef WS_OUTFILE_H
 #define WS_OUTFILE_H
 #include <stdio.h>
+#include "base/paths.h"
 #include "nn/base/status.h"
 
 typedef struct {
     FILE *fp;
     char path[4096];
-    char tmp[4200];
+    char tmp[WS_PATH_MAX];
     int live; /* its slot in the registry of live temporary files, or -1 */
 } ws_outfile;
 

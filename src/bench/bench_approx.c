@@ -29,7 +29,7 @@ typedef struct {
 /* What a setting's fastest run measured. */
 typedef struct {
     double loss;
-    double *grad;          /* curves x 12 */
+    double *grad;          /* curves x WS_CURVE_FLOATS */
     ws_step_timing best;
 } outcome;
 
@@ -82,7 +82,7 @@ enum { MAX_SETTINGS = 8 };
  * times of `part` and of the whole step. */
 static int measure(const setting *s, int n, int rounds, int part, int compare,
                    ws_bench_approx_row *const *rows, ws_status *st) {
-    int np = s[0].curves->n * 12, rc = WS_OK;
+    int np = s[0].curves->n * WS_CURVE_FLOATS, rc = WS_OK;
     outcome o[MAX_SETTINGS];
     memset(o, 0, sizeof o);
     for (int k = 0; k < n && !rc; k++) {
@@ -174,7 +174,7 @@ static int cutoff_rows(const ws_bench_approx_input *in, ws_bench_approx_row *row
     if (!rc) {
         double shift[3];
         sideways(in->scene, 1.0, shift);
-        for (int i = 0; i < big.n * 12; i++) big.P[i] += shift[i % 3];
+        for (int i = 0; i < big.n * WS_CURVE_FLOATS; i++) big.P[i] += shift[i % 3];
         set[0].curves = set[1].curves = &big;
         set[1].cutoff = 4;
         rc = measure(set, 2, in->rounds, PART_SPLAT, 1, row, st);
@@ -298,7 +298,7 @@ static int photo_cache_row(const ws_bench_approx_input *in, ws_bench_approx_row 
     snprintf(row->setting, sizeof row->setting, "once per view");
     ws_objective *s = NULL;
     ws_loss_options lo = loss_options(in->model, 4, 0, 1);
-    int rc = step_for(&s, in, &lo, st), np = in->sketch->n * 12;
+    int rc = step_for(&s, in, &lo, st), np = in->sketch->n * WS_CURVE_FLOATS;
     outcome o[2];
     memset(o, 0, sizeof o);
     for (int k = 0; k < 2 && !rc; k++) {

@@ -62,9 +62,10 @@ int ws_bench_step(const ws_scene *scene, const clip_model *m, const ws_curves *c
     double *grad = NULL;
     int rc = ws_objective_create(&obj, scene, &lo, &so, c->n, st);
     if (!rc) rc = ws_bench_scaled(c, 1.0, scene->center, &cur, st);
-    if (!rc) rc = ws_adam_init(&adam, c->n * 12, 0.005, st);
+    if (!rc) rc = ws_adam_init(&adam, c->n * WS_CURVE_FLOATS, 0.005, st);
     if (!rc) rc = floor_runs_create(&fr, m, lo.num_aug, st);
-    if (!rc && !(grad = ws_malloc((size_t)c->n * 12 * sizeof(double), "gradient", st))) rc = st->code;
+    if (!rc && !(grad = ws_calloc((size_t)c->n * WS_CURVE_FLOATS, sizeof(double), "gradient", st)))
+        rc = st->code;
     if (rc) goto done;
     ws_rng rng;
     ws_rng_seed(&rng, 3);

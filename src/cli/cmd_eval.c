@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "cli/args.h"
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
@@ -113,7 +114,7 @@ int cmd_eval(int argc, char **argv) {
     if (ws_cli_check_size(size, &st) ||
         (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st)))
         return ws_cli_fail(&st);
-    char scene_points[4200], scene_curves[4200];
+    char scene_points[WS_PATH_MAX], scene_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], scene_points, scene_curves);
     if (!gt_points) gt_points = scene_points[0] ? scene_points : NULL;
     if (!gt_curves) gt_curves = scene_curves[0] ? scene_curves : NULL;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "cli/args.h"
 #include "fit/checkpoint.h"
 #include "cli/cli_loss.h"
@@ -139,7 +140,7 @@ static int check_stored_arguments(const char *path, int argc, char **argv, ws_st
  * larger --max-steps). The strings stay owned by saved/argv. */
 static int resume_arguments(const char *dir, int argc, char **argv, int *run_argc, char ***run_argv,
                             int *nsaved, char ***saved, ws_status *st) {
-    char path[4200];
+    char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
     if (access(path, F_OK) != 0) return ws_fail(st, WS_EINPUT, "%s: no checkpoint to resume from", path);
     if (ws_checkpoint_load(path, NULL, nsaved, saved, st)) return st->code;

@@ -19,7 +19,7 @@ static int view_gradient(const ws_curves *curves, const ws_scene *scene, int spl
                          const ws_loss_options *lo, const ws_splat_options *so, double *value,
                          double *dP, ws_status *st) {
     ws_objective *obj = NULL;
-    memset(dP, 0, (size_t)curves->n * 12 * sizeof *dP);
+    memset(dP, 0, (size_t)curves->n * WS_CURVE_FLOATS * sizeof *dP);
     if (!ws_objective_create(&obj, scene, lo, so, curves->n, st))
         ws_objective_view(obj, curves, split, view, 0, NULL, 1.0, value, dP, st);
     ws_objective_free(obj);
@@ -31,7 +31,7 @@ static void print_gradient(double value, const double *dP, int n) {
     for (int c = 0; c < n; c++) {
         printf("%s\n  [", c ? "," : "");
         for (int j = 0; j < 4; j++) {
-            const double *d = dP + (size_t)c * 12 + j * 3;
+            const double *d = dP + (size_t)c * WS_CURVE_FLOATS + j * 3;
             printf("%s[%.17g, %.17g, %.17g]", j ? ", " : "", d[0], d[1], d[2]);
         }
         printf("]");
@@ -85,7 +85,8 @@ int cmd_grad(int argc, char **argv) {
     if (!ws_curves_load(curves_path, &curves, &st) &&
         !ws_cli_load_split(pos[0], size, 1, split_name, &scene, &split, &st)) {
         if (!ws_cli_check_view(&scene, split, view, &st) &&
-            (dP = ws_malloc((size_t)curves.n * 12 * sizeof *dP, "control point gradients", &st)) &&
+            (dP = ws_malloc((size_t)curves.n * WS_CURVE_FLOATS * sizeof *dP, "control point gradients",
+                            &st)) &&
             !view_gradient(&curves, &scene, split, view, &lo, &so, &value, dP, &st))
             print_gradient(value, dP, curves.n);
         ws_scene_free(&scene);

@@ -22,7 +22,7 @@ static void put_state(ws_bytes_writer *w, const ws_fit_state *s) {
     for (int i = 0; i < 4; i++) ws_put_u64(w, s->rng.s[i]);
     ws_put_u32(w, (uint32_t)s->n_train);
     for (int i = 0; i < s->n_train; i++) ws_put_u32(w, (uint32_t)s->order[i]);
-    size_t np = (size_t)s->curves.n * 12;
+    size_t np = (size_t)s->curves.n * WS_CURVE_FLOATS;
     ws_put_u32(w, (uint32_t)s->curves.n);
     ws_put_f64(w, s->curves.thickness);
     ws_put_f64(w, s->curves.overlap);
@@ -98,7 +98,7 @@ static int all_finite(const double *v, size_t n) {
 /* What a resumed fit relies on without checking it again: a file whose
  * checksum is right may still have been made by something else. */
 static int check_state(const ws_fit_state *s, const char *path, ws_status *st) {
-    size_t np = (size_t)s->curves.n * 12;
+    size_t np = (size_t)s->curves.n * WS_CURVE_FLOATS;
     if (s->n_train < 1 || s->epoch < 0 || s->batch_in_epoch < 0 ||
         s->batch_in_epoch >= s->n_train || s->step_in_batch < 0 || s->global_step < 0 ||
         s->global_batch < 0 || s->skipped_steps < 0 || !(s->elapsed >= 0 && s->elapsed < INFINITY))
@@ -132,11 +132,11 @@ static int get_state(ws_bytes_reader *r, ws_fit_state *s, const char *path, ws_s
     if (!s->order) return st->code;
     for (int i = 0; i < s->n_train; i++) s->order[i] = (int)ws_get_u32(r);
     int n;
-    if (!get_count(r, 12 * 8, &n) || n < 1) return bad(path, "curves", st);
+    if (!get_count(r, WS_CURVE_FLOATS * 8, &n) || n < 1) return bad(path, "curves", st);
     if (ws_curves_alloc(&s->curves, n, st)) return st->code;
     s->curves.thickness = ws_get_f64(r);
     s->curves.overlap = ws_get_f64(r);
-    size_t np = (size_t)n * 12;
+    size_t np = (size_t)n * WS_CURVE_FLOATS;
     ws_get_f64s(r, s->curves.P, np);
     long adam_step = (long)ws_get_u64(r);
     double lr = ws_get_f64(r);

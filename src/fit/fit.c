@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "fit/checkpoint.h"
 #include "fit/fit.h"
 #include "fit/init.h"
@@ -28,8 +29,8 @@ typedef struct {
     const ws_fit_options *opt;
     ws_scene scene;
     ws_objective *objective;  /* sampling, splatting, the loss and their buffers */
-    double *grad;             /* curves x 12 */
-    double *backup;           /* 3 x curves x 12: P, Adam m and v before an update */
+    double *grad;             /* curves x WS_CURVE_FLOATS */
+    double *backup;           /* 3 x curves x WS_CURVE_FLOATS: P, Adam m and v before an update */
     ws_fit_state s;
     double start;             /* ws_seconds() when this process began fitting */
 } fit_run;
@@ -47,7 +48,7 @@ static void shuffle(int *order, int n, ws_rng *rng) {
 /* One Adam step on the views of a batch. A non-finite loss or gradient is
  * reported and the step refused: the control points and moments stay. */
 static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws_status *st) {
-    int np = r->s.curves.n * 12;
+    int np = r->s.curves.n * WS_CURVE_FLOATS;
     int rc = ws_objective_batch(r->objective, &r->s.curves, views, nviews, &r->s.rng, loss, r->grad, st);
     if (rc && rc != WS_ENUMERIC) return rc;
     int finite = !rc && isfinite(*loss);
@@ -143,13 +144,14 @@ static int init_state(fit_run *r, ws_status *st) {
      * random ones lie within the bounded --radius and --length. */
     s->n_train = r->scene.split[WS_TRAIN].n;
     s->order = ws_malloc((size_t)s->n_train * sizeof(int), "view order", st);
-    if (!s->order || ws_adam_init(&s->adam, s->curves.n * 12, o->learning_rate, st)) return st->code;
+    if (!s->order || ws_adam_init(&s->adam, s->curves.n * WS_CURVE_FLOATS, o->learning_rate, st))
+        return st->code;
     shuffle(s->order, s->n_train, &s->rng);
     return ws_fit_state_snapshot(s, st);
 }
 
 static int save_checkpoint(fit_run *r, const char *const *argv, int argc, ws_status *st) {
-    char path[4200];
+    char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/checkpoint.bin", r->opt->out_dir);
     ws_fit_state *s = &r->s;
     double before = s->elapsed;
@@ -230,7 +232,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     if (ws_scene_load(&r->scene, o->scene_dir, &so, st)) return st->code;
     if (ws_mkdir(o->out_dir, st)) return st->code;
     if (resume) {
-        char path[4200];
+        char path[WS_PATH_MAX];
         snprintf(path, sizeof path, "%s/checkpoint.bin", o->out_dir);
         int ac;
         char **av;
@@ -253,7 +255,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     splat_opt.cutoff = o->cutoff;
     ws_loss_options lo = o->loss;
     lo.aug_seed = o->seed; /* an augmentation bank follows the run's seed */
-    size_t np = (size_t)r->s.curves.n * 12;
+    size_t np = (size_t)r->s.curves.n * WS_CURVE_FLOATS;
     if (ws_objective_create(&r->objective, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
     if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
         !(r->backup = ws_malloc(3 * np * sizeof(double), "control point backup", st)))

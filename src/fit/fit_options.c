@@ -33,7 +33,7 @@ void ws_fit_options_default(ws_fit_options *o) {
 
 /* Counts: views per batch, epochs and Adam steps per batch at most 10^6
  * (their product with 65536 batches stays below 2^63), curves at most 10^5
- * (12 control points each, Gaussians per curve capped). Lengths (world
+ * (WS_CURVE_FLOATS numbers each, Gaussians per curve capped). Lengths (world
  * units): at most 10^6, far beyond any scene yet finite when squared. */
 #define MAX_COUNT 1000000
 #define MAX_CURVES 100000

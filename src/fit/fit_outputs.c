@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/paths.h"
 #include "metrics/quality.h"
 #include "io/export.h"
 #include "fit/fit_outputs.h"
@@ -76,7 +77,7 @@ static int write_evolution(const char *path, const ws_scene *scene, const ws_fit
     ws_gif gif;
     if (ws_gif_open(&gif, path, r->width, r->height, 1, EVOLUTION_DELAY_CS, st)) return st->code;
     for (int k = 0; k < s->nsnap; k++) {
-        frame.P = s->snapshots + (size_t)k * s->curves.n * 12;
+        frame.P = s->snapshots + (size_t)k * s->curves.n * WS_CURVE_FLOATS;
         if (ws_sketch_render(r, &frame, &sp->views[0].cam, st) || ws_gif_add_frame(&gif, r->gray, st)) {
             ws_gif_abort(&gif);
             return st->code;
@@ -175,7 +176,7 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     char(*paths)[2][300] = views ? ws_malloc((size_t)(ntest ? ntest : 1) * sizeof *paths, "report", st) : NULL;
     int rc = paths ? WS_OK : st->code;
     double distance = ws_turntable_distance(&scene->split[WS_TRAIN], scene->center);
-    char gt_points[4200], gt_curves[4200];
+    char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
     ws_quality q;
     if (!rc) rc = ws_quality_measure(&s->curves, gt_points, gt_curves, &q, st);

@@ -26,7 +26,7 @@ int ws_fit_state_log(ws_fit_state *s, const ws_log_row *row, ws_status *st) {
 }
 
 int ws_fit_state_snapshot(ws_fit_state *s, ws_status *st) {
-    size_t np = (size_t)s->curves.n * 12;
+    size_t np = (size_t)s->curves.n * WS_CURVE_FLOATS;
     if (s->nsnap == s->capsnap) {
         int cap = s->capsnap ? 2 * s->capsnap : 64;
         double *grown = realloc(s->snapshots, (size_t)cap * np * sizeof(double));

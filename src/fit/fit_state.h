@@ -31,7 +31,7 @@ typedef struct {
     int nlog, caplog;
     ws_log_row *log;
     int nsnap, capsnap;
-    double *snapshots;          /* nsnap x (curves.n x 12) control points */
+    double *snapshots;          /* nsnap x (curves.n x WS_CURVE_FLOATS) control points */
 } ws_fit_state;
 
 void ws_fit_state_free(ws_fit_state *s);

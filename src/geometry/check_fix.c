@@ -59,7 +59,7 @@ static int fix_transforms(cJSON *root, const ws_check_split *r, const char *path
 
 static int write_split(const ws_scene *scene, int s, const ws_check_split *r, const char *out,
                        ws_status *st) {
-    char in_path[4200], out_path[4200];
+    char in_path[WS_PATH_MAX], out_path[WS_PATH_MAX];
     snprintf(in_path, sizeof in_path, "%s/transforms_%s.json", scene->dir, ws_split_names[s]);
     snprintf(out_path, sizeof out_path, "%s/transforms_%s.json", out, ws_split_names[s]);
     unsigned char *bytes = NULL;

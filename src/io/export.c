@@ -13,10 +13,10 @@ static void polyline_point(const ws_curves *c, int ci, int k, double p[3]) {
 }
 
 static int check_finite(const char *path, const ws_curves *c, ws_status *st) {
-    for (size_t k = 0; k < (size_t)c->n * 12; k++)
+    for (size_t k = 0; k < (size_t)c->n * WS_CURVE_FLOATS; k++)
         if (!isfinite(c->P[k]))
             return ws_fail(st, WS_ENUMERIC, "%s: curve %zu has a non-finite control point", path,
-                           k / 12);
+                           k / WS_CURVE_FLOATS);
     return WS_OK;
 }
 
@@ -92,7 +92,8 @@ int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, ws
     double width = stroke_width_in_sigmas(c);
     for (int ci = 0; ci < c->n; ci++) {
         int in_front = 1;
-        for (int j = 0; j < 4; j++) in_front &= depth(cam, c->P + (size_t)ci * 12 + j * 3) > SVG_NEAR;
+        const double *P = c->P + (size_t)ci * WS_CURVE_FLOATS;
+        for (int j = 0; j < 4; j++) in_front &= depth(cam, P + j * 3) > SVG_NEAR;
         if (!in_front) continue;
         double mid[3];
         ws_curve_point(c, ci, 0.5, mid);

@@ -353,7 +353,7 @@ static void put_curves_json(FILE *f, const ws_curves *c) {
     int npts = curve_points(c->n), written = 0;
     for (int ci = 0; ci < c->n; ci++) {
         int finite = 1;
-        for (int k = 0; k < 12; k++) finite &= isfinite(c->P[ci * 12 + k]) != 0;
+        for (int k = 0; k < WS_CURVE_FLOATS; k++) finite &= isfinite(c->P[ci * WS_CURVE_FLOATS + k]) != 0;
         if (!finite) continue;
         fputs(written++ ? ",\n[" : "\n[", f);
         for (int k = 0; k < npts; k++) {

@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "io/scene.h"
 #include "nn/base/bytes.h"
 
@@ -172,7 +173,7 @@ static int line_of(const char *text, const char *at) {
  * paths; no pixels yet). A missing file leaves the split empty. */
 static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_split *split,
                        double *angle_out, ws_status *st) {
-    char path[4200];
+    char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[s]);
     split->n = 0;
     split->views = NULL;

@@ -110,7 +110,7 @@ int ws_curve_metrics_compute(const ws_curves *result, const ws_curves *gt, ws_cu
     /* A curve whose control points coincide still spreads its samples by
      * rounding: a diagonal at rounding level of the coordinates is zero. */
     double D = curves_diagonal(gt), scale = 0;
-    for (int i = 0; i < gt->n * 12; i++) scale = fmax(scale, fabs(gt->P[i]));
+    for (int i = 0; i < gt->n * WS_CURVE_FLOATS; i++) scale = fmax(scale, fabs(gt->P[i]));
     if (!(D > 1e-12 * scale))
         return ws_fail(st, WS_EINPUT, "curve metrics: the ground-truth curves have a zero-diagonal bounding box");
     m->diagonal = D;

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "metrics/quality.h"
 #include "io/pointcloud.h"
 
@@ -37,8 +38,8 @@ int ws_quality_measure(const ws_curves *c, const char *gt_points, const char *gt
 }
 
 void ws_scene_ground_truth(const char *scene_dir, char *gt_points, char *gt_curves) {
-    snprintf(gt_points, 4200, "%s/gt_points.ply", scene_dir);
+    snprintf(gt_points, WS_PATH_MAX, "%s/gt_points.ply", scene_dir);
     if (access(gt_points, R_OK) != 0) gt_points[0] = '\0';
-    snprintf(gt_curves, 4200, "%s/gt_curves.json", scene_dir);
+    snprintf(gt_curves, WS_PATH_MAX, "%s/gt_curves.json", scene_dir);
     if (access(gt_curves, R_OK) != 0) gt_curves[0] = '\0';
 }

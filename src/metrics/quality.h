@@ -3,6 +3,7 @@
  * is the objective's (objective.h). */
 #ifndef WS_QUALITY_H
 #define WS_QUALITY_H
+#include "base/paths.h"
 #include "metrics/metrics.h"
 #include "render/curves.h"
 
@@ -19,7 +20,7 @@ int ws_quality_measure(const ws_curves *c, const char *gt_points, const char *gt
                        ws_quality *q, ws_status *st);
 
 /* SCENE/gt_points.ply and SCENE/gt_curves.json where they exist (else "").
- * Buffers of 4200 bytes. */
+ * Buffers of WS_PATH_MAX bytes. */
 void ws_scene_ground_truth(const char *scene_dir, char *gt_points, char *gt_curves);
 
 #endif

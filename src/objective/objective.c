@@ -13,7 +13,7 @@ struct ws_objective {
     double *alpha, *dalpha;   /* H x W */
     double *dmu;              /* gaussians x 3, grown with them */
     int dmu_cap;
-    double *dP;               /* curves x 12 */
+    double *dP;               /* curves x WS_CURVE_FLOATS */
     int n_curves;
     ws_step_timing *timing;   /* NULL: no clock is read */
 };
@@ -26,11 +26,12 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
     o->splat_opt = *so;
     o->n_curves = n_curves;
     size_t pixels = (size_t)scene->width * scene->height;
-    if (ws_loss_create(&o->loss, lo, scene, st) || ws_splat_create(&o->splat, scene->width, scene->height, st))
+    if (ws_loss_create(&o->loss, lo, scene, st) ||
+        ws_splat_create(&o->splat, scene->width, scene->height, st))
         return st->code;
     if (!(o->alpha = ws_malloc(pixels * sizeof(double), "stroke image", st)) ||
         !(o->dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||
-        !(o->dP = ws_malloc((size_t)n_curves * 12 * sizeof(double), "control point gradient", st)))
+        !(o->dP = ws_calloc((size_t)n_curves * WS_CURVE_FLOATS, sizeof(double), "control point gradient", st)))
         return st->code;
     return WS_OK;
 }
@@ -88,7 +89,7 @@ static int sampled_view(ws_objective *o, const ws_curves *c, int split, int view
     if (grow_dmu(o, st) || ws_splat_backward(o->splat, o->dalpha, o->dmu, st)) return st->code;
     ws_time_add(o->timing, WS_TIME_SPLAT, t0);
     ws_curves_backward(c, &o->gaussians, o->dmu, o->dP);
-    for (int i = 0; i < c->n * 12; i++) grad[i] += scale * o->dP[i];
+    for (int i = 0; i < c->n * WS_CURVE_FLOATS; i++) grad[i] += scale * o->dP[i];
     return WS_OK;
 }
 
@@ -100,7 +101,7 @@ int ws_objective_view(ws_objective *o, const ws_curves *c, int split, int view, 
 
 int ws_objective_batch(ws_objective *o, const ws_curves *c, const int *views, int nviews, ws_rng *rng,
                        double *loss, double *grad, ws_status *st) {
-    memset(grad, 0, (size_t)c->n * 12 * sizeof(double));
+    memset(grad, 0, (size_t)c->n * WS_CURVE_FLOATS * sizeof(double));
     *loss = 0;
     int rc = ws_objective_sample(o, c, st);
     for (int k = 0; k < nviews && !rc; k++) {

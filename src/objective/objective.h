@@ -25,13 +25,13 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
 void ws_objective_free(ws_objective *obj);
 
 /* The loss of view `view` of `split` for the curves c; augment as in
- * ws_loss_view (0: item 0 only, rng unused). With grad (curves x 12),
+ * ws_loss_view (0: item 0 only, rng unused). With grad (curves x WS_CURVE_FLOATS),
  * scale x dL/dP is added to it; NULL: the loss alone. */
 int ws_objective_view(ws_objective *obj, const ws_curves *c, int split, int view, int augment,
                       ws_rng *rng, double scale, double *loss, double *grad, ws_status *st);
 
 /* The training batch: the mean loss of training views views[0..nviews)
- * with augmentation drawn from rng, and its gradient (grad: curves x 12,
+ * with augmentation drawn from rng, and its gradient (grad: curves x WS_CURVE_FLOATS,
  * overwritten). On WS_ENUMERIC (a non-finite value) loss and grad are
  * partial; the caller decides. */
 int ws_objective_batch(ws_objective *obj, const ws_curves *c, const int *views, int nviews, ws_rng *rng,

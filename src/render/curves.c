@@ -14,7 +14,7 @@ int ws_curves_alloc(ws_curves *c, int n, ws_status *st) {
     c->thickness = 0.02;
     c->overlap = 0.6;
     if (n < 0) return ws_fail(st, WS_EINTERNAL, "curves: negative curve count %d", n);
-    c->P = ws_calloc((size_t)n * 12, sizeof(double), "control points", st);
+    c->P = ws_calloc((size_t)n * WS_CURVE_FLOATS, sizeof(double), "control points", st);
     if (!c->P) return st->code;
     c->n = n;
     return WS_OK;
@@ -37,7 +37,7 @@ void ws_bernstein(double t, double B[4]) {
 void ws_curve_point(const ws_curves *c, int ci, double t, double p[3]) {
     double B[4];
     ws_bernstein(t, B);
-    const double *P = c->P + (size_t)ci * 12;
+    const double *P = c->P + (size_t)ci * WS_CURVE_FLOATS;
     for (int x = 0; x < 3; x++)
         p[x] = B[0] * P[x] + B[1] * P[3 + x] + B[2] * P[6 + x] + B[3] * P[9 + x];
 }
@@ -92,7 +92,7 @@ int ws_curves_init_random(ws_curves *c, int n, const double center[3], double ra
 void ws_curve_set_segment(ws_curves *c, int ci, const double mid[3], const double dir[3],
                           double length) {
     static const double offsets[4] = {-0.5, -1.0 / 6.0, 1.0 / 6.0, 0.5};
-    double *P = c->P + (size_t)ci * 12;
+    double *P = c->P + (size_t)ci * WS_CURVE_FLOATS;
     for (int j = 0; j < 4; j++)
         for (int x = 0; x < 3; x++) P[j * 3 + x] = mid[x] + offsets[j] * length * dir[x];
 }
@@ -126,7 +126,7 @@ static int gaussians_reserve(ws_gaussians *g, int need, ws_status *st) {
  * control points are all equal has length exactly 0 (the rounding of the
  * Bernstein sums would otherwise give it a length of about 1e-16). */
 static void arc_length_table(const ws_curves *c, int ci, double cum[WS_ARC_SAMPLES]) {
-    const double *P = c->P + (size_t)ci * 12;
+    const double *P = c->P + (size_t)ci * WS_CURVE_FLOATS;
     if (!memcmp(P, P + 3, 3 * sizeof *P) && !memcmp(P, P + 6, 3 * sizeof *P) &&
         !memcmp(P, P + 9, 3 * sizeof *P)) {
         memset(cum, 0, WS_ARC_SAMPLES * sizeof *cum);
@@ -163,8 +163,8 @@ int ws_curves_sample(const ws_curves *c, ws_gaussians *g, ws_status *st) {
     int capped = 0;
     g->n = 0;
     for (int ci = 0; ci < c->n; ci++) {
-        for (int k = 0; k < 12; k++)
-            if (!isfinite(c->P[(size_t)ci * 12 + k]))
+        for (int k = 0; k < WS_CURVE_FLOATS; k++)
+            if (!isfinite(c->P[(size_t)ci * WS_CURVE_FLOATS + k]))
                 return ws_fail(st, WS_ENUMERIC, "curves: curve %d has a non-finite control point",
                                ci);
         double cum[WS_ARC_SAMPLES];
@@ -206,11 +206,11 @@ int ws_curves_sample(const ws_curves *c, ws_gaussians *g, ws_status *st) {
 }
 
 void ws_curves_backward(const ws_curves *c, const ws_gaussians *g, const double *dmu, double *dP) {
-    memset(dP, 0, (size_t)c->n * 12 * sizeof *dP);
+    memset(dP, 0, (size_t)c->n * WS_CURVE_FLOATS * sizeof *dP);
     for (int k = 0; k < g->n; k++) {
         double B[4];
         ws_bernstein(g->t[k], B);
-        double *d = dP + (size_t)g->curve[k] * 12;
+        double *d = dP + (size_t)g->curve[k] * WS_CURVE_FLOATS;
         for (int j = 0; j < 4; j++)
             for (int x = 0; x < 3; x++) d[j * 3 + x] += B[j] * dmu[(size_t)k * 3 + x];
     }
@@ -271,7 +271,7 @@ static int parse_curves(const cJSON *root, const char *path, ws_curves *c, ws_st
                 if (!isfinite(num->valuedouble))
                     return ws_fail(st, WS_EINPUT, "%s: curve %d: point %d is not finite", path, ci,
                                    j);
-                c->P[(size_t)ci * 12 + j * 3 + x++] = num->valuedouble;
+                c->P[(size_t)ci * WS_CURVE_FLOATS + j * 3 + x++] = num->valuedouble;
             }
             j++;
         }
@@ -311,16 +311,16 @@ int ws_curves_load(const char *path, ws_curves *c, ws_status *st) {
 }
 
 int ws_curves_save(const char *path, const ws_curves *c, ws_status *st) {
-    for (size_t k = 0; k < (size_t)c->n * 12; k++)
+    for (size_t k = 0; k < (size_t)c->n * WS_CURVE_FLOATS; k++)
         if (!isfinite(c->P[k]))
             return ws_fail(st, WS_ENUMERIC, "%s: curve %zu has a non-finite control point", path,
-                           k / 12);
+                           k / WS_CURVE_FLOATS);
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp, "{\n  \"thickness\": %.17g,\n  \"overlap\": %.17g,\n  \"curves\": [", c->thickness,
             c->overlap);
     for (int ci = 0; ci < c->n; ci++) {
-        const double *P = c->P + (size_t)ci * 12;
+        const double *P = c->P + (size_t)ci * WS_CURVE_FLOATS;
         fprintf(f.fp, "%s\n    [", ci ? "," : "");
         for (int j = 0; j < 4; j++)
             fprintf(f.fp, "%s[%.17g, %.17g, %.17g]", j ? ", " : "", P[j * 3], P[j * 3 + 1],

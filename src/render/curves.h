@@ -15,6 +15,8 @@
 /* Uniform parameter samples t = i / (WS_ARC_SAMPLES - 1) on which the arc
  * length of a curve is measured (as the original). */
 #define WS_ARC_SAMPLES 300
+/* Numbers per curve: 4 control points x 3 coordinates. */
+#define WS_CURVE_FLOATS 12
 
 typedef struct {
     int n;            /* number of curves */

@@ -68,7 +68,7 @@ static void add_polygon(ws_solid *s, const double (*p)[3], int n, const double n
 
 /* The straight edge a -> b: control points at 0, 1/3, 2/3, 1. */
 static void add_line(ws_solid *s, const double a[3], const double b[3]) {
-    double *P = s->edges.P + (size_t)s->edges.n++ * 12;
+    double *P = s->edges.P + (size_t)s->edges.n++ * WS_CURVE_FLOATS;
     for (int j = 0; j < 4; j++)
         for (int x = 0; x < 3; x++) P[j * 3 + x] = a[x] + (b[x] - a[x]) * j / 3.0;
 }
@@ -78,7 +78,7 @@ static void add_circle(ws_solid *s, const double c[3], double r) {
     const double kappa = 4.0 / 3.0 * (sqrt(2.0) - 1.0);
     for (int q = 0; q < 4; q++) {
         double a0 = q * M_PI / 2, a1 = a0 + M_PI / 2;
-        double *P = s->edges.P + (size_t)s->edges.n++ * 12;
+        double *P = s->edges.P + (size_t)s->edges.n++ * WS_CURVE_FLOATS;
         double pts[4][2] = {{cos(a0), sin(a0)},
                             {cos(a0) - kappa * sin(a0), sin(a0) + kappa * cos(a0)},
                             {cos(a1) + kappa * sin(a1), sin(a1) - kappa * cos(a1)},

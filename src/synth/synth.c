@@ -48,7 +48,7 @@ void ws_synth_options_default(ws_synth_options *opt) {
 /* ---------------------------------------------------------------- objects */
 
 static void set_curve(ws_curves *c, int ci, const double P[4][3]) {
-    memcpy(c->P + (size_t)ci * 12, P, 12 * sizeof(double));
+    memcpy(c->P + (size_t)ci * WS_CURVE_FLOATS, P, WS_CURVE_FLOATS * sizeof(double));
 }
 
 /* A straight segment a -> b as a cubic: control points at 0, 1/3, 2/3, 1. */

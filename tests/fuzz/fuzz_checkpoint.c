@@ -27,7 +27,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     }
     /* what a resumed fit relies on */
     if (s.curves.n < 1 || !(s.curves.thickness > 0) || s.n_train < 0) abort();
-    for (int i = 0; i < s.curves.n * 12; i++)
+    for (int i = 0; i < s.curves.n * WS_CURVE_FLOATS; i++)
         if (!isfinite(s.curves.P[i])) abort();
     for (int i = 0; i < s.n_train; i++)
         if (s.order[i] < 0 || s.order[i] >= s.n_train) abort();

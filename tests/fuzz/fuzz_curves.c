@@ -20,7 +20,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         if (c.n != 0 || c.P != NULL) abort();
         return 0;
     }
-    for (int k = 0; k < c.n * 12; k++)
+    for (int k = 0; k < c.n * WS_CURVE_FLOATS; k++)
         if (!isfinite(c.P[k])) abort();
     if (!(c.thickness > 0) || !(c.overlap >= 0 && c.overlap < 1)) abort();
     /* A curve too long to measure was refused by the loader, naming the
