@@ -55,12 +55,16 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         if (q.have_surface) {
             print_number("surface_mean", q.surface.mean);
             print_number("surface_p90", q.surface.p90);
+            print_number("surface_precision", q.surface_strays.precision);
+            printf(", \"surface_stray_curves\": %d", q.surface_strays.stray_curves);
         }
         if (q.have_curves) {
             print_number("chamfer", q.curves.chamfer);
             print_number("precision", q.curves.precision);
             print_number("recall", q.curves.recall);
             print_number("fscore", q.curves.fscore);
+            print_number("gaussian_precision", q.curve_strays.precision);
+            printf(", \"stray_curves\": %d", q.curve_strays.stray_curves);
         }
         printf("}\n");
     }

@@ -95,9 +95,13 @@ static int write_metrics(const char *path, const ws_fit_state *s, double test_lo
             s->skipped_steps, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
     if (q->have_surface)
-        fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g", q->surface.mean, q->surface.p90);
+        fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g, \"surface_precision\": %.9g, "
+                "\"surface_stray_curves\": %d", q->surface.mean, q->surface.p90,
+                q->surface_strays.precision, q->surface_strays.stray_curves);
     if (q->have_curves)
-        fprintf(f.fp, ", \"chamfer\": %.9g, \"fscore\": %.9g", q->curves.chamfer, q->curves.fscore);
+        fprintf(f.fp, ", \"chamfer\": %.9g, \"fscore\": %.9g, \"recall\": %.9g, \"gaussian_precision\": %.9g, "
+                "\"stray_curves\": %d", q->curves.chamfer, q->curves.fscore, q->curves.recall,
+                q->curve_strays.precision, q->curve_strays.stray_curves);
     fprintf(f.fp, "}\n");
     return ws_outfile_commit(&f, st);
 }
@@ -122,22 +126,29 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
             val_losses[nval++] = s->log[i].val_loss;
         }
     }
-    char text[12][64];
+    char text[16][64];
     snprintf(text[1], 64, "%ld (%ld skipped)", s->global_step, s->skipped_steps);
     snprintf(text[2], 64, "%.6g", test_loss);
-    ws_report_item metrics[6] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
+    ws_report_item metrics[10] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
     int nmetrics = 2;
     if (q->have_surface) {
         snprintf(text[8], 64, "%.5f", q->surface.mean);
         snprintf(text[9], 64, "%.5f", q->surface.p90);
         metrics[nmetrics++] = (ws_report_item){"surface distance, mean / diagonal", text[8]};
         metrics[nmetrics++] = (ws_report_item){"surface distance, 90th percentile / diagonal", text[9]};
+        snprintf(text[12], 64, "%.4f (%d stray of %d)", q->surface_strays.precision,
+                 q->surface_strays.stray_curves, q->surface_strays.n_curves);
+        metrics[nmetrics++] = (ws_report_item){"Gaussians within 1% of the diagonal of the surface", text[12]};
     }
     if (q->have_curves) {
         snprintf(text[10], 64, "%.5f", q->curves.chamfer);
         snprintf(text[11], 64, "%.4f", q->curves.fscore);
         metrics[nmetrics++] = (ws_report_item){"curve Chamfer / diagonal", text[10]};
         metrics[nmetrics++] = (ws_report_item){"curve F-score at 1% of the diagonal", text[11]};
+        snprintf(text[13], 64, "%.4f / %.4f", q->curve_strays.precision, q->curves.recall);
+        metrics[nmetrics++] = (ws_report_item){"precision over Gaussians / recall over arc length, at 1%", text[13]};
+        snprintf(text[14], 64, "%d of %d", q->curve_strays.stray_curves, q->curve_strays.n_curves);
+        metrics[nmetrics++] = (ws_report_item){"stray curves (most Gaussians beyond 5% of the diagonal)", text[14]};
     }
     ws_report_image images[] = {{"turntable", "turntable.gif"}, {"evolution during the fit", "evolution.gif"}};
     ws_report rep = {0};

@@ -74,9 +74,8 @@ static int directed_distance(const double *from, int nfrom, const double *to, in
     return WS_OK;
 }
 
-/* Samples curves c at arc-length spacing h: ws_curves_sample spaces its
- * Gaussians 2 * thickness * (1 - overlap) apart. */
-static int sample_dense(const ws_curves *c, double h, ws_gaussians *g, ws_status *st) {
+/* ws_curves_sample spaces its Gaussians 2 * thickness * (1 - overlap) apart. */
+int ws_curves_sample_dense(const ws_curves *c, double h, ws_gaussians *g, ws_status *st) {
     ws_curves dense = *c;
     dense.thickness = h / 2;
     dense.overlap = 0;
@@ -118,8 +117,8 @@ int ws_curve_metrics_compute(const ws_curves *result, const ws_curves *gt, ws_cu
     m->threshold = WS_METRIC_FSCORE_THRESHOLD * D;
     ws_gaussians rs = {0}, gs = {0};
     double mean_r, mean_g;
-    int rc = sample_dense(result, m->spacing, &rs, st) ||
-             sample_dense(gt, m->spacing, &gs, st) ||
+    int rc = ws_curves_sample_dense(result, m->spacing, &rs, st) ||
+             ws_curves_sample_dense(gt, m->spacing, &gs, st) ||
              directed_distance(rs.mu, rs.n, gs.mu, gs.n, m->threshold, &mean_r, &m->precision, st) ||
              directed_distance(gs.mu, gs.n, rs.mu, rs.n, m->threshold, &mean_g, &m->recall, st);
     if (!rc) {

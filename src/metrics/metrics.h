@@ -64,6 +64,9 @@ typedef struct {
     double precision, recall, fscore;
 } ws_curve_metrics;
 
+/* Samples curves c at arc-length spacing h, as the curve metrics do. */
+int ws_curves_sample_dense(const ws_curves *c, double h, ws_gaussians *g, ws_status *st);
+
 /* Needs at least one curve in each set. */
 int ws_curve_metrics_compute(const ws_curves *result, const ws_curves *gt, ws_curve_metrics *m,
                              ws_status *st);

@@ -6,7 +6,8 @@
 #include "metrics/quality.h"
 #include "io/pointcloud.h"
 
-static int surface(const ws_curves *c, const char *path, ws_surface_metrics *m, ws_status *st) {
+static int surface(const ws_curves *c, const char *path, ws_surface_metrics *m,
+                   ws_stray_metrics *strays, ws_status *st) {
     ws_pointcloud pc = {0};
     ws_surface_gt gt = {0};
     ws_gaussians g = {0};
@@ -14,16 +15,25 @@ static int surface(const ws_curves *c, const char *path, ws_surface_metrics *m, 
     if (!rc) rc = ws_surface_gt_init(&gt, &pc, st);
     if (!rc) rc = ws_curves_sample(c, &g, st);
     if (!rc) rc = ws_surface_distance(&gt, &g, m, st);
+    if (!rc) rc = ws_stray_metrics_compute(c, &gt.tree, gt.diagonal, strays, st);
     ws_gaussians_free(&g);
     ws_surface_gt_free(&gt);
     ws_pointcloud_free(&pc);
     return rc;
 }
 
-static int curve_distance(const ws_curves *c, const char *path, ws_curve_metrics *m, ws_status *st) {
+static int curve_distance(const ws_curves *c, const char *path, ws_curve_metrics *m,
+                          ws_stray_metrics *strays, ws_status *st) {
     ws_curves gt = {0};
+    ws_gaussians dense = {0};
+    ws_nearest tree = {0};
     int rc = ws_curves_load(path, &gt, st);
     if (!rc) rc = ws_curve_metrics_compute(c, &gt, m, st);
+    if (!rc) rc = ws_curves_sample_dense(&gt, m->spacing, &dense, st);
+    if (!rc) rc = ws_nearest_build(&tree, dense.mu, dense.n, st);
+    if (!rc) rc = ws_stray_metrics_compute(c, &tree, m->diagonal, strays, st);
+    ws_nearest_free(&tree);
+    ws_gaussians_free(&dense);
     ws_curves_free(&gt);
     return rc;
 }
@@ -32,8 +42,8 @@ int ws_quality_measure(const ws_curves *c, const char *gt_points, const char *gt
                        ws_quality *q, ws_status *st) {
     q->have_surface = gt_points && *gt_points;
     q->have_curves = gt_curves && *gt_curves;
-    if (q->have_surface && surface(c, gt_points, &q->surface, st)) return st->code;
-    if (q->have_curves && curve_distance(c, gt_curves, &q->curves, st)) return st->code;
+    if (q->have_surface && surface(c, gt_points, &q->surface, &q->surface_strays, st)) return st->code;
+    if (q->have_curves && curve_distance(c, gt_curves, &q->curves, &q->curve_strays, st)) return st->code;
     return WS_OK;
 }
 

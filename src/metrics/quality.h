@@ -5,13 +5,16 @@
 #define WS_QUALITY_H
 #include "base/paths.h"
 #include "metrics/metrics.h"
+#include "metrics/strays.h"
 #include "render/curves.h"
 
 typedef struct {
     int have_surface;            /* a ground-truth point cloud was given */
     ws_surface_metrics surface;
+    ws_stray_metrics surface_strays; /* against the point cloud */
     int have_curves;             /* ground-truth curves were given */
     ws_curve_metrics curves;
+    ws_stray_metrics curve_strays;   /* against the curves */
 } ws_quality;
 
 /* Distances of the sketch c to gt_points (a PLY point cloud) and gt_curves
