@@ -12,36 +12,82 @@
 #include "fastmath.h"
 #include "parallel.h"
 
-/* combine() works on blocks of 64 floats held as four 16-float vectors
- * (GCC vector extension): the compiler keeps them in registers, as 4
- * AVX-512, 8 AVX2 or 16 SSE registers depending on the clone. */
-enum { LANES = 64, VEC = 16 };
+/* combine() works on blocks of up to 4 output rows x 32 floats, each row
+ * held as two 16-float vectors (GCC vector extension) in named variables,
+ * so that the compiler keeps the block in registers (8 AVX-512 or 16 AVX2
+ * registers depending on the clone). Every x loaded serves 4 rows, so the
+ * kernel runs at the speed of the multiply-adds, not of the loads. */
+enum { LANES = 32, VEC = 16, ROWS = 4 };
 typedef float vec16 __attribute__((vector_size(VEC * sizeof(float)), aligned(sizeof(float))));
 
 static int round_lanes(int n) { return (n + LANES - 1) / LANES * LANES; }
 
-/* y[l] = (acc ? y[l] : 0) + sum_{k<n} c[k*cs] x[k*xs + l], l < L. Rows of
- * x must be readable up to L rounded up to LANES. The sums of a block stay
- * in registers over the k loop: each x is loaded once, no sum runs across
- * vector lanes, and the order of additions is fixed. */
-NN_INLINE void combine(float *y, int acc, const float *c, size_t cs, const float *x, size_t xs,
-                       int n, int L) {
-    for (int l0 = 0; l0 < L; l0 += LANES) {
-        vec16 a[LANES / VEC] = {{0}};
-        for (int k = 0; k < n; k++) {
-            float ck = c[k * cs];
-            const float *xk = x + k * xs + l0;
-#pragma GCC unroll 4
-            for (int v = 0; v < LANES / VEC; v++) {
-                vec16 xv;
-                memcpy(&xv, xk + v * VEC, sizeof xv);
-                a[v] += ck * xv;
-            }
+/* Vectors go through pointers and memcpy, never by value: a helper that
+ * takes or returns a vector changes the ABI between the clones. */
+NN_INLINE void load16(vec16 *v, const float *p) { memcpy(v, p, sizeof *v); }
+
+/* y[0..m) = (acc ? y : 0) + the row's sums (lo, hi), m <= LANES. */
+NN_INLINE void store_row(float *y, int acc, const vec16 *lo, const vec16 *hi, int m) {
+    if (m == LANES) {
+        vec16 y0 = {0}, y1 = {0};
+        if (acc) {
+            load16(&y0, y);
+            load16(&y1, y + VEC);
         }
-        float sums[LANES];
-        memcpy(sums, a, sizeof sums);
+        y0 += *lo;
+        y1 += *hi;
+        memcpy(y, &y0, sizeof y0);
+        memcpy(y + VEC, &y1, sizeof y1);
+        return;
+    }
+    float sums[LANES];
+    memcpy(sums, lo, sizeof *lo);
+    memcpy(sums + VEC, hi, sizeof *hi);
+    for (int l = 0; l < m; l++) y[l] = (acc ? y[l] : 0.0f) + sums[l];
+}
+
+/* Rows r < rows (4, or 1 for the remainder) of combine(), lanes [0, m) of
+ * y and x (x readable up to LANES). */
+NN_INLINE void combine_block(float *y, size_t ys, int acc, const float *c, size_t crs, size_t cs,
+                             const float *x, size_t xs, int n, int rows, int m) {
+    vec16 a0 = {0}, a1 = {0}, b0 = {0}, b1 = {0}, c0 = {0}, c1 = {0}, d0 = {0}, d1 = {0};
+    for (int k = 0; k < n; k++) {
+        vec16 x0, x1;
+        load16(&x0, x + k * xs);
+        load16(&x1, x + k * xs + VEC);
+        const float *ck = c + k * cs;
+        a0 += ck[0] * x0;
+        a1 += ck[0] * x1;
+        if (rows == ROWS) {
+            b0 += ck[crs] * x0;
+            b1 += ck[crs] * x1;
+            c0 += ck[2 * crs] * x0;
+            c1 += ck[2 * crs] * x1;
+            d0 += ck[3 * crs] * x0;
+            d1 += ck[3 * crs] * x1;
+        }
+    }
+    store_row(y, acc, &a0, &a1, m);
+    if (rows == ROWS) {
+        store_row(y + ys, acc, &b0, &b1, m);
+        store_row(y + 2 * ys, acc, &c0, &c1, m);
+        store_row(y + 3 * ys, acc, &d0, &d1, m);
+    }
+}
+
+/* y[r*ys + l] = (acc ? y[r*ys + l] : 0) + sum_{k<n} c[r*crs + k*cs] x[k*xs + l]
+ * for r < R, l < L. Rows of x must be readable up to L rounded up to
+ * LANES. Each sum runs over k in order, in one vector lane: the same bits
+ * whatever R, and no sum across lanes. */
+NN_INLINE void combine(float *y, size_t ys, int acc, const float *c, size_t crs, size_t cs,
+                       const float *x, size_t xs, int n, int R, int L) {
+    for (int l0 = 0; l0 < L; l0 += LANES) {
         int m = L - l0 < LANES ? L - l0 : LANES;
-        for (int l = 0; l < m; l++) y[l0 + l] = (acc ? y[l0 + l] : 0.0f) + sums[l];
+        int r = 0;
+        for (; r + ROWS <= R; r += ROWS)
+            combine_block(y + r * ys + l0, ys, acc, c + r * crs, crs, cs, x + l0, xs, n, ROWS, m);
+        for (; r < R; r++)
+            combine_block(y + r * ys + l0, ys, acc, c + r * crs, crs, cs, x + l0, xs, n, 1, m);
     }
 }
 
@@ -102,12 +148,9 @@ NN_SIMD_CLONES static void head_forward(float *out, size_t out_row, float *probs
     gather_transposed(kt, k, row, T, D, Tp);
     gather_rows(vp, v, row, T, D, Dp);
     float scale = 1.0f / sqrtf((float)D);
-    for (int i = 0; i < T; i++) {
-        float *p = probs + (size_t)i * T;
-        combine(p, 0, q + i * row, 1, kt, (size_t)Tp, D, T); /* q_i . k_j */
-        softmax_row(p, T, scale);
-        combine(out + i * out_row, 0, p, 1, vp, (size_t)Dp, T, D); /* sum_j p_ij v_j */
-    }
+    combine(probs, (size_t)T, 0, q, row, 1, kt, (size_t)Tp, D, T, T); /* q_i . k_j */
+    for (int i = 0; i < T; i++) softmax_row(probs + (size_t)i * T, T, scale);
+    combine(out, out_row, 0, probs, (size_t)T, 1, vp, (size_t)Dp, T, T, D); /* sum_j p_ij v_j */
 }
 
 void nn_attention_forward(float *out, float *probs, float *work, const float *qkv, int B, int T,
@@ -140,21 +183,19 @@ NN_SIMD_CLONES static void head_backward(float *dq, float *dk, float *dv, int ac
     gather_rows(qp, q, row, T, D, Dp);
     gather_rows(gp, g, out_row, T, D, Dp);
     float scale = 1.0f / sqrtf((float)D);
+    combine(ds, (size_t)T, 0, gp, (size_t)Dp, 1, vt, (size_t)Tp, D, T, T); /* dp_ij */
     for (int i = 0; i < T; i++) {
         const float *p = probs + (size_t)i * T;
         float *dsi = ds + (size_t)i * T;
-        combine(dsi, 0, gp + (size_t)i * Dp, 1, vt, (size_t)Tp, D, T); /* dp_i */
         float pdp = 0.0f;
 #pragma omp simd reduction(+ : pdp)
         for (int j = 0; j < T; j++) pdp += p[j] * dsi[j];
 #pragma omp simd
         for (int j = 0; j < T; j++) dsi[j] = scale * p[j] * (dsi[j] - pdp);
-        combine(dq + i * row, acc, dsi, 1, kp, (size_t)Dp, T, D);
     }
-    for (int j = 0; j < T; j++) {
-        combine(dk + j * row, acc, ds + j, (size_t)T, qp, (size_t)Dp, T, D);
-        combine(dv + j * row, acc, probs + j, (size_t)T, gp, (size_t)Dp, T, D);
-    }
+    combine(dq, row, acc, ds, (size_t)T, 1, kp, (size_t)Dp, T, T, D);
+    combine(dk, row, acc, ds, 1, (size_t)T, qp, (size_t)Dp, T, T, D);
+    combine(dv, row, acc, probs, 1, (size_t)T, gp, (size_t)Dp, T, T, D);
 }
 
 void nn_attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
