@@ -19,11 +19,14 @@
 #include <string.h>
 
 /* The portable build targets plain x86-64 (SSE2, 4 lanes). Hot kernels
- * outside BLAS carry this attribute: GCC compiles them also for AVX2 and
- * AVX-512 and picks the widest the CPU has when the program starts. The
- * choice is fixed per machine, so runs stay bit-identical. */
+ * outside BLAS carry this attribute: GCC compiles them also for AVX2 with
+ * FMA (x86-64-v3) and AVX-512 and picks the widest the CPU has when the
+ * program starts. nn/ is compiled with -ffp-contract=fast (Makefile), so
+ * these clones fuse a * b + c into one multiply-add: twice the arithmetic
+ * per instruction, one rounding instead of two. The choice is fixed per
+ * machine, so runs stay bit-identical. */
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
-#define NN_SIMD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#define NN_SIMD_CLONES __attribute__((target_clones("avx512f", "arch=x86-64-v3", "default")))
 #else
 #define NN_SIMD_CLONES
 #endif
