@@ -225,6 +225,14 @@ static void test_mask_path(void) {
     snprintf(want, sizeof want, "%s/transforms_train.json: frame 0: mask_path is not a string", dir);
     rc = ws_scene_load(&sc, dir, &opt, &st);
     CHECK(rc == WS_EINPUT && !strcmp(st.msg, want), "mask_path 3: %s", st.msg);
+    make_scene(dir, "masked", "rgb", 2);
+    set_mask_path(dir, "\"../masked/m0.png\"");
+    snprintf(want, sizeof want,
+             "%s/transforms_train.json: frame 0: mask_path '../masked/m0.png' leaves the scene "
+             "directory ('..')",
+             dir);
+    rc = ws_scene_load(&sc, dir, &opt, &st);
+    CHECK(rc == WS_EINPUT && !strcmp(st.msg, want), "mask_path out of the scene: %s", st.msg);
 }
 
 /* Views per split, the train split's angle, the focal length it gives at

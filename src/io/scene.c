@@ -89,6 +89,18 @@ static int leaves_scene(const char *file_path) {
     return 0;
 }
 
+/* A path a frame names (file_path, mask_path): echoed in messages, which
+ * are one line each, so no control character; and inside the scene. */
+static int check_scene_path(const char *value, const char *field, const char *what, ws_status *st) {
+    for (const char *c = value; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7f)
+            return ws_fail(st, WS_EINPUT, "%s: %s contains a control character", what, field);
+    if (leaves_scene(value))
+        return ws_fail(st, WS_EINPUT, "%s: %s '%s' leaves the scene directory ('..')", what, field,
+                       value);
+    return WS_OK;
+}
+
 /* The view's name: the last component of file_path without ".png". */
 static int view_name(const char *file_path, const char *what, char *name, size_t size,
                      ws_status *st) {
@@ -131,13 +143,7 @@ static int parse_frame(const cJSON *frame, const char *path, int index, double a
     const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
     if (!fp) return ws_fail(st, WS_EINPUT, "%s: missing file_path", what);
     if (!cJSON_IsString(fp)) return ws_fail(st, WS_EINPUT, "%s: file_path is not a string", what);
-    /* it is echoed in messages, which are one line each */
-    for (const char *c = fp->valuestring; *c; c++)
-        if ((unsigned char)*c < 0x20 || *c == 0x7f)
-            return ws_fail(st, WS_EINPUT, "%s: file_path contains a control character", what);
-    if (leaves_scene(fp->valuestring))
-        return ws_fail(st, WS_EINPUT, "%s: file_path '%s' leaves the scene directory ('..')", what,
-                       fp->valuestring);
+    if (check_scene_path(fp->valuestring, "file_path", what, st)) return st->code;
     const cJSON *m = cJSON_GetObjectItemCaseSensitive(frame, "transform_matrix");
     if (!m) return ws_fail(st, WS_EINPUT, "%s: missing transform_matrix", what);
     double c2w[4][4];
@@ -151,9 +157,7 @@ static int parse_frame(const cJSON *frame, const char *path, int index, double a
     if (mp && !cJSON_IsString(mp))
         return ws_fail(st, WS_EINPUT, "%s: mask_path is not a string", what);
     if (mp && opt->load_images) {
-        for (const char *c = mp->valuestring; *c; c++)
-            if ((unsigned char)*c < 0x20 || *c == 0x7f)
-                return ws_fail(st, WS_EINPUT, "%s: mask_path contains a control character", what);
+        if (check_scene_path(mp->valuestring, "mask_path", what, st)) return st->code;
         char mask_what[4400];
         snprintf(mask_what, sizeof mask_what, "%s: mask_path", what);
         if (resolve_image(dir, mp->valuestring, mask_what, v->mask_path, sizeof v->mask_path, st))
