@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "check.h"
 #include "metrics/metrics.h"
+#include "metrics/line_metrics.h"
 #include "nn/base/rng.h"
 
 /* A ground-truth point set and what is known of it independently: its
@@ -544,6 +545,56 @@ static void test_curve_metrics(void) {
     ws_curves_free(&b);
 }
 
+/* line_metrics.h against closed forms: parallel segments delta apart,
+ * a tilted segment, and bad input. */
+static void test_line_metrics(void) {
+    ws_status st;
+    ws_status_clear(&st);
+    ws_curves a, b, none = {0};
+    ws_curves_alloc(&a, 1, &st);
+    ws_curves_alloc(&b, 1, &st);
+    double o[3] = {0, 0, 0}, x1[3] = {2, 0, 0};
+    segment(&a, 0, o, x1); /* S = 2, spacing 0.01 */
+    ws_line_metrics m;
+    const double deltas[3] = {0.015, 0.03, 0.06}; /* within tau 0.02 and 0.04; within 0.04; neither */
+    for (int k = 0; k < 3; k++) {
+        double p[3] = {0, deltas[k], 0}, q[3] = {2, deltas[k], 0};
+        segment(&b, 0, p, q);
+        int rc = ws_line_metrics_compute(&b, &a, &m, &st);
+        double d = deltas[k] / 2;
+        CHECK(rc == WS_OK && m.side == 2 && abs(m.n_gt - 200) <= 1 && m.n_result == m.n_gt &&
+                  check_close(m.accuracy, d, 1e-9, 0) && check_close(m.completeness, d, 1e-9, 0) &&
+                  check_close(m.chamfer, 2 * d, 1e-9, 0) && m.fscore[0] == (k == 0) &&
+                  m.fscore[1] == (k <= 1) && m.precision[1] == (k <= 1) && m.recall[0] == (k == 0),
+              "offset %g: %s S %g n %d acc %g comp %g F %g %g", deltas[k], st.msg, m.side, m.n_gt,
+              m.accuracy, m.completeness, m.fscore[0], m.fscore[1]);
+    }
+    /* slope s = 0.1 from the start (as in test_curve_metrics, S = 2): result
+     * points lie s u from the gt, gt points s x / sqrt(1 + s^2) from it;
+     * within tau are u <= tau / s and x <= tau sqrt(1 + s^2) / s. */
+    double s = 0.1, tip[3] = {2, 2 * s, 0}, r = sqrt(1 + s * s);
+    segment(&b, 0, o, tip);
+    int rc = ws_line_metrics_compute(&b, &a, &m, &st);
+    CHECK(rc == WS_OK && check_close(m.accuracy, s / 2, 2e-3, 0) &&
+              check_close(m.completeness, s / (2 * r), 2e-3, 0),
+          "tilted: acc %g comp %g", m.accuracy, m.completeness);
+    for (int k = 0; k < WS_LINE_NTAU; k++) {
+        double tau = WS_LINE_TAU[k] * 2, P = tau / s / (2 * r), R = tau * r / s / 2;
+        CHECK(fabs(m.precision[k] - P) < 1e-2 && fabs(m.recall[k] - R) < 1e-2,
+              "tilted tau %g: P %g (%g) R %g (%g)", tau, m.precision[k], P, m.recall[k], R);
+    }
+    CHECK(ws_line_metrics_compute(&none, &a, &m, &st) == WS_EINPUT &&
+              !strcmp(st.msg, "line metrics: the result has no curves"), "no result: %s", st.msg);
+    CHECK(ws_line_metrics_compute(&a, &none, &m, &st) == WS_EINPUT &&
+              !strcmp(st.msg, "line metrics: the ground truth has no curves"), "no gt: %s", st.msg);
+    segment(&b, 0, x1, x1);
+    CHECK(ws_line_metrics_compute(&a, &b, &m, &st) == WS_EINPUT &&
+              !strcmp(st.msg, "line metrics: the ground-truth curves' bounding box has no extent"),
+          "point gt: %s", st.msg);
+    ws_curves_free(&a);
+    ws_curves_free(&b);
+}
+
 /* With a scenes folder as argument (make test-scenes), the ground-truth
  * checks run on its rose instead of the fixture. */
 int main(int argc, char **argv) {
@@ -565,6 +616,7 @@ int main(int argc, char **argv) {
     test_surface_exact();
     test_surface_gt();
     test_curve_metrics();
+    test_line_metrics();
     unlink(path);
     rmdir(tmpdir);
     printf("test_metrics: %.2f s\n", now() - t0);

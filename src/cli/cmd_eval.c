@@ -65,6 +65,8 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
             print_number("fscore", q.curves.fscore);
             print_number("gaussian_precision", q.curve_strays.precision);
             printf(", \"stray_curves\": %d", q.curve_strays.stray_curves);
+            printf(", ");
+            ws_line_metrics_json(stdout, &q.lines);
         }
         printf("}\n");
     }

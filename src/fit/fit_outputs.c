@@ -102,6 +102,10 @@ static int write_metrics(const char *path, const ws_fit_state *s, double test_lo
         fprintf(f.fp, ", \"chamfer\": %.9g, \"fscore\": %.9g, \"recall\": %.9g, \"gaussian_precision\": %.9g, "
                 "\"stray_curves\": %d", q->curves.chamfer, q->curves.fscore, q->curves.recall,
                 q->curve_strays.precision, q->curve_strays.stray_curves);
+    if (q->have_curves) {
+        fprintf(f.fp, ", ");
+        ws_line_metrics_json(f.fp, &q->lines);
+    }
     fprintf(f.fp, "}\n");
     return ws_outfile_commit(&f, st);
 }
@@ -126,10 +130,10 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
             val_losses[nval++] = s->log[i].val_loss;
         }
     }
-    char text[16][64];
+    char text[19][64];
     snprintf(text[1], 64, "%ld (%ld skipped)", s->global_step, s->skipped_steps);
     snprintf(text[2], 64, "%.6g", test_loss);
-    ws_report_item metrics[10] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
+    ws_report_item metrics[13] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
     int nmetrics = 2;
     if (q->have_surface) {
         snprintf(text[8], 64, "%.5f", q->surface.mean);
@@ -149,6 +153,13 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
         metrics[nmetrics++] = (ws_report_item){"precision over Gaussians / recall over arc length, at 1%", text[13]};
         snprintf(text[14], 64, "%d of %d", q->curve_strays.stray_curves, q->curve_strays.n_curves);
         metrics[nmetrics++] = (ws_report_item){"stray curves (most Gaussians beyond 5% of the diagonal)", text[14]};
+        const ws_line_metrics *l = &q->lines;
+        snprintf(text[16], 64, "%.4f / %.4f / %.4f", l->accuracy, l->completeness, l->chamfer);
+        snprintf(text[17], 64, "%.3f / %.3f / %.3f", l->precision[0], l->recall[0], l->fscore[0]);
+        snprintf(text[18], 64, "%.3f / %.3f / %.3f", l->precision[1], l->recall[1], l->fscore[1]);
+        metrics[nmetrics++] = (ws_report_item){"accuracy / completeness / Chamfer (their sum), over the largest side", text[16]};
+        metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 1% of the largest side", text[17]};
+        metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 2% of the largest side", text[18]};
     }
     ws_report_image images[] = {{"turntable", "turntable.gif"}, {"evolution during the fit", "evolution.gif"}};
     ws_report rep = {0};

@@ -53,10 +53,8 @@ int ws_surface_distance(const ws_surface_gt *gt, const ws_gaussians *g, ws_surfa
     return WS_OK;
 }
 
-/* Distances from each of the nfrom points to the nearest of the nto points,
- * summarised as their mean and the fraction within tau. */
-static int directed_distance(const double *from, int nfrom, const double *to, int nto, double tau,
-                             double *mean, double *within, ws_status *st) {
+int ws_directed_distance(const double *from, int nfrom, const double *to, int nto, int ntau,
+                         const double *tau, double *mean, double *within, ws_status *st) {
     ws_nearest tree;
     if (ws_nearest_build(&tree, to, nto, st)) return st->code;
     double *d = ws_malloc((size_t)nfrom * sizeof(double), "curve distances", st);
@@ -65,10 +63,12 @@ static int directed_distance(const double *from, int nfrom, const double *to, in
         return st->code;
     }
     ws_nearest_query(&tree, from, nfrom, d, NULL);
-    int close = 0;
-    for (int i = 0; i < nfrom; i++) close += d[i] <= tau;
+    for (int k = 0; k < ntau; k++) {
+        int close = 0;
+        for (int i = 0; i < nfrom; i++) close += d[i] <= tau[k];
+        within[k] = (double)close / nfrom;
+    }
     *mean = mean_of(d, nfrom);
-    *within = (double)close / nfrom;
     free(d);
     ws_nearest_free(&tree);
     return WS_OK;
@@ -82,10 +82,11 @@ int ws_curves_sample_dense(const ws_curves *c, double h, ws_gaussians *g, ws_sta
     return ws_curves_sample(&dense, g, st);
 }
 
-/* D: the diagonal of the bounding box of the curves evaluated at the
- * WS_ARC_SAMPLES uniform parameter values of their arc-length tables. */
-static double curves_diagonal(const ws_curves *c) {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+void ws_curves_bbox(const ws_curves *c, double lo[3], double hi[3]) {
+    for (int a = 0; a < 3; a++) {
+        lo[a] = INFINITY;
+        hi[a] = -INFINITY;
+    }
     for (int ci = 0; ci < c->n; ci++)
         for (int k = 0; k < WS_ARC_SAMPLES; k++) {
             double p[3];
@@ -95,6 +96,12 @@ static double curves_diagonal(const ws_curves *c) {
                 hi[a] = fmax(hi[a], p[a]);
             }
         }
+}
+
+/* D: the diagonal of that box. */
+static double curves_diagonal(const ws_curves *c) {
+    double lo[3], hi[3];
+    ws_curves_bbox(c, lo, hi);
     return hypot(hypot(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
 }
 
@@ -119,8 +126,8 @@ int ws_curve_metrics_compute(const ws_curves *result, const ws_curves *gt, ws_cu
     double mean_r, mean_g;
     int rc = ws_curves_sample_dense(result, m->spacing, &rs, st) ||
              ws_curves_sample_dense(gt, m->spacing, &gs, st) ||
-             directed_distance(rs.mu, rs.n, gs.mu, gs.n, m->threshold, &mean_r, &m->precision, st) ||
-             directed_distance(gs.mu, gs.n, rs.mu, rs.n, m->threshold, &mean_g, &m->recall, st);
+             ws_directed_distance(rs.mu, rs.n, gs.mu, gs.n, 1, &m->threshold, &mean_r, &m->precision, st) ||
+             ws_directed_distance(gs.mu, gs.n, rs.mu, rs.n, 1, &m->threshold, &mean_g, &m->recall, st);
     if (!rc) {
         m->n_result = rs.n;
         m->n_gt = gs.n;

@@ -64,8 +64,19 @@ typedef struct {
     double precision, recall, fscore;
 } ws_curve_metrics;
 
-/* Samples curves c at arc-length spacing h, as the curve metrics do. */
+/* The bounding box of curves c evaluated at the WS_ARC_SAMPLES uniform
+ * parameter values of their arc-length tables. */
+void ws_curves_bbox(const ws_curves *c, double lo[3], double hi[3]);
+
+/* Samples c at uniform arc-length spacing h, by ws_curves_sample itself
+ * (thickness h / 2, overlap 0): max(1, ceil(L / h)) points per curve. */
 int ws_curves_sample_dense(const ws_curves *c, double h, ws_gaussians *g, ws_status *st);
+
+/* Distances from each of the nfrom points to the nearest of the nto points,
+ * summarised as their mean and, for each of the ntau thresholds tau[k], the
+ * fraction within it (within[k]). */
+int ws_directed_distance(const double *from, int nfrom, const double *to, int nto, int ntau,
+                         const double *tau, double *mean, double *within, ws_status *st);
 
 /* Needs at least one curve in each set. */
 int ws_curve_metrics_compute(const ws_curves *result, const ws_curves *gt, ws_curve_metrics *m,

@@ -23,7 +23,7 @@ static int surface(const ws_curves *c, const char *path, ws_surface_metrics *m,
 }
 
 static int curve_distance(const ws_curves *c, const char *path, ws_curve_metrics *m,
-                          ws_stray_metrics *strays, ws_status *st) {
+                          ws_stray_metrics *strays, ws_line_metrics *lines, ws_status *st) {
     ws_curves gt = {0};
     ws_gaussians dense = {0};
     ws_nearest tree = {0};
@@ -34,6 +34,7 @@ static int curve_distance(const ws_curves *c, const char *path, ws_curve_metrics
     if (!rc) rc = ws_stray_metrics_compute(c, &tree, m->diagonal, strays, st);
     ws_nearest_free(&tree);
     ws_gaussians_free(&dense);
+    if (!rc) rc = ws_line_metrics_compute(c, &gt, lines, st);
     ws_curves_free(&gt);
     return rc;
 }
@@ -43,7 +44,7 @@ int ws_quality_measure(const ws_curves *c, const char *gt_points, const char *gt
     q->have_surface = gt_points && *gt_points;
     q->have_curves = gt_curves && *gt_curves;
     if (q->have_surface && surface(c, gt_points, &q->surface, &q->surface_strays, st)) return st->code;
-    if (q->have_curves && curve_distance(c, gt_curves, &q->curves, &q->curve_strays, st)) return st->code;
+    if (q->have_curves && curve_distance(c, gt_curves, &q->curves, &q->curve_strays, &q->lines, st)) return st->code;
     return WS_OK;
 }
 

@@ -6,6 +6,7 @@
 #include "base/paths.h"
 #include "metrics/metrics.h"
 #include "metrics/strays.h"
+#include "metrics/line_metrics.h"
 #include "render/curves.h"
 
 typedef struct {
@@ -15,6 +16,7 @@ typedef struct {
     int have_curves;             /* ground-truth curves were given */
     ws_curve_metrics curves;
     ws_stray_metrics curve_strays;   /* against the curves */
+    ws_line_metrics lines;           /* with the curves: over the largest side */
 } ws_quality;
 
 /* Distances of the sketch c to gt_points (a PLY point cloud) and gt_curves
