@@ -6,6 +6,9 @@
 # include cycle) and prints the folders' order; `make clean` removes build/.
 # Options: NATIVE=1 adds -march=native (not portable to older CPUs);
 #          SANITIZE=1 builds with ASan+UBSan into build/san (or BUILD=...).
+#          MPI=1 builds with Open MPI into build/mpi, for `mpirun -np N
+#          build/mpi/wiresketch fit ...` (`bash tools/setup.sh mpi` installs it).
+# `make test-mpi` builds that and checks that fits on 1, 2 and 3 ranks agree.
 # `make fuzz` builds tests/fuzz/fuzz_*.c with clang's libFuzzer into
 # build/fuzz and runs each target FUZZ_SECONDS (60) on its seed corpus.
 
@@ -18,6 +21,11 @@ LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson) -lgif -lm -
 
 ifeq ($(NATIVE),1)
 CFLAGS   += -march=native
+endif
+ifeq ($(MPI),1)
+BUILD    ?= build/mpi
+CFLAGS   += -DWS_MPI $(shell pkg-config --cflags ompi-c)
+LDLIBS   += $(shell pkg-config --libs ompi-c)
 endif
 ifeq ($(SANITIZE),1)
 BUILD    ?= build/san
@@ -78,6 +86,10 @@ SCENES   ?= ../shared/scenes
 SCENE_TESTS := $(BUILD)/tests/test_scene $(BUILD)/tests/test_metrics $(BUILD)/tests/test_render
 test-scenes: all $(SCENE_TESTS)
 	@BUILD=$(BUILD) bash tests/run.sh --args $(SCENES) $(SCENE_TESTS)
+
+test-mpi: all
+	$(MAKE) MPI=1 build/mpi/wiresketch
+	@bash tests/mpi/run.sh build/mpi/wiresketch
 
 # Fuzzing (clang + libFuzzer; `bash tools/setup.sh fuzz` installs them). The
 # library is rebuilt with clang and coverage into build/fuzz; each target

@@ -4,7 +4,9 @@
  * and back. The gradient with respect to the control points is checked
  * against central finite differences, with augmentation off and on (the same
  * transforms for both sides of a difference: the rng is restored), and with
- * the edge loss added. */
+ * the edge loss added. A view's loss computed in parts (its CLIP passes on
+ * separate loss objects, as MPI ranks do, in another order) must be the
+ * bits of the whole; the pass size changes only the rounding. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -113,6 +115,74 @@ static void free_setup(setup *s) {
     free(s->dmu);
 }
 
+/* View 0's loss and dL/dalpha for the stroke image alpha with passes of G
+ * items: whole (one object) and in parts (passes spread over two other
+ * objects that drew the same transforms, last pass first). */
+static void check_passes(const ws_scene *scene, ws_loss_options lo, int G, const double *alpha, double *whole) {
+    ws_status st = {0};
+    size_t pixels = 64 * 64;
+    lo.pass_items = G;
+    ws_loss *L[3] = {0};
+    for (int k = 0; k < 3; k++)
+        if (ws_loss_create(&L[k], &lo, scene, &st)) {
+            CHECK(0, "G = %d: %s", G, st.msg);
+            goto done;
+        }
+    int n = ws_loss_items(L[0], 1), P = ws_loss_passes(L[0], 1);
+    CHECK(n == 1 + lo.num_aug && P == (n + G - 1) / G, "G = %d: %d items in %d passes", G, n, P);
+    double *d_whole = malloc(pixels * sizeof(double)), *d_parts = malloc(pixels * sizeof(double));
+    double item_loss[1 + WS_LOSS_MAX_AUG], parts = NAN;
+    float *item_grad = malloc(n * pixels * sizeof(float));
+    ws_rng r0, r1, r2;
+    ws_rng_seed(&r0, 77);
+    r1 = r2 = r0;
+    int rc = ws_loss_view(L[0], WS_TRAIN, 0, alpha, 1, &r0, whole, d_whole, &st);
+    rc = rc || ws_loss_draw(L[1], WS_TRAIN, 0, &r1, &st) || ws_loss_draw(L[2], WS_TRAIN, 0, &r2, &st);
+    for (int p = P - 1; p >= 0 && !rc; p--) {
+        int first, count;
+        ws_loss_pass_items(L[0], 1, p, &first, &count);
+        CHECK(first == p * G && count == (n - first < G ? n - first : G), "G = %d: pass %d holds items %d + %d", G,
+              p, first, count);
+        rc = ws_loss_pass(L[1 + p % 2], WS_TRAIN, 0, alpha, 1, p, item_loss + first, item_grad + first * pixels, &st);
+    }
+    rc = rc || ws_loss_combine(L[2], WS_TRAIN, 0, alpha, 1, item_loss, item_grad, &parts, d_parts, &st);
+    CHECK(rc == WS_OK, "G = %d: %s", G, st.msg);
+    CHECK(!rc && parts == *whole && !memcmp(d_whole, d_parts, pixels * sizeof(double)),
+          "G = %d: the view in parts gives loss %.17g, whole %.17g (or another dL/dalpha)", G, parts, *whole);
+    free(d_whole);
+    free(d_parts);
+    free(item_grad);
+done:
+    for (int k = 0; k < 3; k++) ws_loss_free(L[k]);
+}
+
+static void test_passes(const char *scene_dir, const ws_loss_options *lo) {
+    ws_status st = {0};
+    ws_scene scene = {0};
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 64;
+    if (ws_scene_load(&scene, scene_dir, &so, &st)) {
+        CHECK(0, "%s", st.msg);
+        return;
+    }
+    double alpha[64 * 64], loss[4];
+    for (int i = 0; i < 64 * 64; i++) alpha[i] = (i % 64 > 20 && i % 64 < 30) || (i / 64 > 40 && i / 64 < 44);
+    for (int G = 1; G <= 3; G++) check_passes(&scene, *lo, G, alpha, &loss[G]);
+    CHECK(fabs(loss[1] - loss[3]) < 1e-5 * fabs(loss[3]) && fabs(loss[2] - loss[3]) < 1e-5 * fabs(loss[3]),
+          "passes of 1, 2, 3 items: losses %.9g %.9g %.9g", loss[1], loss[2], loss[3]);
+    printf("%-40s loss %.9g (G = 1), %.9g (G = 2), %.9g (G = 3)\n", "a view in parts, passes of G items", loss[1],
+           loss[2], loss[3]);
+    ws_loss_options bad = *lo;
+    bad.pass_items = 2 + lo->num_aug;
+    ws_loss *L = NULL;
+    CHECK(ws_loss_create(&L, &bad, &scene, &st) == WS_EUSAGE &&
+              !strcmp(st.msg, "--clip-batch: 4 is not in 0..3 (1 + --num-aug)"),
+          "pass size 4 of 3 items: '%s'", st.msg);
+    ws_loss_free(L);
+    ws_scene_free(&scene);
+}
+
 int main(void) {
     char dir[] = "/tmp/ws_test_loss_XXXXXX", scene[300], weights[300], cmd[1024];
     if (!mkdtemp(dir)) return 1;
@@ -159,6 +229,7 @@ int main(void) {
         CHECK(loss_of(&s, &c, 1, &a, NULL) == la, "the same transforms give a different loss");
     }
     free_setup(&s);
+    test_passes(scene, &lo);
     memset(&s, 0, sizeof s);
     lo.edges_weight = 0.5;
     lo.fc_weight = 0;

@@ -3,10 +3,14 @@
 # that are missing (as root, non-interactive). Nothing else is downloaded.
 # `tools/setup.sh fuzz` adds what `make fuzz` needs (clang with libFuzzer and
 # the sanitizer runtimes, clang's OpenMP, llvm-symbolizer); CI does not fuzz.
+# `tools/setup.sh mpi` adds Open MPI for `make MPI=1` and `make test-mpi`.
 set -euo pipefail
 packages="build-essential pkg-config libopenblas-dev libpng-dev zlib1g-dev libcjson-dev libgif-dev python3"
 if [ "${1:-}" = fuzz ]; then
     packages="$packages clang libclang-rt-14-dev libomp-14-dev llvm-14"
+fi
+if [ "${1:-}" = mpi ]; then
+    packages="$packages openmpi-bin libopenmpi-dev"
 fi
 missing=""
 for p in $packages; do

@@ -12,12 +12,44 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "fit/fit.h"
+#include "base/distributed.h"
 #include "base/runtime.h"
 
 static void request_stop(int sig) {
     (void)sig;
     ws_fit_stop_requested = 1;
 }
+
+/* On several ranks SIGINT and SIGTERM (mpirun sends them when a rank has
+ * died or the job is interrupted) end the process at once: a step's
+ * collectives cannot finish without every rank. Rank 0 says so in one
+ * line; SIGUSR1 (which mpirun forwards) stops cleanly instead. */
+static char end_line[2 * WS_PATH_MAX + 300];
+static size_t end_length;
+
+static void end_now(int sig) {
+    (void)sig;
+    if (end_length && write(2, end_line, end_length) < 0) _exit(1);
+    _exit(1);
+}
+
+static void install_end_handler(const char *out_dir) {
+    if (ws_dist_rank() == 0) {
+        int n = snprintf(end_line, sizeof end_line,
+                         "\nwiresketch: the MPI job was ended (a rank died or mpirun was stopped); %s/checkpoint.bin "
+                         "holds the last checkpoint: continue with `mpirun -np N wiresketch fit --resume %s`\n",
+                         out_dir, out_dir);
+        end_length = n > 0 && (size_t)n < sizeof end_line ? (size_t)n : 0;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = end_now;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+}
+
+/* A failure's line (on several ranks only one rank has one) and exit code. */
+static int fail(const ws_status *st) { return st->msg[0] ? ws_cli_fail(st) : ws_exit_code(st); }
 
 /* The report's settings table, made from the option list itself so that
  * it shows every option of the run (defaults included) and cannot drift
@@ -74,6 +106,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
+        {"--clip-batch", WS_ARG_INT, &opt->loss.pass_items, 0,
+         "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
         {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
         {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
         {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
@@ -160,7 +194,7 @@ static int resume_arguments(const char *dir, int argc, char **argv, int *run_arg
     return WS_OK;
 }
 
-int cmd_fit(int argc, char **argv) {
+static int fit_command(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
     /* Installed first: a signal during start-up also ends the run cleanly. */
@@ -169,13 +203,15 @@ int cmd_fit(int argc, char **argv) {
     sa.sa_handler = request_stop;
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGUSR1, &sa, NULL);
     ws_fit_options opt;
     const char *resume_dir;
     int help;
     static fit_settings settings;
-    if (parse_fit(argc, argv, &opt, &resume_dir, &help, &settings, &st)) return ws_cli_fail(&st);
+    int rc = parse_fit(argc, argv, &opt, &resume_dir, &help, &settings, &st);
+    if (rc) return ws_dist_rank() == 0 ? ws_cli_fail(&st) : ws_exit_code(&st);
     if (help) return 0;
-    int run_argc = argc, nsaved = 0, rc = WS_OK, interrupted = 0;
+    int run_argc = argc, nsaved = 0, interrupted = 0;
     char **run_argv = argv, **saved = NULL;
     const char *dir = resume_dir;
     if (dir) {
@@ -184,16 +220,29 @@ int cmd_fit(int argc, char **argv) {
         opt.out_dir = dir; /* the run continues where its checkpoint is now */
     }
     if (!rc) rc = ws_runtime_init(opt.threads, &st);
+    rc = ws_dist_agree(rc, &st);
+    if (ws_dist_size() > 1) install_end_handler(opt.out_dir);
     if (!rc) {
         rc = ws_fit(&opt, (const char *const *)run_argv, run_argc, dir != NULL, &interrupted, &st);
     }
     if (dir && run_argv != argv) free(run_argv);
     ws_checkpoint_free_args(nsaved, saved);
-    if (rc) return ws_cli_fail(&st);
+    if (rc) return fail(&st);
+    if (ws_dist_rank() > 0) return 0;
     if (interrupted)
         fprintf(stderr, "wiresketch: interrupted; outputs and checkpoint written to %s; continue with "
                         "`wiresketch fit --resume %s`\n", opt.out_dir, opt.out_dir);
     else
         fprintf(stderr, "wiresketch: done; see %s/report.html\n", opt.out_dir);
     return 0;
+}
+
+/* Every rank of an MPI job runs the fit (base/distributed.h). */
+int cmd_fit(int argc, char **argv) {
+    ws_status st;
+    ws_status_clear(&st);
+    if (ws_dist_init(&st)) return ws_cli_fail(&st);
+    int rc = fit_command(argc, argv);
+    ws_dist_finalize();
+    return rc;
 }

@@ -6,7 +6,12 @@
  * the step if anything is not finite; Adam. The state that decides the
  * trajectory (control points, Adam moments, rng, position in the schedule)
  * lives in ws_fit_state and is what a checkpoint stores, so a resumed run
- * takes exactly the same steps. */
+ * takes exactly the same steps.
+ *
+ * On several MPI ranks (base/distributed.h) every rank runs this loop on
+ * the same state: the objective spreads each step's work and hands every
+ * rank the same gradient. Rank 0 alone writes checkpoints, outputs and
+ * messages; a stop request is agreed on at each step. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +22,7 @@
 #include "fit/fit.h"
 #include "fit/init.h"
 #include "fit/fit_outputs.h"
+#include "base/distributed.h"
 #include "base/outfile.h"
 #include "base/timing.h"
 #include "io/scene.h"
@@ -34,6 +40,9 @@ typedef struct {
     ws_fit_state s;
     double start;             /* ws_seconds() when this process began fitting */
 } fit_run;
+
+/* Rank 0 speaks for the job (one rank: always). */
+static int speaks(void) { return ws_dist_rank() == 0; }
 
 static void shuffle(int *order, int n, ws_rng *rng) {
     for (int i = 0; i < n; i++) order[i] = i;
@@ -56,7 +65,8 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
     if (!finite) {
         r->s.skipped_steps++;
         *loss = NAN;
-        fprintf(stderr, "\nwiresketch: step %ld: non-finite loss or gradient (%s); step skipped\n",
+        if (speaks())
+            fprintf(stderr, "\nwiresketch: step %ld: non-finite loss or gradient (%s); step skipped\n",
                 r->s.global_step, rc ? st->msg : "in the gradient");
         ws_status_clear(st);
         return WS_OK;
@@ -76,7 +86,8 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
         memcpy(adam->v, r->backup + 2 * np, np * sizeof(double));
         adam->step--;
         r->s.skipped_steps++;
-        fprintf(stderr, "\nwiresketch: step %ld: the update made the curves unusable (%s); step undone\n",
+        if (speaks())
+            fprintf(stderr, "\nwiresketch: step %ld: the update made the curves unusable (%s); step undone\n",
                 r->s.global_step, st->msg);
         ws_status_clear(st);
         return WS_OK;
@@ -91,7 +102,7 @@ static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_st
     if (rc != WS_ENUMERIC) return rc;
     /* A non-finite evaluation is reported and recorded as NaN: it must not
      * cost the run its outputs. */
-    fprintf(stderr, "\nwiresketch: %s loss not finite (%s)\n", ws_split_names[split], st->msg);
+    if (speaks()) fprintf(stderr, "\nwiresketch: %s loss not finite (%s)\n", ws_split_names[split], st->msg);
     ws_status_clear(st);
     *mean = NAN;
     for (int v = 0; per_view && v < r->scene.split[split].n; v++) per_view[v] = NAN;
@@ -116,7 +127,7 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     static double last_print;
     double t = ws_seconds();
     int tty = isatty(2);
-    if (r->opt->quiet || (!final && t - last_print < (tty ? 0.2 : 10.0))) return;
+    if (r->opt->quiet || !speaks() || (!final && t - last_print < (tty ? 0.2 : 10.0))) return;
     last_print = t;
     double rate = steps_this_run / fmax(t - rate_start, 1e-9);
     char left[32], spent[32];
@@ -151,6 +162,7 @@ static int init_state(fit_run *r, ws_status *st) {
 }
 
 static int save_checkpoint(fit_run *r, const char *const *argv, int argc, ws_status *st) {
+    if (!speaks()) return WS_OK;
     char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/checkpoint.bin", r->opt->out_dir);
     ws_fit_state *s = &r->s;
@@ -197,7 +209,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
     long steps_this_run = 0;
     double loss = NAN;
     while (s->epoch < o->epochs && !(o->max_steps > 0 && s->global_step >= o->max_steps)) {
-        if (ws_fit_stop_requested) {
+        if (ws_dist_max(ws_fit_stop_requested)) {
             *interrupted = 1;
             break;
         }
@@ -207,7 +219,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         steps_this_run++;
         progress(r, loss, rate_start, steps_this_run, 0);
         if (ws_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
-            if (save_checkpoint(r, argv, argc, st)) return st->code;
+            if (save_checkpoint(r, argv, argc, st)) return ws_dist_fail_alone(st);
             last_checkpoint = ws_seconds();
         }
     }
@@ -230,7 +242,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     ws_scene_options_default(&so);
     so.width = so.height = o->size;
     if (ws_scene_load(&r->scene, o->scene_dir, &so, st)) return st->code;
-    if (ws_mkdir(o->out_dir, st)) return st->code;
+    if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
     if (resume) {
         char path[WS_PATH_MAX];
         snprintf(path, sizeof path, "%s/checkpoint.bin", o->out_dir);
@@ -265,6 +277,43 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     return resume ? WS_OK : save_checkpoint(r, argv, argc, st);
 }
 
+/* FNV-1a over bytes, continuing from h. */
+static uint64_t fnv(uint64_t h, const void *data, size_t n) {
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * 1099511628211ull;
+    return h;
+}
+
+/* Every rank must start from the same state: a resumed rank that read
+ * another checkpoint (an output directory that is not shared) would fit
+ * something else. */
+static int check_same_state(const fit_run *r, ws_status *st) {
+    int N = ws_dist_size(), me = ws_dist_rank();
+    if (N == 1) return WS_OK;
+    const ws_fit_state *s = &r->s;
+    size_t np = (size_t)s->curves.n * WS_CURVE_FLOATS;
+    uint64_t h = fnv(14695981039346656037ull, &s->global_step, sizeof s->global_step);
+    h = fnv(h, &s->rng, sizeof s->rng);
+    h = fnv(h, s->curves.P, np * sizeof(double));
+    h = fnv(h, s->adam.m, np * sizeof(double));
+    h = fnv(h, s->adam.v, np * sizeof(double));
+    h = fnv(h, s->order, (size_t)s->n_train * sizeof(int));
+    uint64_t *all = ws_calloc((size_t)N, sizeof *all, "state fingerprints", st);
+    size_t *bytes = all ? ws_malloc((size_t)N * sizeof *bytes, "state fingerprints", st) : NULL;
+    if (!bytes) return ws_dist_fail_alone(st);
+    all[me] = h;
+    for (int k = 0; k < N; k++) bytes[k] = sizeof *all;
+    ws_dist_allgather(all, bytes);
+    int same = all[me] == all[0];
+    free(all);
+    free(bytes);
+    if (same) return WS_OK;
+    return ws_fail(st, WS_EINPUT,
+                   "%s/checkpoint.bin: not the state rank 0 resumed from (every rank reads the checkpoint "
+                   "at this path: the output directory must be shared, or the same file, on every machine)",
+                   r->opt->out_dir);
+}
+
 int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int resume,
            int *interrupted, ws_status *st) {
     fit_run r;
@@ -273,6 +322,8 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     *interrupted = 0;
     r.start = ws_seconds();
     int rc = fit_run_setup(&r, resume, argv, argc, st);
+    if (!rc) rc = check_same_state(&r, st);
+    rc = ws_dist_agree(rc, st);
     if (!rc) rc = run_schedule(&r, argv, argc, interrupted, st);
     if (!rc) rc = save_checkpoint(&r, argv, argc, st);
     double test_loss = NAN, *test_losses = NULL;
@@ -280,7 +331,7 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
         test_losses = ws_calloc(r.scene.split[WS_TEST].n + 1, sizeof(double), "test losses", st);
         rc = test_losses ? evaluate(&r, WS_TEST, &test_loss, test_losses, st) : st->code;
     }
-    if (!rc) {
+    if (!rc && speaks()) {
         r.s.elapsed = ws_fit_state_elapsed(&r.s, r.start);
         rc = ws_fit_write_outputs(opt, &r.scene, &r.s, test_losses, test_loss, st);
     }

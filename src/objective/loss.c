@@ -50,19 +50,23 @@ typedef struct {
     int nlayers;          /* layers the geometric term reads */
     int layer[WS_LOSS_MAX_LAYERS];
     size_t feature_size;  /* floats of one image's cached features */
-    clip_run *train_run;  /* 1 + A stroke images, with tape */
-    clip_run *single_run; /* item 0 alone, with tape (evaluation, grad, cache) */
-    clip_run *photo_run;  /* A augmented photos, no tape */
+    int pass_items;       /* G: stroke images per CLIP pass */
+    /* By batch size b (NULL where no pass needs it): runs of b stroke images
+     * with tape (b = 1 also serves the unaugmented photo) and of b
+     * augmented photos without. A pass always has the same items, so its
+     * bits do not depend on which rank runs it. */
+    clip_run *stroke_run[2 + WS_LOSS_MAX_AUG];
+    clip_run *photo_run[2 + WS_LOSS_MAX_AUG];
     ws_view_cache photo_cache; /* per view: features of the unaugmented photo */
     int bank;             /* N banked transforms per training view (0: none) */
     ws_view_cache bank_cache; /* per training view: N x feature_size, the photo under each transform */
-    float *strokes;       /* (1 + A) x 3 x R x R */
-    float *photos;        /* A x 3 x R x R (zeroed: a bank's last batch may not fill it) */
-    float *targets;       /* A x feature_size: features of the augmented photos */
-    float *d_images;      /* (1 + A) x 3 x R x R */
-    float *d_hidden_buf;  /* nlayers x (1 + A) x tokens x width */
+    float *strokes;       /* G x 3 x R x R */
+    float *photos;        /* max(A, G) x 3 x R x R (zeroed: a bank's last batch may not fill it) */
+    float *targets;       /* G x feature_size: features of the augmented photos */
+    float *d_images;      /* G x 3 x R x R */
+    float *d_hidden_buf;  /* nlayers x G x tokens x width */
     const float *d_hidden[WS_LOSS_MAX_LAYERS]; /* per block, NULL if unread */
-    float *d_embedding;   /* (1 + A) x out_dim */
+    float *d_embedding;   /* G x out_dim */
 } clip_part;
 
 /* Item a of a view's step: a = 0 is the image itself, a = 1..A its
@@ -89,7 +93,33 @@ struct ws_loss {
     float *alpha_f, *stroke_aug;     /* H x W */
     float *d_stroke;                 /* H x W */
     double *edge_dalpha;             /* H x W */
+    double *item_loss;               /* 1 + A: ws_loss_view's items */
+    float *item_grad;                /* (1 + A) x H x W */
 };
+
+/* Items [first, first + count) of a view of n items, pass `pass` of
+ * passes of G items. */
+static void pass_range(int n, int G, int pass, int *first, int *count) {
+    *first = pass * G;
+    *count = n - *first < G ? n - *first : G;
+}
+
+/* Makes the runs of the batch sizes that the passes over n items take:
+ * stroke runs of each pass's size, photo runs of its augmented items. */
+static int create_pass_runs(clip_part *c, int n, const clip_run_options *with_tape, ws_status *st) {
+    for (int pass = 0; pass * c->pass_items < n; pass++) {
+        int first, count;
+        pass_range(n, c->pass_items, pass, &first, &count);
+        clip_run_options ro = *with_tape;
+        ro.batch = count;
+        if (!c->stroke_run[count] && clip_run_create(&c->stroke_run[count], c->model, &ro, st)) return st->code;
+        ro.batch = first == 0 ? count - 1 : count;
+        ro.need_grad = 0;
+        if (ro.batch > 0 && !c->photo_run[ro.batch] && clip_run_create(&c->photo_run[ro.batch], c->model, &ro, st))
+            return st->code;
+    }
+    return WS_OK;
+}
 
 static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_scene *scene,
                             int A, ws_status *st) {
@@ -123,38 +153,36 @@ static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_s
     if (c->need_embedding) c->last_block = arch->layers - 1;
     c->feature_size = (size_t)c->nlayers * c->tokens * c->width + (c->need_embedding ? c->out_dim : 0);
 
-    clip_run_options ro = {1 + A, c->last_block, c->need_embedding, 1};
-    if (clip_run_create(&c->train_run, c->model, &ro, st)) return st->code;
-    ro.batch = 1;
-    if (clip_run_create(&c->single_run, c->model, &ro, st)) return st->code;
-    if (A > 0) {
-        ro.batch = A;
-        ro.need_grad = 0;
-        if (clip_run_create(&c->photo_run, c->model, &ro, st)) return st->code;
-    }
+    c->pass_items = opt->pass_items ? opt->pass_items : 1 + A;
+    clip_run_options ro = {1, c->last_block, c->need_embedding, 1};
+    if (create_pass_runs(c, 1, &ro, st) || create_pass_runs(c, 1 + A, &ro, st)) return st->code;
+    ro.batch = A;
+    ro.need_grad = 0;
+    if (A > 0 && !c->photo_run[A] && clip_run_create(&c->photo_run[A], c->model, &ro, st)) return st->code;
     size_t image = (size_t)3 * c->res * c->res;
     c->bank = A > 0 ? opt->aug_bank : 0;
     if (ws_view_cache_init(&c->photo_cache, scene, c->feature_size, "photo features", st) ||
         ws_view_cache_init(&c->bank_cache, scene, (size_t)c->bank * c->feature_size,
                            "augmentation bank features", st))
         return st->code;
-    size_t hidden = (size_t)(1 + A) * c->tokens * c->width;
-    if (!(c->strokes = ws_malloc((1 + A) * image * sizeof(float), "stroke images", st)) ||
-        !(c->photos = ws_calloc((A ? A : 1) * image, sizeof(float), "photo images", st)) ||
-        !(c->targets = ws_malloc((A ? A : 1) * c->feature_size * sizeof(float), "photo features", st)) ||
-        !(c->d_images = ws_malloc((1 + A) * image * sizeof(float), "image gradients", st)) ||
+    size_t G = (size_t)c->pass_items, hidden = G * c->tokens * c->width;
+    size_t photos = A > (int)G ? (size_t)A : G;
+    if (!(c->strokes = ws_malloc(G * image * sizeof(float), "stroke images", st)) ||
+        !(c->photos = ws_calloc(photos * image, sizeof(float), "photo images", st)) ||
+        !(c->targets = ws_malloc(G * c->feature_size * sizeof(float), "photo features", st)) ||
+        !(c->d_images = ws_malloc(G * image * sizeof(float), "image gradients", st)) ||
         !(c->d_hidden_buf = ws_malloc((c->nlayers ? c->nlayers : 1) * hidden * sizeof(float),
                                       "feature gradients", st)) ||
-        !(c->d_embedding = ws_malloc((size_t)(1 + A) * c->out_dim * sizeof(float),
-                                     "embedding gradients", st)))
+        !(c->d_embedding = ws_malloc(G * c->out_dim * sizeof(float), "embedding gradients", st)))
         return st->code;
     return WS_OK;
 }
 
 static void clip_part_free(clip_part *c) {
-    clip_run_free(c->train_run);
-    clip_run_free(c->single_run);
-    clip_run_free(c->photo_run);
+    for (int b = 0; b < 2 + WS_LOSS_MAX_AUG; b++) {
+        clip_run_free(c->stroke_run[b]);
+        clip_run_free(c->photo_run[b]);
+    }
     if (c->owns_model) clip_model_free(c->model);
     ws_view_cache_free(&c->photo_cache);
     ws_view_cache_free(&c->bank_cache);
@@ -174,6 +202,9 @@ int ws_loss_options_check(const ws_loss_options *opt, ws_status *st) {
                        "--aug-bank: %d is not 0 or in %d..4096 (a step uses --num-aug %d distinct "
                        "transforms of the bank)",
                        opt->aug_bank, opt->num_aug, opt->num_aug);
+    if (opt->pass_items < 0 || opt->pass_items > 1 + opt->num_aug)
+        return ws_fail(st, WS_EUSAGE, "--clip-batch: %d is not in 0..%d (1 + --num-aug)", opt->pass_items,
+                       1 + opt->num_aug);
     /* a negative weight would make its term a reward for looking unlike the photo */
     int negative = opt->conv_weight < 0 || opt->fc_weight < 0 || opt->global_weight < 0 ||
                    opt->edges_weight < 0 || opt->l2_weight < 0;
@@ -209,7 +240,9 @@ int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *sc
         !(L->alpha_f = ws_malloc(pixels * sizeof(float), "stroke image", st)) ||
         !(L->stroke_aug = ws_malloc(pixels * sizeof(float), "stroke image", st)) ||
         !(L->d_stroke = ws_malloc(pixels * sizeof(float), "stroke gradient", st)) ||
-        !(L->edge_dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)))
+        !(L->edge_dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||
+        !(L->item_loss = ws_malloc((1 + L->A) * sizeof(double), "item losses", st)) ||
+        !(L->item_grad = ws_malloc((1 + L->A) * pixels * sizeof(float), "item gradients", st)))
         return st->code;
     return ws_aug_workspace_create(&L->aug_ws, L->W, L->H, 3, st);
 }
@@ -225,6 +258,8 @@ void ws_loss_free(ws_loss *L) {
     free(L->stroke_aug);
     free(L->d_stroke);
     free(L->edge_dalpha);
+    free(L->item_loss);
+    free(L->item_grad);
     free(L);
 }
 
@@ -249,51 +284,49 @@ static int fill_photo_features(void *ctx, int split, int view, float *slot, ws_s
     ws_loss *L = ctx;
     clip_part *c = &L->clip;
     double t0 = ws_time_start(L->timing);
-    if (clip_forward(c->single_run, L->scene->split[split].views[view].photo.data, st)) return st->code;
+    if (clip_forward(c->stroke_run[1], L->scene->split[split].views[view].photo.data, st)) return st->code;
     ws_time_add(L->timing, WS_TIME_CLIP_PHOTO, t0);
-    gather_features(c, c->single_run, 0, slot);
+    gather_features(c, c->stroke_run[1], 0, slot);
     return WS_OK;
 }
 
-/* The three CLIP terms for items 0..n-1 of `run` (strokes) against targets
- * (n feature vectors, item 0's first) and the global term's T_0; fills the
- * gradients with respect to the stroke features. Returns the loss. */
-static double clip_terms(clip_part *c, const ws_loss_options *opt, const clip_run *run, int n,
-                         const float *const *targets) {
-    size_t hidden = (size_t)c->tokens * c->width;
-    double loss = 0;
+/* The three CLIP terms of the count items of `run` (strokes; item i is
+ * item first + i of the view's n) against targets (count feature vectors)
+ * and the unaugmented photo's t0 (the global term); fills the gradients
+ * with respect to the stroke features and item_loss[i] with item i's part
+ * of the view's loss. */
+static void clip_terms(clip_part *c, const ws_loss_options *opt, const clip_run *run, int first, int count,
+                       int n, const float *const *targets, const float *t0, double *item_loss) {
+    size_t hidden = (size_t)c->tokens * c->width, off = (size_t)c->nlayers * hidden;
+    int D = c->out_dim;
     for (int l = 0; l < WS_LOSS_MAX_LAYERS; l++) c->d_hidden[l] = NULL;
-    for (int k = 0; k < c->nlayers; k++) {
-        int l = c->layer[k];
-        double w = opt->conv_weight * opt->layer_weights[l];
-        float *d = c->d_hidden_buf + (size_t)k * n * hidden;
-        const float *h = clip_hidden(run, l);
+    for (int k = 0; k < c->nlayers; k++) c->d_hidden[c->layer[k]] = c->d_hidden_buf + (size_t)k * count * hidden;
+    for (int i = 0; i < count; i++) {
+        double loss = 0;
         /* the mean over items, tokens and channels is the mean of the
          * per-item means: every item has the same size */
-        for (int a = 0; a < n; a++) {
-            loss += w / n * nn_mse_forward(h + a * hidden, targets[a] + k * hidden, hidden);
-            nn_mse_backward(h + a * hidden, targets[a] + k * hidden, hidden, (float)(w / n), d + a * hidden);
+        for (int k = 0; k < c->nlayers; k++) {
+            int l = c->layer[k];
+            double w = opt->conv_weight * opt->layer_weights[l];
+            const float *h = clip_hidden(run, l) + i * hidden, *t = targets[i] + k * hidden;
+            loss += w / n * nn_mse_forward(h, t, hidden);
+            nn_mse_backward(h, t, hidden, (float)(w / n), (float *)c->d_hidden[l] + i * hidden);
         }
-        c->d_hidden[l] = d;
-    }
-    if (c->need_embedding) {
-        const float *e = clip_embedding(run);
-        int D = c->out_dim;
-        size_t off = (size_t)c->nlayers * hidden;
-        for (int a = 0; a < n; a++) {
-            float *de = c->d_embedding + (size_t)a * D;
+        if (c->need_embedding) {
+            const float *e = clip_embedding(run) + (size_t)i * D;
+            float *de = c->d_embedding + (size_t)i * D;
             memset(de, 0, D * sizeof(float));
             double fc = opt->fc_weight / n;
-            loss += fc * (1.0 - nn_cosine_forward(e + a * D, targets[a] + off, D));
-            nn_cosine_backward(e + a * D, targets[a] + off, D, (float)-fc, de);
-            if (a > 0) {
+            loss += fc * (1.0 - nn_cosine_forward(e, targets[i] + off, D));
+            nn_cosine_backward(e, targets[i] + off, D, (float)-fc, de);
+            if (first + i > 0) {
                 double g = opt->global_weight;
-                loss += g * (1.0 - nn_cosine_forward(e + a * D, targets[0] + off, D));
-                nn_cosine_backward(e + a * D, targets[0] + off, D, (float)-g, de);
+                loss += g * (1.0 - nn_cosine_forward(e, t0 + off, D));
+                nn_cosine_backward(e, t0 + off, D, (float)-g, de);
             }
         }
+        item_loss[i] = loss;
     }
-    return loss;
 }
 
 /* Writes the 1-channel image src into the 3 channels of dst (R x R each). */
@@ -348,74 +381,79 @@ static int fill_bank(void *ctx, int split, int view, float *out, ws_status *st) 
         }
         ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
         t0 = ws_time_start(L->timing);
-        if (clip_forward(c->photo_run, c->photos, st)) return st->code;
+        if (clip_forward(c->photo_run[L->A], c->photos, st)) return st->code;
         ws_time_add(L->timing, WS_TIME_CLIP_PHOTO, t0);
         for (int a = 0; a < m; a++)
-            gather_features(c, c->photo_run, a, out + (size_t)(k0 + a) * c->feature_size);
+            gather_features(c, c->photo_run[L->A], a, out + (size_t)(k0 + a) * c->feature_size);
     }
     return WS_OK;
 }
 
-/* targets[a], a = 1..A: the photo's features under item a: from the
- * view's bank, or computed now (one CLIP forward without tape). */
-static int augmented_photo_features(ws_loss *L, const ws_view *v, int view, const float **targets,
-                                    ws_status *st) {
+/* targets[0..m): the photo's features under items first .. first+m-1
+ * (first >= 1): from the view's bank, or computed now (one CLIP forward
+ * without tape). */
+static int augmented_photo_features(ws_loss *L, const ws_view *v, int view, int first, int m,
+                                    const float **targets, ws_status *st) {
     clip_part *c = &L->clip;
     if (L->banked_step) {
         const float *bank;
         if (ws_view_cache_get(&c->bank_cache, WS_TRAIN, view, fill_bank, L, &bank, st)) return st->code;
-        for (int a = 1; a <= L->A; a++) targets[a] = bank + (size_t)L->items[a].bank_index * c->feature_size;
+        for (int i = 0; i < m; i++) targets[i] = bank + (size_t)L->items[first + i].bank_index * c->feature_size;
         return WS_OK;
     }
     size_t image = (size_t)3 * L->W * L->H;
     double t0 = ws_time_start(L->timing);
-    for (int a = 1; a <= L->A; a++)
-        if (item_forward(L, &L->items[a], v->photo.data, 3, c->photos + (a - 1) * image, st)) return st->code;
+    for (int i = 0; i < m; i++)
+        if (item_forward(L, &L->items[first + i], v->photo.data, 3, c->photos + i * image, st)) return st->code;
     ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
     t0 = ws_time_start(L->timing);
-    if (clip_forward(c->photo_run, c->photos, st)) return st->code;
+    if (clip_forward(c->photo_run[m], c->photos, st)) return st->code;
     ws_time_add(L->timing, WS_TIME_CLIP_PHOTO, t0);
-    for (int a = 1; a <= L->A; a++) {
-        float *slot = c->targets + (a - 1) * c->feature_size;
-        gather_features(c, c->photo_run, a - 1, slot);
-        targets[a] = slot;
+    for (int i = 0; i < m; i++) {
+        float *slot = c->targets + i * c->feature_size;
+        gather_features(c, c->photo_run[m], i, slot);
+        targets[i] = slot;
     }
     return WS_OK;
 }
 
-/* The CLIP terms of one view for items 0..n-1 (n = 1 + A when
- * augmenting) and, when dalpha is given, their gradient added to it. */
-static int clip_view(ws_loss *L, const ws_view *v, int split, int view, int n, double *loss,
-                     double *dalpha, ws_status *st) {
+/* One CLIP pass: items [first, first + count) of a view of n items, the
+ * stroke image alpha_f under each item; item_loss (count) receives each
+ * item's loss and, when given, item_grad (count x H x W) its dL/dalpha. */
+static int clip_pass(ws_loss *L, const ws_view *v, int split, int view, int first, int count, int n,
+                     double *item_loss, float *item_grad, ws_status *st) {
     clip_part *c = &L->clip;
     size_t pixels = (size_t)L->W * L->H, image = 3 * pixels;
-    const float *targets[1 + WS_LOSS_MAX_AUG];
-    if (ws_view_cache_get(&c->photo_cache, split, view, fill_photo_features, L, &targets[0], st)) return st->code;
-    double t0 = ws_time_start(L->timing);
-    for (int a = 0; a < n; a++) {
-        if (item_forward(L, &L->items[a], L->alpha_f, 1, L->stroke_aug, st)) return st->code;
-        to_rgb(L->stroke_aug, pixels, c->strokes + a * image);
+    const float *t0 = NULL, *targets[1 + WS_LOSS_MAX_AUG];
+    if (ws_view_cache_get(&c->photo_cache, split, view, fill_photo_features, L, &t0, st)) return st->code;
+    double t = ws_time_start(L->timing);
+    for (int i = 0; i < count; i++) {
+        if (item_forward(L, &L->items[first + i], L->alpha_f, 1, L->stroke_aug, st)) return st->code;
+        to_rgb(L->stroke_aug, pixels, c->strokes + i * image);
     }
-    ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
-    if (n > 1 && augmented_photo_features(L, v, view, targets, st)) return st->code;
-    clip_run *run = n > 1 ? c->train_run : c->single_run;
-    t0 = ws_time_start(L->timing);
+    ws_time_add(L->timing, WS_TIME_AUGMENT, t);
+    int skip = first == 0; /* item 0's target is t0 */
+    if (skip) targets[0] = t0;
+    if (count > skip &&
+        augmented_photo_features(L, v, view, first + skip, count - skip, targets + skip, st))
+        return st->code;
+    clip_run *run = c->stroke_run[count];
+    t = ws_time_start(L->timing);
     if (clip_forward(run, c->strokes, st)) return st->code;
-    ws_time_add(L->timing, WS_TIME_CLIP_FORWARD, t0);
-    *loss += clip_terms(c, &L->opt, run, n, targets);
-    if (!dalpha) return WS_OK;
-    t0 = ws_time_start(L->timing);
+    ws_time_add(L->timing, WS_TIME_CLIP_FORWARD, t);
+    clip_terms(c, &L->opt, run, first, count, n, targets, t0, item_loss);
+    if (!item_grad) return WS_OK;
+    t = ws_time_start(L->timing);
     if (clip_backward(run, c->nlayers ? c->d_hidden : NULL, c->need_embedding ? c->d_embedding : NULL,
                       c->d_images, st))
         return st->code;
-    ws_time_add(L->timing, WS_TIME_CLIP_BACKWARD, t0);
-    for (int a = 0; a < n; a++) {
-        const float *d = c->d_images + a * image;
-        for (size_t i = 0; i < pixels; i++) L->d_stroke[i] = d[i] + d[pixels + i] + d[2 * pixels + i];
-        t0 = ws_time_start(L->timing);
-        if (item_backward(L, &L->items[a], L->d_stroke, L->stroke_aug, st)) return st->code;
-        ws_time_add(L->timing, WS_TIME_AUGMENT, t0);
-        for (size_t i = 0; i < pixels; i++) dalpha[i] += L->stroke_aug[i];
+    ws_time_add(L->timing, WS_TIME_CLIP_BACKWARD, t);
+    for (int i = 0; i < count; i++) {
+        const float *d = c->d_images + i * image;
+        for (size_t p = 0; p < pixels; p++) L->d_stroke[p] = d[p] + d[pixels + p] + d[2 * pixels + p];
+        t = ws_time_start(L->timing);
+        if (item_backward(L, &L->items[first + i], L->d_stroke, item_grad + i * pixels, st)) return st->code;
+        ws_time_add(L->timing, WS_TIME_AUGMENT, t);
     }
     return WS_OK;
 }
@@ -451,18 +489,51 @@ static int draw_transforms(ws_loss *L, int split, int view, ws_rng *rng, ws_stat
     return WS_OK;
 }
 
-int ws_loss_view(ws_loss *L, int split, int view, const double *alpha, int augment,
-                 ws_rng *rng, double *value, double *dalpha, ws_status *st) {
+int ws_loss_items(const ws_loss *L, int augment) { return L->use_clip ? (augment ? 1 + L->A : 1) : 0; }
+
+int ws_loss_passes(const ws_loss *L, int augment) {
+    int n = ws_loss_items(L, augment), G = L->use_clip ? L->clip.pass_items : 1;
+    return n > G ? (n + G - 1) / G : 1;
+}
+
+void ws_loss_pass_items(const ws_loss *L, int augment, int pass, int *first, int *count) {
+    int n = ws_loss_items(L, augment);
+    pass_range(n, n ? L->clip.pass_items : 1, pass, first, count);
+}
+
+static int check_view(const ws_loss *L, int split, int view, ws_status *st) {
     if (split < 0 || split >= WS_NSPLITS || view < 0 || view >= L->scene->split[split].n)
         return ws_fail(st, WS_EINTERNAL, "loss: no view %d in split %d", view, split);
+    return WS_OK;
+}
+
+int ws_loss_draw(ws_loss *L, int split, int view, ws_rng *rng, ws_status *st) {
+    return check_view(L, split, view, st) || draw_transforms(L, split, view, rng, st) ? st->code : WS_OK;
+}
+
+int ws_loss_pass(ws_loss *L, int split, int view, const double *alpha, int augment, int pass,
+                 double *item_loss, float *item_grad, ws_status *st) {
+    int first, count;
+    ws_loss_pass_items(L, augment, pass, &first, &count);
+    if (check_view(L, split, view, st)) return st->code;
+    if (count == 0) return WS_OK;
+    size_t pixels = (size_t)L->W * L->H;
+    for (size_t i = 0; i < pixels; i++) L->alpha_f[i] = (float)alpha[i];
+    return clip_pass(L, &L->scene->split[split].views[view], split, view, first, count,
+                     ws_loss_items(L, augment), item_loss, item_grad, st);
+}
+
+int ws_loss_combine(ws_loss *L, int split, int view, const double *alpha, int augment, const double *item_loss,
+                    const float *item_grad, double *value, double *dalpha, ws_status *st) {
+    if (check_view(L, split, view, st)) return st->code;
     const ws_view *v = &L->scene->split[split].views[view];
     size_t pixels = (size_t)L->W * L->H;
-    int n = augment ? 1 + L->A : 1;
-    for (size_t i = 0; i < pixels; i++) L->alpha_f[i] = (float)alpha[i];
-    if (augment && draw_transforms(L, split, view, rng, st)) return st->code;
     if (dalpha) memset(dalpha, 0, pixels * sizeof(double));
     double loss = 0;
-    if (L->use_clip && clip_view(L, v, split, view, n, &loss, dalpha, st)) return st->code;
+    for (int a = 0; a < ws_loss_items(L, augment); a++) {
+        loss += item_loss[a];
+        for (size_t i = 0; dalpha && i < pixels; i++) dalpha[i] += item_grad[a * pixels + i];
+    }
     if (L->opt.edges_weight != 0) {
         double w = L->opt.edges_weight;
         const float *edges;
@@ -482,4 +553,19 @@ int ws_loss_view(ws_loss *L, int split, int view, const double *alpha, int augme
         return ws_fail(st, WS_ENUMERIC, "loss of %s view %s is not finite", ws_split_names[split], v->name);
     *value = loss;
     return WS_OK;
+}
+
+int ws_loss_view(ws_loss *L, int split, int view, const double *alpha, int augment,
+                 ws_rng *rng, double *value, double *dalpha, ws_status *st) {
+    if (augment && ws_loss_draw(L, split, view, rng, st)) return st->code;
+    size_t pixels = (size_t)L->W * L->H;
+    for (int pass = 0; pass < ws_loss_passes(L, augment); pass++) {
+        int first, count;
+        ws_loss_pass_items(L, augment, pass, &first, &count);
+        if (ws_loss_pass(L, split, view, alpha, augment, pass, L->item_loss + first,
+                         dalpha ? L->item_grad + first * pixels : NULL, st))
+            return st->code;
+    }
+    return ws_loss_combine(L, split, view, alpha, augment, L->item_loss, dalpha ? L->item_grad : NULL, value,
+                           dalpha, st);
 }

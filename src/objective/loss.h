@@ -11,6 +11,17 @@
  * none). One CLIP forward and backward per stroke image; the photo's
  * features are computed without a tape, item 0's once per view (cached).
  *
+ * Items and passes: a training view's items a = 0..A (an evaluated view's
+ * item 0 alone) go through CLIP in passes of G = pass_items consecutive
+ * items (the last may hold fewer), each pass one batch of stroke images
+ * and one of the photos under its items' transforms. A view's loss is the
+ * sum over its items' losses in item order plus the weight-free terms, its
+ * dL/dalpha the same sum of the items' gradients: a pass's results do not
+ * depend on where or when it runs, which is what lets a fit spread the
+ * passes over MPI ranks (objective.c) with the bits of one process. GEMMs
+ * round each row differently with the number of rows, so G, not the ranks,
+ * decides the bits: 1 + A (the default) is the fastest on one process.
+ *
  * Augmentation bank (aug_bank = N > 0): each training view gets N fixed
  * transforms, transform k of view v drawn from a generator seeded by
  * (aug_seed, v, k), so a resumed run needs nothing stored; each step uses
@@ -44,6 +55,7 @@ typedef struct {
     double l2_weight;
     int num_aug;               /* A */
     int aug_bank;              /* N fixed transforms per training view (0: fresh every step) */
+    int pass_items;            /* G: stroke images per CLIP pass, 1..1+A (0: 1 + A) */
     uint64_t aug_seed;         /* derives the banked transforms */
     const struct clip_model *model; /* borrowed; NULL: load weights_path */
 } ws_loss_options;
@@ -70,6 +82,27 @@ void ws_loss_set_timing(ws_loss *loss, ws_step_timing *t);
  * has been used (0 without a bank): a view's are allocated when it is first
  * used, as are its cached photo features and edge map. */
 size_t ws_loss_bank_bytes(const ws_loss *loss);
+
+/* A view's loss in parts (the items and passes above). items: 1 + A
+ * (augment) or 1 with CLIP, 0 without; passes: at least 1 (without CLIP a
+ * pass does nothing and the view is its own unit of work). */
+int ws_loss_items(const ws_loss *loss, int augment);
+int ws_loss_passes(const ws_loss *loss, int augment);
+/* The items [first, first + count) of pass `pass`. */
+void ws_loss_pass_items(const ws_loss *loss, int augment, int pass, int *first, int *count);
+/* Draws the view's A transforms for this step from rng: once per training
+ * view and step, in view order, before its passes. */
+int ws_loss_draw(ws_loss *loss, int split, int view, ws_rng *rng, ws_status *st);
+/* Pass `pass` for the stroke image alpha (H x W): item_loss (count) gets
+ * each item's loss, item_grad (count x H x W, or NULL) its dL/dalpha. */
+int ws_loss_pass(ws_loss *loss, int split, int view, const double *alpha, int augment, int pass,
+                 double *item_loss, float *item_grad, ws_status *st);
+/* The view's loss from every item's (item_loss: items; item_grad: items x
+ * H x W, or NULL with dalpha NULL) and the weight-free terms; dalpha (H x
+ * W, or NULL): overwritten with dL/dalpha. WS_ENUMERIC when not finite. */
+int ws_loss_combine(ws_loss *loss, int split, int view, const double *alpha, int augment,
+                    const double *item_loss, const float *item_grad, double *value, double *dalpha,
+                    ws_status *st);
 
 /* The loss of view `view` of `split` for the stroke image alpha (H x W).
  * augment: draw A transforms from rng (training); 0: item 0 only

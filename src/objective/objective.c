@@ -1,7 +1,23 @@
-/* objective.c: the loss of a sketch and its gradient (see objective.h). */
+/* objective.c: the loss of a sketch and its gradient (see objective.h).
+ *
+ * A batch, and the mean over a split, are spread over the ranks of an MPI
+ * job (base/distributed.h; one rank otherwise) in units of work: view k's
+ * CLIP passes p = 0..P-1 (loss.h) are units k P + p (a view is one unit
+ * without CLIP, and in an evaluation), and rank r takes units
+ * [U r / N, U (r + 1) / N) of U. The rank of a view's first unit owns the
+ * view: it sums the items' losses and gradients (those of other ranks'
+ * passes reach it in one exchange), adds the weight-free terms and carries
+ * dL/dalpha back to the control points; then every rank receives every
+ * view's loss and gradient and sums them in view order. Every rank draws
+ * every view's transforms, in view order, from the same generator, and a
+ * pass gives the same bits on any rank: so the bits are those of one
+ * process for any number of ranks. A rank owns a view whose units run
+ * past its own only as the last view it touches, whose splatting is then
+ * still the current one. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/distributed.h"
 #include "objective/objective.h"
 
 struct ws_objective {
@@ -15,6 +31,11 @@ struct ws_objective {
     int dmu_cap;
     double *dP;               /* curves x WS_CURVE_FLOATS */
     int n_curves;
+    int items;                /* a training view's CLIP items (loss.h) */
+    double *item_loss;        /* 2 x items: the first view a rank touches, then the others */
+    float *item_grad;         /* 2 x items x H x W, likewise */
+    double *records;          /* views x (1 + curves x WS_CURVE_FLOATS): each view's loss and dL/dP */
+    size_t *xfer;             /* 8 x ranks: counts and offsets of an exchange */
     ws_step_timing *timing;   /* NULL: no clock is read */
 };
 
@@ -33,6 +54,16 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
         !(o->dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||
         !(o->dP = ws_calloc((size_t)n_curves * WS_CURVE_FLOATS, sizeof(double), "control point gradient", st)))
         return st->code;
+    int views = 1;
+    for (int s = 0; s < WS_NSPLITS; s++) views = scene->split[s].n > views ? scene->split[s].n : views;
+    o->items = ws_loss_items(o->loss, 1);
+    size_t items = o->items ? (size_t)o->items : 1;
+    if (!(o->item_loss = ws_malloc(2 * items * sizeof(double), "item losses", st)) ||
+        !(o->item_grad = ws_malloc(2 * items * pixels * sizeof(float), "item gradients", st)) ||
+        !(o->records = ws_malloc((size_t)views * (1 + (size_t)n_curves * WS_CURVE_FLOATS) * sizeof(double), "view gradients",
+                                 st)) ||
+        !(o->xfer = ws_malloc(8 * (size_t)ws_dist_size() * sizeof(size_t), "exchange counts", st)))
+        return st->code;
     return WS_OK;
 }
 
@@ -45,6 +76,10 @@ void ws_objective_free(ws_objective *o) {
     free(o->dalpha);
     free(o->dmu);
     free(o->dP);
+    free(o->item_loss);
+    free(o->item_grad);
+    free(o->records);
+    free(o->xfer);
     free(o);
 }
 
@@ -73,23 +108,33 @@ static int grow_dmu(ws_objective *o, ws_status *st) {
     return o->dmu ? WS_OK : st->code;
 }
 
-/* ws_objective_view for the Gaussians of the last sampling of c. */
-static int sampled_view(ws_objective *o, const ws_curves *c, int split, int view, int augment, ws_rng *rng,
-                        double scale, double *loss, double *grad, ws_status *st) {
-    const ws_view *v = &o->scene->split[split].views[view];
+static int splat_view(ws_objective *o, const ws_curves *c, int split, int view, ws_status *st) {
     double t0 = ws_time_start(o->timing);
-    if (ws_splat_forward(o->splat, &v->cam, o->gaussians.mu, o->gaussians.n, c->thickness, &o->splat_opt,
-                         o->alpha, st))
+    if (ws_splat_forward(o->splat, &o->scene->split[split].views[view].cam, o->gaussians.mu, o->gaussians.n,
+                         c->thickness, &o->splat_opt, o->alpha, st))
         return st->code;
     ws_time_add(o->timing, WS_TIME_SPLAT, t0);
-    if (ws_loss_view(o->loss, split, view, o->alpha, augment, rng, loss, grad ? o->dalpha : NULL, st))
-        return st->code;
-    if (!grad) return WS_OK;
-    t0 = ws_time_start(o->timing);
+    return WS_OK;
+}
+
+/* dL/dP (into o->dP) for dL/dalpha in o->dalpha, through the splatting of
+ * the view splatted last. */
+static int backward(ws_objective *o, const ws_curves *c, ws_status *st) {
+    double t0 = ws_time_start(o->timing);
     if (grow_dmu(o, st) || ws_splat_backward(o->splat, o->dalpha, o->dmu, st)) return st->code;
     ws_time_add(o->timing, WS_TIME_SPLAT, t0);
     ws_curves_backward(c, &o->gaussians, o->dmu, o->dP);
-    for (int i = 0; i < c->n * WS_CURVE_FLOATS; i++) grad[i] += scale * o->dP[i];
+    return WS_OK;
+}
+
+/* ws_objective_view for the Gaussians of the last sampling of c. */
+static int sampled_view(ws_objective *o, const ws_curves *c, int split, int view, int augment, ws_rng *rng,
+                        double scale, double *loss, double *grad, ws_status *st) {
+    if (splat_view(o, c, split, view, st) ||
+        ws_loss_view(o->loss, split, view, o->alpha, augment, rng, loss, grad ? o->dalpha : NULL, st) ||
+        (grad && backward(o, c, st)))
+        return st->code;
+    for (int i = 0; grad && i < c->n * WS_CURVE_FLOATS; i++) grad[i] += scale * o->dP[i];
     return WS_OK;
 }
 
@@ -99,31 +144,165 @@ int ws_objective_view(ws_objective *o, const ws_curves *c, int split, int view, 
     return sampled_view(o, c, split, view, augment, rng, scale, loss, grad, st);
 }
 
+/* The first of U units that rank r takes, of N ranks. */
+static long unit_start(long U, int r, int N) { return U * r / N; }
+
+static int rank_of_unit(long u, long U, int N) {
+    int r = (int)(u * N / U);
+    while (r + 1 < N && unit_start(U, r + 1, N) <= u) r++;
+    while (unit_start(U, r, N) > u) r--;
+    return r;
+}
+
+/* Combines the items of a training view that this rank owns and has
+ * splatted last into its record: the loss, then dL/dP (NaN loss and a zero
+ * gradient when the loss is not finite). */
+static int finish_view(ws_objective *o, const ws_curves *c, int view, const double *item_loss,
+                       const float *item_grad, double *record, ws_status *st) {
+    int np = c->n * WS_CURVE_FLOATS;
+    int rc = ws_loss_combine(o->loss, WS_TRAIN, view, o->alpha, 1, item_loss, item_grad, &record[0], o->dalpha,
+                             st);
+    if (rc == WS_ENUMERIC) {
+        ws_status_clear(st);
+        record[0] = NAN;
+        memset(record + 1, 0, np * sizeof(double));
+        return WS_OK;
+    }
+    if (rc || backward(o, c, st)) return st->code;
+    memcpy(record + 1, o->dP, np * sizeof(double));
+    return WS_OK;
+}
+
+/* Sends the items this rank computed of a view it does not own (`out`, its
+ * first, in item set item_set[0]) to the owner, and receives those of the
+ * view it owns but did not finish (`in`, its last, in set item_set[1])
+ * from the ranks that computed them. out and in are -1 where there is no
+ * such view; when both exist they are in different sets, so the send and
+ * receive buffers never overlap. */
+static void exchange_items(ws_objective *o, long P, long U, int out, int in, const int *item_set) {
+    int N = ws_dist_size(), me = ws_dist_rank(), n = o->items;
+    size_t pixels = (size_t)o->scene->width * o->scene->height;
+    size_t *sb = o->xfer, *so = sb + N, *rb = so + N, *ro = rb + N;
+    size_t *gsb = ro + N, *gso = gsb + N, *grb = gso + N, *gro = grb + N;
+    memset(o->xfer, 0, 8 * (size_t)N * sizeof(size_t));
+    double none_loss;
+    float none_grad;
+    double *loss_base[2] = {&none_loss, &none_loss};
+    float *grad_base[2] = {&none_grad, &none_grad};
+    for (int side = 0; side < 2; side++) {
+        int k = side ? in : out;
+        if (k < 0) continue;
+        loss_base[side] = o->item_loss + (size_t)item_set[side] * n;
+        grad_base[side] = o->item_grad + (size_t)item_set[side] * n * pixels;
+        long u0 = k * P, u1 = u0 + P;
+        for (int r = 0; r < N; r++) {
+            /* sending: everything of view `out` this rank has, to its owner;
+             * receiving: what rank r has of view `in` */
+            int from = side ? r : me;
+            long a = u0 > unit_start(U, from, N) ? u0 : unit_start(U, from, N);
+            long b = u1 < unit_start(U, from + 1, N) ? u1 : unit_start(U, from + 1, N);
+            if (r == me || a >= b || (side == 0 && r != rank_of_unit(u0, U, N))) continue;
+            int first, count, last_first, last_count;
+            ws_loss_pass_items(o->loss, 1, (int)(a - u0), &first, &count);
+            ws_loss_pass_items(o->loss, 1, (int)(b - 1 - u0), &last_first, &last_count);
+            size_t items = (size_t)(last_first + last_count - first);
+            size_t *lb = side ? rb : sb, *lo = side ? ro : so, *gb = side ? grb : gsb, *go = side ? gro : gso;
+            lb[r] = items * sizeof(double);
+            lo[r] = (size_t)first * sizeof(double);
+            gb[r] = items * pixels * sizeof(float);
+            go[r] = (size_t)first * pixels * sizeof(float);
+        }
+    }
+    ws_dist_exchange(loss_base[0], sb, so, loss_base[1], rb, ro);
+    ws_dist_exchange(grad_base[0], gsb, gso, grad_base[1], grb, gro);
+}
+
+/* Every rank's records of the views it owns (units: P per view), in view
+ * order, to every rank. */
+static void share_records(ws_objective *o, int nviews, long P, size_t record) {
+    int N = ws_dist_size();
+    if (N == 1) return;
+    size_t *bytes = o->xfer;
+    memset(bytes, 0, (size_t)N * sizeof(size_t));
+    for (int k = 0; k < nviews; k++) bytes[rank_of_unit(k * P, (long)nviews * P, N)] += record * sizeof(double);
+    ws_dist_allgather(o->records, bytes);
+}
+
 int ws_objective_batch(ws_objective *o, const ws_curves *c, const int *views, int nviews, ws_rng *rng,
                        double *loss, double *grad, ws_status *st) {
-    memset(grad, 0, (size_t)c->n * WS_CURVE_FLOATS * sizeof(double));
+    int np = c->n * WS_CURVE_FLOATS, N = ws_dist_size(), me = ws_dist_rank(), n = o->items;
+    size_t pixels = (size_t)o->scene->width * o->scene->height, record = 1 + (size_t)np;
+    long P = ws_loss_passes(o->loss, 1), U = nviews * P;
+    long lo = unit_start(U, me, N), hi = unit_start(U, me + 1, N);
+    memset(grad, 0, (size_t)np * sizeof(double));
     *loss = 0;
-    int rc = ws_objective_sample(o, c, st);
-    for (int k = 0; k < nviews && !rc; k++) {
-        double l = NAN;
-        rc = sampled_view(o, c, WS_TRAIN, views[k], 1, rng, 1.0 / nviews, &l, grad, st);
-        *loss += l / nviews;
+    if (ws_objective_sample(o, c, st)) return st->code;
+    int out = -1, in = -1, touched = 0, item_set[2] = {0, 0};
+    for (int k = 0; k < nviews; k++) {
+        if (ws_loss_draw(o->loss, WS_TRAIN, views[k], rng, st)) return ws_dist_fail_alone(st);
+        long u0 = k * P, u1 = u0 + P, a = u0 > lo ? u0 : lo, b = u1 < hi ? u1 : hi;
+        if (a >= b) continue;
+        int set = touched++ ? 1 : 0;
+        double *il = o->item_loss + (size_t)set * n;
+        float *ig = o->item_grad + (size_t)set * n * pixels;
+        if (splat_view(o, c, WS_TRAIN, views[k], st)) return ws_dist_fail_alone(st);
+        for (long u = a; u < b; u++) {
+            int first, count;
+            ws_loss_pass_items(o->loss, 1, (int)(u - u0), &first, &count);
+            if (ws_loss_pass(o->loss, WS_TRAIN, views[k], o->alpha, 1, (int)(u - u0), il + first,
+                             ig + first * pixels, st))
+                return ws_dist_fail_alone(st);
+        }
+        if (u0 < lo) {
+            out = k;
+            item_set[0] = set;
+        } else if (u1 > hi) {
+            in = k;
+            item_set[1] = set;
+        } else if (finish_view(o, c, views[k], il, ig, o->records + k * record, st)) {
+            return ws_dist_fail_alone(st);
+        }
     }
-    return rc;
+    if (N > 1) exchange_items(o, P, U, out, in, item_set);
+    if (in >= 0 && finish_view(o, c, views[in], o->item_loss + (size_t)item_set[1] * n,
+                               o->item_grad + (size_t)item_set[1] * n * pixels, o->records + in * record, st))
+        return ws_dist_fail_alone(st);
+    share_records(o, nviews, P, record);
+    for (int k = 0; k < nviews; k++) {
+        const double *r = o->records + k * record;
+        if (!isfinite(r[0]))
+            return ws_fail(st, WS_ENUMERIC, "loss of %s view %s is not finite", ws_split_names[WS_TRAIN],
+                           o->scene->split[WS_TRAIN].views[views[k]].name);
+        *loss += r[0] / nviews;
+        for (int i = 0; i < np; i++) grad[i] += (1.0 / nviews) * r[1 + i];
+    }
+    return WS_OK;
 }
 
 int ws_objective_split_mean(ws_objective *o, const ws_curves *c, int split, double *per_view, double *mean,
                             ws_status *st) {
     const ws_split *sp = &o->scene->split[split];
+    int N = ws_dist_size(), me = ws_dist_rank();
     *mean = NAN;
     if (ws_objective_sample(o, c, st)) return st->code;
     if (sp->n == 0) return WS_OK;
+    for (long v = unit_start(sp->n, me, N); v < unit_start(sp->n, me + 1, N); v++) {
+        int rc = sampled_view(o, c, split, (int)v, 0, NULL, 0, &o->records[v], NULL, st);
+        if (rc == WS_ENUMERIC) {
+            ws_status_clear(st);
+            o->records[v] = NAN;
+        } else if (rc) {
+            return ws_dist_fail_alone(st);
+        }
+    }
+    share_records(o, sp->n, 1, 1);
     double sum = 0;
     for (int v = 0; v < sp->n; v++) {
-        double l;
-        if (sampled_view(o, c, split, v, 0, NULL, 0, &l, NULL, st)) return st->code;
-        if (per_view) per_view[v] = l;
-        sum += l;
+        if (!isfinite(o->records[v]))
+            return ws_fail(st, WS_ENUMERIC, "loss of %s view %s is not finite", ws_split_names[split],
+                           sp->views[v].name);
+        if (per_view) per_view[v] = o->records[v];
+        sum += o->records[v];
     }
     *mean = sum / sp->n;
     return WS_OK;
