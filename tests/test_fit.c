@@ -139,6 +139,27 @@ static void test_resume_after_max_steps(void) {
     CHECK(same_files(a, b), "resumed run differs from the uninterrupted one");
 }
 
+/* Curves that start far outside the object (a sphere of radius 2.5) are
+ * respawned onto the hull every 10 steps, before and after a resume, and
+ * the resumed run still ends bit-identical. */
+static void test_resume_with_respawn(void) {
+    char args[1024], a[300], b[300];
+    snprintf(a, sizeof a, "%s/ra/curves.json", tmp);
+    snprintf(b, sizeof b, "%s/rb/curves.json", tmp);
+#define RESPAWN " --init random --radius 2.5 --respawn-every 10"
+    snprintf(args, sizeof args, FIT RESPAWN " --out %s/ra --max-steps 40", tmp, tmp);
+    CHECK(run(args) == 0, "uninterrupted run with respawns failed");
+    snprintf(args, sizeof args, FIT RESPAWN " --out %s/rb --max-steps 15", tmp, tmp);
+    CHECK(run(args) == 0, "first part failed");
+    snprintf(args, sizeof args, "fit --resume %s/rb --max-steps 40", tmp);
+    CHECK(run(args) == 0, "resume failed");
+    CHECK(same_files(a, b), "resumed run with respawns differs from the uninterrupted one");
+    snprintf(a, sizeof a, "%s/ra/metrics.json", tmp);
+    CHECK(file_has(a, "\"respawned_curves\": ") && !file_has(a, "\"respawned_curves\": 0,"),
+          "no curve was respawned (--respawn-every 10, curves started outside the object)");
+#undef RESPAWN
+}
+
 static void test_resume_after_sigint(void) {
     char args[1024], a[300], c[300], ckpt[300];
     snprintf(a, sizeof a, "%s/long/curves.json", tmp);
@@ -271,6 +292,7 @@ int main(void) {
     test_outputs_and_loss();
     test_quality();
     test_resume_after_max_steps();
+    test_resume_with_respawn();
     test_resume_after_sigint();
     test_bad_input();
     test_unusable_steps_refused();

@@ -116,6 +116,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--max-steps", WS_ARG_INT, &opt->max_steps, 0, "stop after N steps in all, 0 = schedule [0]"},
         {"--checkpoint-minutes", WS_ARG_DOUBLE, &opt->checkpoint_minutes, 0, "checkpoint interval [5]"},
         {"--snapshot-every", WS_ARG_INT, &opt->snapshot_every, 0, "steps per evolution.gif frame [30]"},
+        {"--respawn-every", WS_ARG_INT, &opt->respawn_every, 0,
+         "steps between moves of idle curves onto the hull, 0 = never [300]"},
         {"--init", WS_ARG_STRING, &opt->init_curves, 0,
          "hull (on the visual hull), random (the original's sphere) or a curve file [hull]"},
         {"--no-check", WS_ARG_FLAG, &opt->no_check, 0, "fit even a scene `check` finds inconsistent"},

@@ -42,6 +42,7 @@ static void put_state(ws_bytes_writer *w, const ws_fit_state *s) {
     }
     ws_put_u32(w, (uint32_t)s->nsnap);
     ws_put_f64s(w, s->snapshots, (size_t)s->nsnap * np);
+    ws_put_u64(w, (uint64_t)s->respawned);
 }
 
 int ws_checkpoint_save(const char *path, const ws_fit_state *s, int argc,
@@ -162,7 +163,9 @@ static int get_state(ws_bytes_reader *r, ws_fit_state *s, const char *path, ws_s
     s->snapshots = ws_malloc((size_t)s->nsnap * np * sizeof(double), "checkpoint snapshots", st);
     if (!s->snapshots) return st->code;
     ws_get_f64s(r, s->snapshots, (size_t)s->nsnap * np);
-    if (r->failed) return bad(path, "truncated state", st);
+    /* Checkpoints written before respawning existed end here: none moved. */
+    s->respawned = r->pos < r->len ? (long)ws_get_u64(r) : 0;
+    if (r->failed || s->respawned < 0) return bad(path, "truncated state", st);
     return check_state(s, path, st);
 }
 

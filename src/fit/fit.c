@@ -21,6 +21,7 @@
 #include "fit/checkpoint.h"
 #include "fit/fit.h"
 #include "fit/init.h"
+#include "fit/respawn.h"
 #include "fit/fit_outputs.h"
 #include "base/distributed.h"
 #include "base/outfile.h"
@@ -38,6 +39,7 @@ typedef struct {
     double *grad;             /* curves x WS_CURVE_FLOATS */
     double *backup;           /* 3 x curves x WS_CURVE_FLOATS: P, Adam m and v before an update */
     ws_fit_state s;
+    ws_respawn *respawn;      /* NULL when --respawn-every is 0 */
     double start;             /* ws_seconds() when this process began fitting */
 } fit_run;
 
@@ -201,6 +203,20 @@ static int advance(fit_run *r, double loss, ws_status *st) {
     return WS_OK;
 }
 
+/* Moves idle curves every --respawn-every steps up to three quarters of
+ * the schedule's own steps (fit/respawn.h). */
+static int respawn(fit_run *r, ws_status *st) {
+    const ws_fit_options *o = r->opt;
+    ws_fit_state *s = &r->s;
+    long schedule = (long)o->epochs * ((s->n_train + o->batch_size - 1) / o->batch_size) * o->inner_steps;
+    if (!r->respawn || s->global_step % o->respawn_every != 0 || 4 * s->global_step > 3 * schedule)
+        return WS_OK;
+    int moved;
+    if (ws_respawn_step(r->respawn, &s->curves, &s->adam, &moved, st)) return st->code;
+    s->respawned += moved;
+    return moved ? ws_objective_sample(r->objective, &s->curves, st) : WS_OK;
+}
+
 static int run_schedule(fit_run *r, const char *const *argv, int argc, int *interrupted,
                         ws_status *st) {
     const ws_fit_options *o = r->opt;
@@ -215,7 +231,9 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         }
         int first = s->batch_in_epoch * o->batch_size;
         int nviews = s->n_train - first < o->batch_size ? s->n_train - first : o->batch_size;
-        if (train_step(r, s->order + first, nviews, &loss, st) || advance(r, loss, st)) return st->code;
+        if (train_step(r, s->order + first, nviews, &loss, st) || advance(r, loss, st) ||
+            respawn(r, st))
+            return st->code;
         steps_this_run++;
         progress(r, loss, rate_start, steps_this_run, 0);
         if (ws_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
@@ -228,6 +246,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
 }
 
 static void fit_run_free(fit_run *r) {
+    ws_respawn_free(r->respawn);
     ws_objective_free(r->objective);
     free(r->grad);
     free(r->backup);
@@ -262,6 +281,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     } else if ((!o->no_check && ws_fit_check_scene(&r->scene, st)) || init_state(r, st)) {
         return st->code;
     }
+    if (o->respawn_every > 0 && ws_respawn_create(&r->respawn, &r->scene, o->n_curves, o->length, st))
+        return st->code;
     ws_splat_options splat_opt;
     ws_splat_options_default(&splat_opt);
     splat_opt.cutoff = o->cutoff;

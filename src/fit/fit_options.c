@@ -28,6 +28,7 @@ void ws_fit_options_default(ws_fit_options *o) {
     o->seed = 0;
     o->checkpoint_minutes = 5.0;
     o->snapshot_every = 30;
+    o->respawn_every = 300;
     o->init_curves = "hull";
 }
 
@@ -63,6 +64,8 @@ int ws_fit_options_check(const ws_fit_options *o, ws_status *st) {
         return ws_fail(st, WS_EUSAGE, "--overlap: %g is not in [0, 1)", o->overlap);
     if (o->max_steps < 0 || o->eval_every < 0 || o->snapshot_every < 0)
         return ws_fail(st, WS_EUSAGE, "--max-steps, --eval-every and --snapshot-every must be >= 0");
+    if (o->respawn_every < 0)
+        return ws_fail(st, WS_EUSAGE, "--respawn-every: %d is negative", o->respawn_every);
     if (!(o->checkpoint_minutes > 0))
         return ws_fail(st, WS_EUSAGE, "--checkpoint-minutes: %g is not positive", o->checkpoint_minutes);
     if (ws_runtime_check_threads(o->threads, st)) return st->code;

@@ -21,6 +21,7 @@ typedef struct {
     int max_steps;             /* stop after this many steps in all (0: no limit) */
     double checkpoint_minutes; /* checkpoint at least this often */
     int snapshot_every;        /* steps between frames of evolution.gif */
+    int respawn_every;         /* steps between moves of idle curves (fit/respawn.h); 0: never */
     int quiet;                 /* no progress line */
     /* report.html's settings table: every option of the run with its value
      * (the command line derives it from its option list); NULL: none */

@@ -91,8 +91,8 @@ static int write_metrics(const char *path, const ws_fit_state *s, double test_lo
                          ws_status *st) {
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
-    fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"seconds\": %.3f", s->global_step,
-            s->skipped_steps, s->elapsed);
+    fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"seconds\": %.3f",
+            s->global_step, s->skipped_steps, s->respawned, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
     if (q->have_surface)
         fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g, \"surface_precision\": %.9g, "
@@ -131,7 +131,8 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
         }
     }
     char text[19][64];
-    snprintf(text[1], 64, "%ld (%ld skipped)", s->global_step, s->skipped_steps);
+    snprintf(text[1], 64, "%ld (%ld skipped; %ld idle curves respawned)", s->global_step,
+             s->skipped_steps, s->respawned);
     snprintf(text[2], 64, "%.6g", test_loss);
     ws_report_item metrics[13] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
     int nmetrics = 2;

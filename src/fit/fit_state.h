@@ -23,6 +23,7 @@ typedef struct {
     int global_batch;
     double elapsed;             /* seconds of fitting before this process */
     long skipped_steps;         /* steps refused for a non-finite loss/gradient */
+    long respawned;             /* idle curves moved (fit/respawn.h) */
     ws_rng rng;
     int n_train;
     int *order;                 /* this epoch's view order, n_train */
