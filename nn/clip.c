@@ -15,7 +15,6 @@
 #include "layernorm.h"
 #include "matmul.h"
 #include "normalise.h"
-#include "residual.h"
 #include "base/rng.h"
 #include "tape.h"
 
@@ -232,16 +231,16 @@ struct clip_run {
     int forward_done;
 };
 
-/* x = x + attn(ln_1(x)); x = x + c_proj(quick_gelu(c_fc(ln_2(x)))) */
+/* x = x + attn(ln_1(x)); x = x + c_proj(quick_gelu(c_fc(ln_2(x)))); the
+ * residual additions ride on the output projections' GEMMs. */
 static nn_tensor *record_block(nn_tape *t, const clip_block *b, nn_tensor *x, const wf_arch *a) {
     int W = a->width;
     nn_tensor *qkv = nn_matmul(t, nn_layernorm(t, x, b->ln_1_w, b->ln_1_b), b->in_proj_w,
                                b->in_proj_b, 3 * W, 0);
-    nn_tensor *att = nn_matmul(t, nn_attention(t, qkv, a->heads), b->out_proj_w, b->out_proj_b, W, 0);
-    nn_tensor *mid = nn_residual(t, x, att);
+    nn_tensor *mid = nn_matmul_residual(t, nn_attention(t, qkv, a->heads), b->out_proj_w,
+                                        b->out_proj_b, W, 0, x);
     nn_tensor *z = nn_matmul(t, nn_layernorm(t, mid, b->ln_2_w, b->ln_2_b), b->fc_w, b->fc_b, 4 * W, 0);
-    nn_tensor *mlp = nn_matmul(t, nn_quick_gelu(t, z), b->cproj_w, b->cproj_b, W, 0);
-    return nn_residual(t, mid, mlp);
+    return nn_matmul_residual(t, nn_quick_gelu(t, z), b->cproj_w, b->cproj_b, W, 0, mid);
 }
 
 int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options *opt, ws_status *st) {

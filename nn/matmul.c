@@ -21,12 +21,28 @@ static nn_gemm backward_gemm(float *d_in, const float *d_out, const float *w, in
     return (nn_gemm){M, K, N, w_kn, d_out, w, d_in};
 }
 
-void nn_matmul_forward(float *out, const float *in, const float *w, const float *bias, int M, int K,
-                       int N, int w_kn) {
+/* Rows of out [M,N] = bias + res, either may be NULL (not both). */
+static void init_rows(float *out, const float *bias, const float *res, int M, int N) {
+    for (int i = 0; i < M; i++) {
+        float *o = out + (size_t)i * N;
+        const float *r = res ? res + (size_t)i * N : NULL;
+        if (!r) {
+            memcpy(o, bias, (size_t)N * sizeof *o);
+        } else if (!bias) {
+            memcpy(o, r, (size_t)N * sizeof *o);
+        } else {
+#pragma omp simd
+            for (int j = 0; j < N; j++) o[j] = r[j] + bias[j];
+        }
+    }
+}
+
+void nn_matmul_forward(float *out, const float *in, const float *w, const float *bias,
+                       const float *res, int M, int K, int N, int w_kn) {
     float beta = 0.0f;
-    if (bias) {
-        /* The GEMM adds onto the bias rows: no separate pass over out. */
-        for (int i = 0; i < M; i++) memcpy(out + (size_t)i * N, bias, (size_t)N * sizeof *out);
+    if (bias || res) {
+        /* The GEMM adds onto bias + res: no separate pass over out. */
+        init_rows(out, bias, res, M, N);
         beta = 1.0f;
     }
     nn_gemm g = forward_gemm(out, in, w, M, K, N, w_kn);
@@ -39,23 +55,28 @@ void nn_matmul_backward(float *d_in, const float *d_out, const float *w, int M, 
     nn_gemm_run(&g, acc ? 1.0f : 0.0f);
 }
 
-/* n[0] = M, n[1] = K, n[2] = N, n[3] = w_kn; w[0] weight, w[1] bias. */
+/* n[0] = M, n[1] = K, n[2] = N, n[3] = w_kn; w[0] weight, w[1] bias;
+ * in[1] the residual or NULL. */
 static void forward(const nn_op *op) {
-    nn_matmul_forward(op->out->data, op->in[0]->data, op->w[0], op->w[1], op->n[0], op->n[1],
-                      op->n[2], op->n[3]);
+    const nn_tensor *res = op->in[1];
+    nn_matmul_forward(op->out->data, op->in[0]->data, op->w[0], op->w[1], res ? res->data : NULL,
+                      op->n[0], op->n[1], op->n[2], op->n[3]);
 }
 
 static void backward(const nn_op *op) {
-    nn_tensor *x = op->in[0];
+    nn_tensor *x = op->in[0], *res = op->in[1];
+    if (res && res->grad) nn_grad_add(res, op->out->grad);
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
     nn_matmul_backward(x->grad, op->out->grad, op->w[0], op->n[0], op->n[1], op->n[2], op->n[3],
                        acc);
 }
 
-nn_tensor *nn_matmul(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N, int w_kn) {
+nn_tensor *nn_matmul_residual(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N,
+                              int w_kn, nn_tensor *res) {
     nn_op *op = nn_tape_append(t, NN_OP_MATMUL, forward, backward);
     nn_tape_read(t, op, 0, x, 0);
+    if (res) nn_tape_read(t, op, 1, res, 0);
     op->w[0] = w;
     op->w[1] = bias;
     op->n[0] = nn_rows(x);
@@ -66,6 +87,10 @@ nn_tensor *nn_matmul(nn_tape *t, nn_tensor *x, const float *w, const float *bias
     memcpy(shape, x->shape, sizeof shape);
     shape[x->ndim - 1] = N;
     return nn_tape_output(t, op, x->ndim, shape);
+}
+
+nn_tensor *nn_matmul(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N, int w_kn) {
+    return nn_matmul_residual(t, x, w, bias, N, w_kn, NULL);
 }
 
 int nn_op_gemm(const nn_op *op, int backward, nn_gemm *g) {

@@ -7,16 +7,24 @@
 #define NN_MATMUL_H
 #include "tape.h"
 
-/* out [M,N] = in [M,K] @ W^T + bias, W [N,K] (PyTorch Linear layout);
- * with w_kn, W is [K,N] and out = in @ W. bias [N] or NULL. */
-void nn_matmul_forward(float *out, const float *in, const float *w, const float *bias, int M, int K,
-                       int N, int w_kn);
-/* d_in [M,K] = d_out [M,N] @ W (w_kn: @ W^T); added to d_in when acc. */
+/* out [M,N] = in [M,K] @ W^T + bias + res, W [N,K] (PyTorch Linear
+ * layout); with w_kn, W is [K,N] and out = in @ W. bias [N] and res [M,N]
+ * (a residual connection) may each be NULL. */
+void nn_matmul_forward(float *out, const float *in, const float *w, const float *bias,
+                       const float *res, int M, int K, int N, int w_kn);
+/* d_in [M,K] = d_out [M,N] @ W (w_kn: @ W^T); added to d_in when acc.
+ * (res's gradient is d_out itself.) */
 void nn_matmul_backward(float *d_in, const float *d_out, const float *w, int M, int K, int N,
                         int w_kn, int acc);
 
 /* x [..., K] -> [..., N]. */
 nn_tensor *nn_matmul(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N, int w_kn);
+/* res + matmul(x): a residual connection folded into the GEMM, which adds
+ * its product onto rows holding res + bias: no pass of its own forward,
+ * and backward the GEMM reads the output's gradient directly. res has the
+ * output's shape [..., N]. */
+nn_tensor *nn_matmul_residual(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N,
+                              int w_kn, nn_tensor *res);
 
 /* One matrix product, row-major and dense: c [m,n] = a [m,k] @ b + beta c,
  * b [k,n], or b [n,k] read transposed when trans_b. Every GEMM of nn/

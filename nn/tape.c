@@ -68,7 +68,7 @@ const char *nn_op_kind_name(nn_op_kind kind) {
         [NN_OP_PATCHIFY] = "patchify",   [NN_OP_TOKENS] = "tokens",
         [NN_OP_CLASS_TOKEN] = "class_token", [NN_OP_LAYERNORM] = "layernorm",
         [NN_OP_MATMUL] = "matmul",       [NN_OP_ATTENTION] = "attention",
-        [NN_OP_RESIDUAL] = "residual",   [NN_OP_QUICK_GELU] = "quick_gelu",
+        [NN_OP_QUICK_GELU] = "quick_gelu",
     };
     return kind >= 0 && kind < NN_OP_KINDS ? names[kind] : "?";
 }
@@ -128,10 +128,7 @@ nn_tensor *nn_tape_workspace(nn_tape *t, nn_op *op, size_t numel, int for_backwa
     return x;
 }
 
-static void seed_backward(const nn_op *op) {
-    const float *g = *op->seed;
-    nn_tensor *x = op->in[0];
-    if (!g || !x->grad) return;
+void nn_grad_add(nn_tensor *x, const float *g) {
     float *dx = x->grad;
     long n = (long)x->numel;
     if (nn_grad_begin(x)) {
@@ -140,6 +137,12 @@ static void seed_backward(const nn_op *op) {
     } else {
         memcpy(dx, g, (size_t)n * sizeof *dx);
     }
+}
+
+static void seed_backward(const nn_op *op) {
+    const float *g = *op->seed;
+    nn_tensor *x = op->in[0];
+    if (g && x->grad) nn_grad_add(x, g);
 }
 
 void nn_tape_seed(nn_tape *t, nn_tensor *x, const float *const *slot) {
@@ -282,6 +285,7 @@ static void run_op(const nn_tape *t, nn_op_fn fn, const nn_op *op, int slot) {
 }
 
 void nn_tape_forward(nn_tape *t) {
+    if (t->op_seconds) memset(t->op_seconds, 0, (size_t)t->nops * sizeof *t->op_seconds);
     for (int i = 0; i < t->nops; i++)
         if (t->ops[i].forward) run_op(t, t->ops[i].forward, &t->ops[i], i);
 }

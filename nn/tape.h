@@ -27,7 +27,6 @@ typedef enum {
     NN_OP_LAYERNORM,
     NN_OP_MATMUL,
     NN_OP_ATTENTION,
-    NN_OP_RESIDUAL,
     NN_OP_QUICK_GELU,
     NN_OP_KINDS
 } nn_op_kind;
@@ -84,6 +83,10 @@ nn_tensor *nn_tape_saved(nn_tape *t, nn_op *op, size_t numel);
  * (1) runs, in op->work[for_backward]; it shares memory with whatever is
  * not alive at that moment. */
 nn_tensor *nn_tape_workspace(nn_tape *t, nn_op *op, size_t numel, int for_backward);
+
+/* For op backwards: adds g (x->numel floats) to x's gradient, or copies
+ * it there when it is the first write (nn_grad_begin). */
+void nn_grad_add(nn_tensor *x, const float *g);
 
 /* Lays out every tensor and gradient and allocates the arena; after this
  * the tape can run. Fails on OOM or when max_ops was exceeded. */

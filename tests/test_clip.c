@@ -6,9 +6,11 @@
  * independence, determinism, blank images and every error message. Then
  * the full-size ViT-B/32 (width 768, 12 blocks, 12 heads, patch 32, 224 x
  * 224, output 512): forward + backward, finite differences on pixels,
- * identical bits on a second run, truncation. (Agreement with PyTorch on
+ * identical bits on a second run and for 1 and 2 threads, truncation. (Agreement with PyTorch on
  * trained-model weight files: test_clip_fixture.c.) */
+#include <cblas.h>
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
@@ -283,6 +285,18 @@ static void test_full_size(void) {
     loss(&cut, images);
     CHECK(same_bits(clip_hidden(s.run, 3), clip_hidden(cut.run, 3), s.hidden),
           "ViT-B/32: the run that stops after block 3 gives another h_3");
+    /* nn's ops give the same bits on 1 and 2 threads (OpenBLAS held at 1,
+     * so that they fork OpenMP teams: nn_fork; whether OpenBLAS's own
+     * threads change its bits depends on its kernels) */
+    int omp = omp_get_max_threads(), blas = openblas_get_num_threads();
+    openblas_set_num_threads(1);
+    for (int k = 1; k <= 2; k++) {
+        omp_set_num_threads(k);
+        gradient(&s, images, k == 1 ? g1 : g2);
+    }
+    CHECK(same_bits(g1, g2, s.pixels), "ViT-B/32: 1 and 2 OpenMP threads give other gradient bits");
+    omp_set_num_threads(omp);
+    openblas_set_num_threads(blas);
     double norm = 0;
     for (size_t i = 0; i < s.embedding; i++) norm += (double)clip_embedding(s.run)[i] * clip_embedding(s.run)[i];
     CHECK(norm > 1e-3 && isfinite(norm), "ViT-B/32: embedding norm^2 %g", norm);
