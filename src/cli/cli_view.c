@@ -1,5 +1,7 @@
 /* cli_view.c: shared scene/split/view options (see cli_view.h). */
 #include <stddef.h>
+#include <stdio.h>
+#include <string.h>
 #include "cli/cli_view.h"
 
 
@@ -17,8 +19,25 @@ int ws_cli_check_size(int size, ws_status *st) {
     return WS_OK;
 }
 
-int ws_cli_load_split(const char *dir, int size, int load_images, const char *split_name,
-                      ws_scene *scene, int *split, ws_status *st) {
+int ws_cli_background(const char *text, float rgb[3], int *is_auto, ws_status *st) {
+    double v[3];
+    char tail;
+    *is_auto = !strcmp(text, "auto");
+    if (!strcmp(text, "black") || !strcmp(text, "white") || *is_auto) {
+        rgb[0] = rgb[1] = rgb[2] = !strcmp(text, "white") ? 1.0f : 0.0f;
+        return WS_OK;
+    }
+    if (sscanf(text, "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) == 3 && v[0] >= 0 && v[0] <= 1 &&
+        v[1] >= 0 && v[1] <= 1 && v[2] >= 0 && v[2] <= 1) {
+        for (int c = 0; c < 3; c++) rgb[c] = (float)v[c];
+        return WS_OK;
+    }
+    return ws_fail(st, WS_EUSAGE, "--background: '%s' is not black, white, auto or R,G,B in [0, 1]",
+                   text);
+}
+
+int ws_cli_load_split(const char *dir, int size, int load_images, const char *background,
+                      const char *split_name, ws_scene *scene, int *split, ws_status *st) {
     if (ws_cli_check_size(size, st)) return st->code;
     *split = ws_split_index(split_name);
     if (*split < 0)
@@ -27,6 +46,8 @@ int ws_cli_load_split(const char *dir, int size, int load_images, const char *sp
     ws_scene_options_default(&opt);
     opt.width = opt.height = size;
     opt.load_images = load_images;
+    if (background && ws_cli_background(background, opt.background, &opt.background_auto, st))
+        return st->code;
     if (ws_scene_load(scene, dir, &opt, st)) return st->code;
     if (scene->split[*split].n == 0) {
         ws_scene_free(scene);

@@ -26,15 +26,14 @@ static void print_number(const char *key, double v) {
 
 /* lo NULL: no loss (the scene's cameras only are read). */
 static int evaluate_sketch(const char *scene_dir, const char *curves_path, const char *split_name,
-                           int size, const char *loss_name, const ws_loss_options *lo,
+                           const ws_scene_options *scene_opt, const char *loss_name,
+                           const ws_loss_options *lo,
                            const ws_splat_options *so, const char *gt_points, const char *gt_curves,
                            ws_status *st) {
     int split = ws_split_index(split_name);
     if (split < 0) return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     ws_scene scene = {0};
-    ws_scene_options sopt;
-    ws_scene_options_default(&sopt);
-    sopt.width = sopt.height = size;
+    ws_scene_options sopt = *scene_opt;
     sopt.load_images = lo != NULL;
     ws_curves curves = {0};
     ws_gaussians g = {0};
@@ -80,7 +79,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
 int cmd_eval(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
-    const char *curves_path = NULL, *split_name = "test", *loss_name = "auto";
+    const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
     const char *gt_points = NULL, *gt_curves = NULL;
     double edges_weight = 1.0;
     int size = 224, threads = 0;
@@ -94,6 +93,7 @@ int cmd_eval(int argc, char **argv) {
         {"--gt", WS_ARG_STRING, &gt_points, 0, "ground-truth point cloud (PLY) [SCENE/gt_points.ply if present]"},
         {"--gt-curves", WS_ARG_STRING, &gt_curves, 0, "ground-truth curves [SCENE/gt_curves.json if present]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
+        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
         {"--loss", WS_ARG_STRING, &loss_name, 0,
          "auto, none, clip, edges, clip+edges or l2 [auto: clip when the CLIP weight file exists, else none]"},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
@@ -117,7 +117,11 @@ int cmd_eval(int argc, char **argv) {
     }
     if (!strcmp(loss_name, "auto")) loss_name = access(lo.weights_path, R_OK) == 0 ? "clip" : "none";
     int with_loss = strcmp(loss_name, "none") != 0;
-    if (ws_cli_check_size(size, &st) ||
+    ws_scene_options sopt;
+    ws_scene_options_default(&sopt);
+    sopt.width = sopt.height = size;
+    if (ws_cli_background(background, sopt.background, &sopt.background_auto, &st) ||
+        ws_cli_check_size(size, &st) ||
         (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st)))
         return ws_cli_fail(&st);
     char scene_points[WS_PATH_MAX], scene_curves[WS_PATH_MAX];
@@ -132,7 +136,7 @@ int cmd_eval(int argc, char **argv) {
         return ws_cli_fail(&st);
     }
     if (ws_runtime_init(threads, &st)) return ws_cli_fail(&st);
-    if (evaluate_sketch(pos[0], curves_path, split_name, size, loss_name, with_loss ? &lo : NULL,
+    if (evaluate_sketch(pos[0], curves_path, split_name, &sopt, loss_name, with_loss ? &lo : NULL,
                         &so, gt_points, gt_curves, &st))
         return ws_cli_fail(&st);
     return 0;

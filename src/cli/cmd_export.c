@@ -11,7 +11,7 @@ static int export_svg(const char *path, const ws_curves *curves, const char *sce
                       const char *split_name, int view, int size, ws_status *st) {
     ws_scene scene;
     int split;
-    if (ws_cli_load_split(scene_dir, size, 0, split_name, &scene, &split, st))
+    if (ws_cli_load_split(scene_dir, size, 0, NULL, split_name, &scene, &split, st))
         return st->code;
     if (!ws_cli_check_view(&scene, split, view, st))
         ws_export_svg(path, curves, &scene.split[split].views[view].cam, st);

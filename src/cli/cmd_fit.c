@@ -77,7 +77,7 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
 static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **resume_dir, int *help,
                      fit_settings *settings, ws_status *st) {
     ws_fit_options_default(opt);
-    const char *loss_name = "clip";
+    const char *loss_name = "clip", *background = "black";
     double edges_weight = 1.0;
     int seed = 0;
     ws_arg_list layers = {0};
@@ -109,6 +109,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--clip-batch", WS_ARG_INT, &opt->loss.pass_items, 0,
          "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
         {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
+        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
         {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
         {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
         {"--threads", WS_ARG_INT, &opt->threads, 0, "threads, 0 = all cores [0]"},
@@ -135,6 +136,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     opt->scene_dir = pos[0];
     opt->seed = (uint64_t)(unsigned)seed;
     if (ws_cli_check_size(opt->size, st) ||
+        ws_cli_background(background, opt->background, &opt->background_auto, st) ||
         ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st) ||
         ws_fit_options_check(opt, st))
         return st->code;

@@ -40,7 +40,7 @@ static void print_gradient(double value, const double *dP, int n) {
 }
 
 int cmd_grad(int argc, char **argv) {
-    const char *curves_path = NULL, *split_name = "test", *loss_name = "l2";
+    const char *curves_path = NULL, *split_name = "test", *loss_name = "l2", *background = "black";
     int view = 0, size = 224, threads = 0;
     double edges_weight = 1.0;
     ws_arg_list layers = {0};
@@ -51,6 +51,7 @@ int cmd_grad(int argc, char **argv) {
     const ws_arg args[] = {
         {"--curves", WS_ARG_STRING, &curves_path, 0, "curve file [required]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "train, val or test [test]"},
+        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
         {"--view", WS_ARG_INT, &view, 0, "view index within the split [0]"},
         {"--loss", WS_ARG_STRING, &loss_name, 0, "l2, edges, clip or clip+edges [l2]"},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
@@ -83,7 +84,7 @@ int cmd_grad(int argc, char **argv) {
     int split;
     double value = 0, *dP = NULL;
     if (!ws_curves_load(curves_path, &curves, &st) &&
-        !ws_cli_load_split(pos[0], size, 1, split_name, &scene, &split, &st)) {
+        !ws_cli_load_split(pos[0], size, 1, background, split_name, &scene, &split, &st)) {
         if (!ws_cli_check_view(&scene, split, view, &st) &&
             (dP = ws_malloc((size_t)curves.n * WS_CURVE_FLOATS * sizeof *dP, "control point gradients",
                             &st)) &&

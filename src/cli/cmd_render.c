@@ -68,7 +68,7 @@ int cmd_render(int argc, char **argv) {
     ws_scene scene = {0};
     int split;
     if (!ws_curves_load(pos[0], &curves, &st) &&
-        !ws_cli_load_split(scene_dir, size, 0, split_name, &scene, &split, &st)) {
+        !ws_cli_load_split(scene_dir, size, 0, NULL, split_name, &scene, &split, &st)) {
         if (!ws_mkdir(out_dir, &st)) render_split(&curves, &scene.split[split], out_dir, &opt, &st);
         ws_scene_free(&scene);
     }

@@ -9,7 +9,7 @@
 int cmd_scene(int argc, char **argv) {
     ws_synth_options opt;
     ws_synth_options_default(&opt);
-    const char *out = NULL, *background = "black";
+    const char *out = NULL, *background = "black", *layout = "nerf";
     int seed = 0;
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &out, 0, "directory to write the scene into (required)"},
@@ -19,6 +19,10 @@ int cmd_scene(int argc, char **argv) {
         {"--size", WS_ARG_INT, &opt.size, 0, "image side in pixels [224]"},
         {"--seed", WS_ARG_INT, &seed, 0, "seed of the camera placement [0]"},
         {"--background", WS_ARG_STRING, &background, 0, "black or white [black]"},
+        {"--layout", WS_ARG_STRING, &layout, 0,
+         "nerf (transforms_SPLIT.json) or nerfstudio (one transforms.json with intrinsics) [nerf]"},
+        {"--width", WS_ARG_INT, &opt.width, 0, "image width, nerfstudio layout [--size]"},
+        {"--height", WS_ARG_INT, &opt.height, 0, "image height, nerfstudio layout [--size]"},
     };
     const ws_command_spec spec = {
         "scene NAME --out DIR [options]   (NAME: trefoil, chair, cube, dodecahedron or nut)",
@@ -47,11 +51,16 @@ int cmd_scene(int argc, char **argv) {
         return ws_cli_fail(&st);
     }
     opt.white_background = !strcmp(background, "white");
+    if (strcmp(layout, "nerf") && strcmp(layout, "nerfstudio")) {
+        ws_fail(&st, WS_EUSAGE, "--layout: '%s' is not nerf or nerfstudio", layout);
+        return ws_cli_fail(&st);
+    }
+    opt.nerfstudio = !strcmp(layout, "nerfstudio");
     opt.seed = (uint64_t)seed;
     if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);
     printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, "
            "ground truth %s/gt_curves.json\n",
-           out, pos[0], opt.views[WS_TRAIN], opt.views[WS_VAL], opt.views[WS_TEST], opt.size,
-           opt.size, out);
+           out, pos[0], opt.views[WS_TRAIN], opt.views[WS_VAL], opt.views[WS_TEST],
+           opt.width ? opt.width : opt.size, opt.height ? opt.height : opt.size, out);
     return 0;
 }

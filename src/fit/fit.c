@@ -260,6 +260,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     ws_scene_options so;
     ws_scene_options_default(&so);
     so.width = so.height = o->size;
+    memcpy(so.background, o->background, sizeof so.background);
+    so.background_auto = o->background_auto;
     if (ws_scene_load(&r->scene, o->scene_dir, &so, st)) return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
     if (resume) {

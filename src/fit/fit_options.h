@@ -23,6 +23,8 @@ typedef struct {
     int snapshot_every;        /* steps between frames of evolution.gif */
     int respawn_every;         /* steps between moves of idle curves (fit/respawn.h); 0: never */
     int quiet;                 /* no progress line */
+    float background[3];       /* the photos' background (scene.h) [black] */
+    int background_auto;       /* 1: each image's border median instead */
     /* report.html's settings table: every option of the run with its value
      * (the command line derives it from its option list); NULL: none */
     const ws_report_item *settings;

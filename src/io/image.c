@@ -386,3 +386,18 @@ int ws_image_resample(const ws_image *in, int width, int height, ws_image *out, 
     axis_filter_free(&fy);
     return rc;
 }
+
+int ws_image_crop(const ws_image *in, int x0, int y0, int width, int height, ws_image *out,
+                  ws_status *st) {
+    if (x0 < 0 || y0 < 0 || width < 1 || height < 1 || x0 + width > in->width ||
+        y0 + height > in->height)
+        return ws_fail(st, WS_EINTERNAL, "crop %d x %d at (%d, %d) leaves a %d x %d image", width,
+                       height, x0, y0, in->width, in->height);
+    if (ws_image_alloc(out, width, height, in->channels, st)) return st->code;
+    for (int c = 0; c < in->channels; c++)
+        for (int i = 0; i < height; i++)
+            memcpy(out->data + ((size_t)c * height + i) * width,
+                   in->data + ((size_t)c * in->height + y0 + i) * in->width + x0,
+                   sizeof(float) * width);
+    return WS_OK;
+}

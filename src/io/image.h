@@ -33,6 +33,11 @@ int ws_png_read_alpha(const char *path, int width, int height, const float backg
  * round(255 * clamp(v, 0, 1)), through a temporary file (outfile.h). */
 int ws_png_write(const char *path, const ws_image *img, ws_status *st);
 
+/* The rectangle of columns [x0, x0 + width) and rows [y0, y0 + height) of
+ * `in` (which must contain it) into `out` (allocated here). */
+int ws_image_crop(const ws_image *in, int x0, int y0, int width, int height, ws_image *out,
+                  ws_status *st);
+
 /* Resamples `in` to width x height into `out` (allocated here): area
  * averaging when shrinking, bilinear when enlarging, per axis. */
 int ws_image_resample(const ws_image *in, int width, int height, ws_image *out, ws_status *st);

@@ -1,4 +1,4 @@
-/* scene.c: loading NeRF-synthetic scenes (see scene.h, METHOD.md section 1).
+/* scene.c: loading scenes, NeRF-synthetic and nerfstudio (see scene.h, METHOD.md section 1).
  *
  * Loading runs in two passes: first every transforms file is parsed and
  * every image path resolved (cheap, serial, so the first malformed frame is
@@ -32,6 +32,7 @@ int ws_split_index(const char *name) {
 void ws_scene_options_default(ws_scene_options *opt) {
     opt->width = opt->height = 224;
     opt->background[0] = opt->background[1] = opt->background[2] = 0.0f;
+    opt->background_auto = 0;
     opt->load_images = 1;
 }
 
@@ -134,11 +135,11 @@ static int read_matrix(const cJSON *m, const char *what, double c2w[4][4], ws_st
     return WS_OK;
 }
 
-/* One frame: its camera, name and (when images are wanted) image path. */
-static int parse_frame(const cJSON *frame, const char *path, int index, double angle,
-                       const char *dir, const ws_scene_options *opt, ws_view *v, ws_status *st) {
-    char what[4300];
-    snprintf(what, sizeof what, "%s: frame %d", path, index);
+/* One frame, all but its camera: file_path (the view's name and, when
+ * images are wanted, its PNG), mask_path, and transform_matrix into c2w.
+ * Messages start with `what` ("SCENE/transforms_train.json: frame 3"). */
+static int parse_frame(const cJSON *frame, const char *what, const char *dir,
+                       const ws_scene_options *opt, ws_view *v, double c2w[4][4], ws_status *st) {
     if (!cJSON_IsObject(frame)) return ws_fail(st, WS_EINPUT, "%s: not a JSON object", what);
     const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
     if (!fp) return ws_fail(st, WS_EINPUT, "%s: missing file_path", what);
@@ -146,9 +147,7 @@ static int parse_frame(const cJSON *frame, const char *path, int index, double a
     if (check_scene_path(fp->valuestring, "file_path", what, st)) return st->code;
     const cJSON *m = cJSON_GetObjectItemCaseSensitive(frame, "transform_matrix");
     if (!m) return ws_fail(st, WS_EINPUT, "%s: missing transform_matrix", what);
-    double c2w[4][4];
     if (read_matrix(m, what, c2w, st)) return st->code;
-    if (ws_camera_init(&v->cam, c2w, angle, opt->width, opt->height, what, st)) return st->code;
     if (view_name(fp->valuestring, what, v->name, sizeof v->name, st)) return st->code;
     if (opt->load_images &&
         resolve_image(dir, fp->valuestring, what, v->image_path, sizeof v->image_path, st))
@@ -173,6 +172,42 @@ static int line_of(const char *text, const char *at) {
     return line;
 }
 
+/* Reads a transforms file (bounded size) and parses it; its top level must
+ * be an object. */
+static int read_json(const char *path, cJSON **root_out, ws_status *st) {
+    *root_out = NULL;
+    unsigned char *bytes = NULL;
+    size_t length = 0;
+    if (ws_read_file(path, TRANSFORMS_MAX_BYTES, &bytes, &length, st)) return st->code;
+    const char *text = (const char *)bytes;
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, length, &end, 0);
+    /* where parsing stopped: at the error, or after the value, where only
+     * white space may follow (cJSON stops quietly after the first value) */
+    const char *stop = end ? end : text + length;
+    while (root && stop < text + length && *stop && strchr(" \t\r\n", *stop)) stop++;
+    int rc = WS_OK;
+    if (!root || stop < text + length)
+        rc = ws_fail(st, WS_EINPUT, "%s: JSON syntax error near line %d", path, line_of(text, stop));
+    else if (!cJSON_IsObject(root))
+        rc = ws_fail(st, WS_EINPUT, "%s: not a JSON object", path);
+    free(bytes);
+    if (rc)
+        cJSON_Delete(root);
+    else
+        *root_out = root;
+    return rc;
+}
+
+/* root's "frames": a non-empty array. */
+static int get_frames(const cJSON *root, const char *path, const cJSON **frames, ws_status *st) {
+    *frames = cJSON_GetObjectItemCaseSensitive(root, "frames");
+    if (!*frames) return ws_fail(st, WS_EINPUT, "%s: missing frames", path);
+    if (!cJSON_IsArray(*frames)) return ws_fail(st, WS_EINPUT, "%s: frames is not an array", path);
+    if (cJSON_GetArraySize(*frames) == 0) return ws_fail(st, WS_EINPUT, "%s: no frames", path);
+    return WS_OK;
+}
+
 /* Parses SCENE/transforms_SPLIT.json into `split` (cameras, names, image
  * paths; no pixels yet). A missing file leaves the split empty. */
 static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_split *split,
@@ -187,26 +222,9 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
             return ws_fail(st, WS_EINPUT, "%s: missing (a scene needs a train split)", path);
         return WS_OK;
     }
-    unsigned char *bytes = NULL;
-    size_t length = 0;
-    if (ws_read_file(path, TRANSFORMS_MAX_BYTES, &bytes, &length, st)) return st->code;
-    const char *text = (const char *)bytes;
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, length, &end, 0);
-    /* where parsing stopped: at the error, or after the value, where only
-     * white space may follow (cJSON stops quietly after the first value) */
-    const char *stop = end ? end : text + length;
-    while (root && stop < text + length && *stop && strchr(" \t\r\n", *stop)) stop++;
-    int rc = WS_OK;
-    if (!root || stop < text + length) {
-        rc =
-            ws_fail(st, WS_EINPUT, "%s: JSON syntax error near line %d", path, line_of(text, stop));
-        goto done;
-    }
-    if (!cJSON_IsObject(root)) {
-        rc = ws_fail(st, WS_EINPUT, "%s: not a JSON object", path);
-        goto done;
-    }
+    cJSON *root = NULL;
+    int rc = read_json(path, &root, st);
+    if (rc) return rc;
     const cJSON *angle = cJSON_GetObjectItemCaseSensitive(root, "camera_angle_x");
     const cJSON *frames = cJSON_GetObjectItemCaseSensitive(root, "frames");
     if (!angle)
@@ -215,12 +233,8 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
         rc = ws_fail(st, WS_EINPUT, "%s: camera_angle_x is not a number", path);
     else if (ws_camera_check_angle(angle->valuedouble, path, st))
         rc = st->code;
-    else if (!frames)
-        rc = ws_fail(st, WS_EINPUT, "%s: missing frames", path);
-    else if (!cJSON_IsArray(frames))
-        rc = ws_fail(st, WS_EINPUT, "%s: frames is not an array", path);
-    else if (cJSON_GetArraySize(frames) == 0)
-        rc = ws_fail(st, WS_EINPUT, "%s: no frames", path);
+    else
+        rc = get_frames(root, path, &frames, st);
     if (rc) goto done;
     *angle_out = angle->valuedouble;
     int n = cJSON_GetArraySize(frames);
@@ -231,13 +245,207 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
     }
     split->n = n;
     int index = 0;
-    for (const cJSON *frame = frames->child; frame; frame = frame->next, index++)
-        if ((rc = parse_frame(frame, path, index, angle->valuedouble, dir, opt,
-                              &split->views[index], st)))
+    for (const cJSON *frame = frames->child; frame; frame = frame->next, index++) {
+        char what[4300];
+        double c2w[4][4];
+        ws_view *v = &split->views[index];
+        snprintf(what, sizeof what, "%s: frame %d", path, index);
+        if ((rc = parse_frame(frame, what, dir, opt, v, c2w, st)) ||
+            (rc = ws_camera_init(&v->cam, c2w, angle->valuedouble, opt->width, opt->height, what, st)))
             break;
+    }
 done:
     cJSON_Delete(root);
-    free(bytes);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- nerfstudio
+ *
+ * Scenes in the nerfstudio / instant-ngp layout, one SCENE/transforms.json
+ * with pinhole intrinsics (see scene.h).
+ *
+ * Every frame's intrinsics are its own value or the file's global one. The
+ * working view is a centred crop whose pixels come out square at the
+ * working size: with crop cw x ch resampled to W x H, the focal lengths
+ * become fl_x W / cw and fl_y H / ch, equal when cw / ch = (fl_x / fl_y)
+ * (W / H). The crop is whole pixels, so that equality holds to half a
+ * pixel of the crop; the camera's one focal is the geometric mean of the
+ * two. The principal point moves with the crop and scales with it. */
+
+/* Frame k of a file without split lists: test when k % 8 == 0, val when
+ * k % 8 == 4, train else (7 / 8 of the frames for fitting, one in 8 each
+ * held out for validation and testing, spread over the capture). */
+#define SPLIT_PERIOD 8
+#define VAL_PHASE 4
+
+static int split_by_rule(int k) {
+    return k % SPLIT_PERIOD == 0 ? WS_TEST : k % SPLIT_PERIOD == VAL_PHASE ? WS_VAL : WS_TRAIN;
+}
+
+/* The split whose *_filenames list holds file_path ("./" prefixes aside),
+ * or -1. */
+static int split_by_list(const cJSON *root, const char *file_path) {
+    static const char *const keys[WS_NSPLITS] = {"train_filenames", "val_filenames",
+                                                 "test_filenames"};
+    if (!strncmp(file_path, "./", 2)) file_path += 2;
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, keys[s]), *item;
+        cJSON_ArrayForEach(item, list) {
+            const char *name = cJSON_IsString(item) ? item->valuestring : "";
+            if (!strncmp(name, "./", 2)) name += 2;
+            if (!strcmp(name, file_path)) return s;
+        }
+    }
+    return -1;
+}
+
+static int has_split_lists(const cJSON *root) {
+    return cJSON_HasObjectItem(root, "train_filenames") ||
+           cJSON_HasObjectItem(root, "val_filenames") || cJSON_HasObjectItem(root, "test_filenames");
+}
+
+/* Intrinsic `key` of a frame: its own value, else the file's; *found = 0
+ * when neither has one. */
+static int intrinsic(const cJSON *frame, const cJSON *root, const char *key, const char *what,
+                     double *value, int *found, ws_status *st) {
+    const cJSON *x = cJSON_GetObjectItemCaseSensitive(frame, key);
+    if (!x) x = cJSON_GetObjectItemCaseSensitive(root, key);
+    *found = x != NULL;
+    if (!x) return WS_OK;
+    if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble))
+        return ws_fail(st, WS_EINPUT, "%s: %s is not a finite number", what, key);
+    *value = x->valuedouble;
+    return WS_OK;
+}
+
+/* The pinhole intrinsics of one frame: fl_x (or camera_angle_x), fl_y,
+ * cx, cy, w, h; no distortion; a pinhole camera_model. */
+typedef struct {
+    double fx, fy, cx, cy;
+    int w, h;
+} intrinsics;
+
+static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *what,
+                            intrinsics *in, ws_status *st) {
+    static const char *const distortion[] = {"k1", "k2", "k3", "k4", "p1", "p2"};
+    double v = 0;
+    int found;
+    for (size_t k = 0; k < sizeof distortion / sizeof distortion[0]; k++) {
+        if (intrinsic(frame, root, distortion[k], what, &v, &found, st)) return st->code;
+        if (found && v != 0)
+            return ws_fail(st, WS_EINPUT,
+                           "%s: distortion %s = %g is not supported (undistort the images first, "
+                           "e.g. with COLMAP or ns-process-data, and give k1..k4, p1, p2 as 0)",
+                           what, distortion[k], v);
+    }
+    const cJSON *model = cJSON_GetObjectItemCaseSensitive(frame, "camera_model");
+    if (!model) model = cJSON_GetObjectItemCaseSensitive(root, "camera_model");
+    if (model && (!cJSON_IsString(model) || (strcmp(model->valuestring, "OPENCV") &&
+                                             strcmp(model->valuestring, "PINHOLE") &&
+                                             strcmp(model->valuestring, "SIMPLE_PINHOLE"))))
+        return ws_fail(st, WS_EINPUT,
+                       "%s: camera_model is not OPENCV, PINHOLE or SIMPLE_PINHOLE (only pinhole "
+                       "cameras are supported)",
+                       what);
+    double w = 0, h = 0;
+    int has_w, has_h, has_fx, has_fy, has_cx, has_cy;
+    if (intrinsic(frame, root, "w", what, &w, &has_w, st) ||
+        intrinsic(frame, root, "h", what, &h, &has_h, st))
+        return st->code;
+    if (!has_w || !has_h) return ws_fail(st, WS_EINPUT, "%s: missing %s", what, has_w ? "h" : "w");
+    if (!(w >= 1 && w <= 65536 && h >= 1 && h <= 65536 && w == floor(w) && h == floor(h)))
+        return ws_fail(st, WS_EINPUT, "%s: w x h = %g x %g is not a size in pixels", what, w, h);
+    in->w = (int)w;
+    in->h = (int)h;
+    if (intrinsic(frame, root, "fl_x", what, &in->fx, &has_fx, st)) return st->code;
+    if (!has_fx) {
+        double angle = 0;
+        if (intrinsic(frame, root, "camera_angle_x", what, &angle, &has_fx, st)) return st->code;
+        if (!has_fx) return ws_fail(st, WS_EINPUT, "%s: missing fl_x (or camera_angle_x)", what);
+        if (ws_camera_check_angle(angle, what, st)) return st->code;
+        in->fx = 0.5 * w / tan(0.5 * angle);
+    }
+    if (intrinsic(frame, root, "fl_y", what, &in->fy, &has_fy, st) ||
+        intrinsic(frame, root, "cx", what, &in->cx, &has_cx, st) ||
+        intrinsic(frame, root, "cy", what, &in->cy, &has_cy, st))
+        return st->code;
+    if (!has_fy) in->fy = in->fx;
+    if (!has_cx) in->cx = 0.5 * w;
+    if (!has_cy) in->cy = 0.5 * h;
+    if (!(in->fx > 0) || !(in->fy > 0))
+        return ws_fail(st, WS_EINPUT, "%s: fl_x %g and fl_y %g must be positive", what, in->fx, in->fy);
+    return WS_OK;
+}
+
+/* The crop of the image that makes the working view, and the camera. */
+static int frame_camera(const intrinsics *in, const double c2w[4][4], const ws_scene_options *opt,
+                        const char *what, ws_view *v, ws_status *st) {
+    const double aspect = in->fx / in->fy * opt->width / opt->height; /* cw / ch wanted */
+    int cw, ch;
+    if ((double)in->w / in->h >= aspect) {
+        ch = in->h;
+        cw = (int)fmin(in->w, fmax(1, lround(in->h * aspect)));
+    } else {
+        cw = in->w;
+        ch = (int)fmin(in->h, fmax(1, lround(in->w / aspect)));
+    }
+    const int x0 = (in->w - cw) / 2, y0 = (in->h - ch) / 2;
+    const double sx = (double)opt->width / cw, sy = (double)opt->height / ch;
+    v->crop[0] = x0;
+    v->crop[1] = y0;
+    v->crop[2] = cw;
+    v->crop[3] = ch;
+    v->file_width = in->w;
+    v->file_height = in->h;
+    return ws_camera_init_pinhole(&v->cam, c2w, sqrt(in->fx * sx * in->fy * sy), (in->cx - x0) * sx,
+                                  (in->cy - y0) * sy, opt->width, opt->height, what, st);
+}
+
+static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_options *opt,
+                            ws_status *st) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/transforms.json", dir);
+    cJSON *root = NULL;
+    const cJSON *frames = NULL;
+    if (read_json(path, &root, st) || get_frames(root, path, &frames, st)) {
+        cJSON_Delete(root);
+        return st->code;
+    }
+    const int lists = has_split_lists(root), n = cJSON_GetArraySize(frames);
+    int *split_of = ws_malloc(sizeof *split_of * n, path, st), rc = split_of ? WS_OK : st->code;
+    int count[WS_NSPLITS] = {0}, index = 0;
+    for (const cJSON *frame = frames->child; frame && !rc; frame = frame->next, index++) {
+        const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
+        split_of[index] = !lists ? split_by_rule(index)
+                          : cJSON_IsString(fp) ? split_by_list(root, fp->valuestring)
+                                               : WS_TRAIN; /* reported as it is parsed */
+        if (split_of[index] >= 0) count[split_of[index]]++;
+    }
+    if (!rc && count[WS_TRAIN] == 0)
+        rc = ws_fail(st, WS_EINPUT, "%s: no train frames (of %d frames)", path, n);
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
+        scene->split[s].views = count[s] ? ws_calloc(count[s], sizeof(ws_view), path, st) : NULL;
+        if (count[s] && !scene->split[s].views) rc = st->code;
+    }
+    index = 0;
+    for (const cJSON *frame = frames->child; frame && !rc; frame = frame->next, index++) {
+        int s = split_of[index];
+        if (s < 0) continue;
+        char what[4300];
+        double c2w[4][4];
+        intrinsics in;
+        ws_view *v = &scene->split[s].views[scene->split[s].n++];
+        snprintf(what, sizeof what, "%s: frame %d", path, index);
+        if (!(rc = parse_frame(frame, what, dir, opt, v, c2w, st)) &&
+            !(rc = frame_intrinsics(frame, root, what, &in, st)))
+            rc = frame_camera(&in, c2w, opt, what, v, st);
+    }
+    if (!rc) {
+        const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
+        scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);
+    }
+    free(split_of);
+    cJSON_Delete(root);
     return rc;
 }
 
@@ -247,24 +455,84 @@ static void threshold_mask(ws_image *m) {
     for (size_t p = 0; p < (size_t)m->width * m->height; p++) m->data[p] = m->data[p] >= 0.5f;
 }
 
-/* One view's photo and mask: the mask_path image when the frame names one,
- * else the photo's alpha. */
-static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
-    int from_file = v->mask_path[0] != '\0';
-    if (ws_png_read_alpha(v->image_path, opt->width, opt->height, opt->background, &v->photo,
-                          from_file ? NULL : &v->mask, st))
-        return st->code;
-    if (from_file) {
-        static const float black[3] = {0, 0, 0};
-        ws_image rgb;
-        if (ws_png_read(v->mask_path, opt->width, opt->height, black, &rgb, st)) return st->code;
-        /* the first plane (red, or gray) is the mask; the rest is let go */
-        size_t plane = (size_t)rgb.width * rgb.height;
-        float *first = realloc(rgb.data, plane * sizeof *first);
-        v->mask = (ws_image){rgb.width, rgb.height, 1, first ? first : rgb.data};
+static int compare_floats(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median of each colour over the image's border pixels (its outermost
+ * rows and columns, each pixel once); scratch holds 2 (width + height). */
+static void border_median(const ws_image *img, float out[3], float *scratch) {
+    const int w = img->width, h = img->height;
+    for (int c = 0; c < 3; c++) {
+        const float *plane = img->data + (size_t)c * w * h;
+        int n = 0;
+        for (int i = 0; i < h; i++)
+            for (int j = 0; j < w; j += (i == 0 || i == h - 1 || j == w - 1) ? 1 : w - 1)
+                scratch[n++] = plane[(size_t)i * w + j];
+        qsort(scratch, n, sizeof *scratch, compare_floats);
+        out[c] = scratch[n / 2];
     }
-    if (v->mask.data) threshold_mask(&v->mask);
-    return WS_OK;
+}
+
+/* One view's photo and mask, at the working size: the image decoded whole
+ * (alpha composited), its mask (the mask_path image, else the alpha), the
+ * background where a mask_path says so, then the crop (nerfstudio) and the
+ * resampling to the working size. */
+static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
+    static const float black[3] = {0, 0, 0};
+    const int from_file = v->mask_path[0] != '\0';
+    ws_image full = {0}, alpha = {0}, part = {0};
+    int rc = ws_png_read_alpha(v->image_path, 0, 0, opt->background_auto ? black : opt->background,
+                               &full, &alpha, st);
+    if (!rc && v->file_width && (full.width != v->file_width || full.height != v->file_height))
+        rc = ws_fail(st, WS_EINPUT, "%s: image is %d x %d but the scene file says w x h = %d x %d",
+                     v->image_path, full.width, full.height, v->file_width, v->file_height);
+    const size_t plane = (size_t)full.width * full.height;
+    float bg[3] = {opt->background[0], opt->background[1], opt->background[2]};
+    if (!rc && opt->background_auto) {
+        float *scratch = ws_malloc(sizeof *scratch * 2 * (full.width + full.height), "border", st);
+        if (!scratch) rc = st->code;
+        if (!rc) border_median(&full, bg, scratch);
+        free(scratch);
+        for (size_t p = 0; !rc && alpha.data && p < plane; p++) /* now onto bg, not black */
+            for (int c = 0; c < 3; c++) full.data[c * plane + p] += (1 - alpha.data[p]) * bg[c];
+    }
+    if (!rc && from_file) {
+        ws_image_free(&alpha);
+        ws_image rgb;
+        rc = ws_png_read(v->mask_path, full.width, full.height, black, &rgb, st);
+        if (!rc) { /* the first plane (red, or gray) is the mask; the rest is let go */
+            float *first = realloc(rgb.data, plane * sizeof *first);
+            alpha = (ws_image){rgb.width, rgb.height, 1, first ? first : rgb.data};
+            for (size_t p = 0; p < plane; p++)
+                if (alpha.data[p] < 0.5f)
+                    for (int c = 0; c < 3; c++) full.data[c * plane + p] = bg[c];
+        }
+    }
+    const int *k = v->crop;
+    if (!rc && k[2]) {
+        rc = ws_image_crop(&full, k[0], k[1], k[2], k[3], &part, st);
+        ws_image_free(&full);
+        full = part;
+        if (!rc && alpha.data) {
+            rc = ws_image_crop(&alpha, k[0], k[1], k[2], k[3], &part, st);
+            ws_image_free(&alpha);
+            alpha = part;
+        }
+    }
+    if (!rc && (full.width != opt->width || full.height != opt->height)) {
+        rc = ws_image_resample(&full, opt->width, opt->height, &v->photo, st);
+        if (!rc && alpha.data) rc = ws_image_resample(&alpha, opt->width, opt->height, &v->mask, st);
+    } else if (!rc) {
+        v->photo = full;
+        v->mask = alpha;
+        full = alpha = (ws_image){0};
+    }
+    ws_image_free(&full);
+    ws_image_free(&alpha);
+    if (!rc && v->mask.data) threshold_mask(&v->mask);
+    return rc;
 }
 
 /* Decodes every view's PNG, in parallel; the failure of the lowest view (in
@@ -372,10 +640,13 @@ static int check_distances(ws_scene *scene, ws_status *st) {
             ws_camera_position(&scene->split[s].views[k].cam, p);
             for (int i = 0; i < 3; i++) d2 += (p[i] - scene->center[i]) * (p[i] - scene->center[i]);
             if (!isfinite(d2)) {
+                /* nerfstudio: the frames of one file, split apart */
+                const int one_file = scene->layout == WS_LAYOUT_NERFSTUDIO;
                 ws_fail(st, WS_EINPUT,
-                        "%s/transforms_%s.json: frame %d: camera too far out (its distance to the "
+                        "%s/transforms%s%s.json: %s%s %d: camera too far out (its distance to the "
                         "scene centre overflows)",
-                        scene->dir, ws_split_names[s], k);
+                        scene->dir, one_file ? "" : "_", one_file ? "" : ws_split_names[s],
+                        one_file ? ws_split_names[s] : "", one_file ? " view" : "frame", k);
                 ws_scene_free(scene);
                 return st->code;
             }
@@ -396,7 +667,19 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
     strcpy(scene->dir, dir);
     scene->width = opt->width;
     scene->height = opt->height;
-    for (int s = 0; s < WS_NSPLITS; s++) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    int nerfstudio = access(path, F_OK) != 0;
+    snprintf(path, sizeof path, "%s/transforms.json", dir);
+    nerfstudio &= access(path, F_OK) == 0;
+    if (nerfstudio) {
+        scene->layout = WS_LAYOUT_NERFSTUDIO;
+        if (parse_nerfstudio(scene, dir, opt, st)) {
+            ws_scene_free(scene);
+            return st->code;
+        }
+    }
+    for (int s = 0; s < WS_NSPLITS && !nerfstudio; s++) {
         double angle = 0;
         if (parse_split(dir, s, opt, &scene->split[s], &angle, st)) {
             ws_scene_free(scene);

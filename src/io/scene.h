@@ -1,10 +1,29 @@
-/* scene.h: NeRF-synthetic multi-view scenes (METHOD.md section 1).
+/* scene.h: multi-view scenes (METHOD.md section 1), in two layouts.
  *
- * SCENE/transforms_{train,val,test}.json hold camera_angle_x and frames
- * (file_path without extension, 4x4 camera-to-world transform_matrix);
- * images are found at SCENE/<file_path>.png or SCENE/rgb/<file_path>.png;
- * a frame's optional mask_path (a PNG, white = object) is relative to SCENE.
- * Missing splits are allowed (n = 0), but a scene needs a train split. */
+ * NeRF-synthetic: SCENE/transforms_{train,val,test}.json hold
+ * camera_angle_x and frames (file_path without extension, 4x4
+ * camera-to-world transform_matrix); images are found at
+ * SCENE/<file_path>.png or SCENE/rgb/<file_path>.png, resampled whole to
+ * the working size. Missing splits are allowed (n = 0), but a scene needs
+ * a train split.
+ *
+ * nerfstudio / instant-ngp, when SCENE/transforms.json
+ * exists and SCENE/transforms_train.json does not: one file of frames with
+ * pinhole intrinsics fl_x, fl_y, cx, cy, w, h in pixels, global or per
+ * frame (a frame's own value wins; fl_y defaults to fl_x, cx and cy to the
+ * image centre, and camera_angle_x may stand for fl_x); images of any
+ * aspect. The working view is the centred crop of the image whose aspect
+ * makes its pixels square at the working size (fl_x / fl_y times the
+ * working aspect: the largest square for fl_x = fl_y and a square working
+ * size), resampled to the working size, with the intrinsics carried along.
+ * Splits: train_filenames / val_filenames / test_filenames where the file
+ * has them (frames in none are left out); otherwise frame k (in file
+ * order) is a test view when k % 8 == 0, a val view when k % 8 == 4, and a
+ * train view else. Distortion coefficients (k1..k4, p1, p2) other than 0
+ * and non-pinhole camera models are refused.
+ *
+ * In both layouts a frame's optional mask_path (a PNG, white = object) is
+ * relative to SCENE. */
 #ifndef WS_SCENE_H
 #define WS_SCENE_H
 #include "render/camera.h"
@@ -23,6 +42,9 @@ typedef struct {
                              mask_path image (value >= 1/2 of white) or else the photo's
                              alpha (>= 1/2); data NULL when neither exists (an opaque
                              alpha channel counts as none) */
+    int crop[4];          /* x0, y0, width, height: the file's pixels that make the
+                             working view; width 0: the whole file (NeRF-synthetic) */
+    int file_width, file_height; /* the image size the scene file states; 0: any */
 } ws_view;
 
 typedef struct {
@@ -32,13 +54,19 @@ typedef struct {
 
 typedef struct {
     int width, height;     /* working resolution, default 224 x 224 */
-    float background[3];   /* alpha is composited onto this, default black */
+    float background[3];   /* alpha is composited onto this, and pixels a mask_path
+                              marks as background are set to it; default black */
+    int background_auto;   /* 1: instead, each image's own background: the median
+                              of its border pixels (composited on black) */
     int load_images;       /* 0: cameras only (e.g. for render) */
 } ws_scene_options;
 
+enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1 };
+
 typedef struct {
     char dir[4096];
-    double camera_angle_x; /* of the train split */
+    int layout;            /* WS_LAYOUT_... */
+    double camera_angle_x; /* of the train split (its first view's, at the working size) */
     int width, height;
     ws_split split[WS_NSPLITS];
     double center[3];      /* least-squares intersection of the optical axes */

@@ -4,13 +4,25 @@
 
 int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x,
                    int width, int height, const char *what, ws_status *st) {
+    if (ws_camera_check_angle(camera_angle_x, what, st)) return st->code;
+    return ws_camera_init_pinhole(cam, c2w, 0.5 * width / tan(0.5 * camera_angle_x), 0.5 * width,
+                                  0.5 * height, width, height, what, st);
+}
+
+int ws_camera_init_pinhole(ws_camera *cam, const double c2w[4][4], double focal, double cx,
+                           double cy, int width, int height, const char *what, ws_status *st) {
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++) {
             if (!isfinite(c2w[i][j]))
                 return ws_fail(st, WS_EINPUT, "%s: transform_matrix has a non-finite entry", what);
             cam->c2w[i][j] = c2w[i][j];
         }
-    if (ws_camera_check_angle(camera_angle_x, what, st)) return st->code;
+    if (!(focal > 0) || !isfinite(focal) ||
+        ws_camera_check_angle(2 * atan(0.5 * width / focal), what, st))
+        return ws_fail(st, WS_EINPUT, "%s: focal length %g pixels at width %d is out of range", what,
+                       focal, width);
+    if (!isfinite(cx) || !isfinite(cy))
+        return ws_fail(st, WS_EINPUT, "%s: principal point (%g, %g) is not finite", what, cx, cy);
     if (c2w[3][0] != 0 || c2w[3][1] != 0 || c2w[3][2] != 0 || c2w[3][3] != 1)
         return ws_fail(st, WS_EINPUT, "%s: transform_matrix's bottom row is not 0 0 0 1", what);
     const double (*a)[4] = c2w;
@@ -46,7 +58,9 @@ int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x
         cam->t[i] = -(cam->R[i][0] * a[0][3] + cam->R[i][1] * a[1][3] + cam->R[i][2] * a[2][3]);
     cam->width = width;
     cam->height = height;
-    cam->focal = 0.5 * width / tan(0.5 * camera_angle_x);
+    cam->focal = focal;
+    cam->cx = cx;
+    cam->cy = cy;
     return WS_OK;
 }
 
@@ -64,14 +78,14 @@ void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]) {
 
 double ws_camera_project(const ws_camera *cam, const double c[3], double *u, double *v) {
     double d = -c[2];
-    *u = 0.5 * cam->width + cam->focal * c[0] / d;
-    *v = 0.5 * cam->height - cam->focal * c[1] / d;
+    *u = cam->cx + cam->focal * c[0] / d;
+    *v = cam->cy - cam->focal * c[1] / d;
     return d;
 }
 
 void ws_camera_ray(const ws_camera *cam, double u, double v, double dir[3]) {
-    dir[0] = (u - 0.5 * cam->width) / cam->focal;
-    dir[1] = -(v - 0.5 * cam->height) / cam->focal;
+    dir[0] = (u - cam->cx) / cam->focal;
+    dir[1] = -(v - cam->cy) / cam->focal;
     dir[2] = -1.0;
 }
 

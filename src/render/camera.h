@@ -2,7 +2,11 @@
  *
  * Blender/OpenGL axes: the camera looks down its -z, +y is up, +x right.
  * A world point p maps to c = R p + t, depth d = -c_z, and image point
- * u = W/2 + f c_x / d (across), v = H/2 - f c_y / d (down); pixel (row i,
+ * u = cx + f c_x / d (across), v = cy - f c_y / d (down), where the
+ * principal point (cx, cy) is (W/2, H/2) in a NeRF-synthetic scene and
+ * anywhere a capture's intrinsics put it (scene.h); pixels are square
+ * (one focal f for both axes: a scene with fl_x != fl_y is resampled so
+ * that they are). Pixel (row i,
  * column j) is the unit square [j, j+1] x [i, i+1], its centre at
  * (u, v) = (j + 1/2, i + 1/2), where Blender puts it. Everything that maps
  * between the world and pixels goes through ws_camera_project and
@@ -16,6 +20,7 @@ typedef struct {
     double R[3][3];   /* world-to-camera rotation (inverse of c2w's 3x3) */
     double t[3];      /* world-to-camera translation */
     double focal;     /* pixels: (width / 2) / tan(camera_angle_x / 2) */
+    double cx, cy;    /* principal point, image coordinates: (width / 2, height / 2) */
     int width, height;
 } ws_camera;
 
@@ -31,6 +36,11 @@ typedef struct {
  * rotation is not orthonormal, or the angle is out of range. */
 int ws_camera_init(ws_camera *cam, const double c2w[4][4], double camera_angle_x,
                    int width, int height, const char *what, ws_status *st);
+
+/* The same from intrinsics in pixels: focal length, principal point (cx,
+ * cy); the focal must give an angle in range and (cx, cy) be finite. */
+int ws_camera_init_pinhole(ws_camera *cam, const double c2w[4][4], double focal, double cx,
+                           double cy, int width, int height, const char *what, ws_status *st);
 
 /* camera_angle_x in [WS_CAMERA_MIN_ANGLE, pi - WS_CAMERA_MIN_ANGLE]. */
 int ws_camera_check_angle(double camera_angle_x, const char *what, ws_status *st);

@@ -338,7 +338,8 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
             box[1] = box[3] = -INFINITY;
             for (int k = 0; k < 3; k++) {
                 const double *P = A + 3 * k;
-                double u = 0.5 * W + cam->focal * P[0] / -P[2], v = 0.5 * H - cam->focal * P[1] / -P[2];
+                double u, v;
+                ws_camera_project(cam, P, &u, &v);
                 box[0] = fmin(box[0], (u + 0.5) * ss - 0.5 - ss - 1);
                 box[1] = fmax(box[1], (u + 0.5) * ss - 0.5 + ss + 1);
                 box[2] = fmin(box[2], (v + 0.5) * ss - 0.5 - ss - 1);

@@ -43,6 +43,23 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->size = 224;
     opt->seed = 0;
     opt->white_background = 0;
+    opt->width = opt->height = 0;
+    opt->nerfstudio = 0;
+}
+
+/* The image size of a scene, and the camera of view c2w: focal length from
+ * the field of view over the shorter side, principal point at the centre. */
+static void image_size(const ws_synth_options *opt, int *w, int *h) {
+    *w = opt->width ? opt->width : opt->size;
+    *h = opt->height ? opt->height : opt->size;
+}
+
+static int synth_camera(const ws_synth_options *opt, const double c2w[4][4], const char *what,
+                        ws_camera *cam, ws_status *st) {
+    int w, h;
+    image_size(opt, &w, &h);
+    return ws_camera_init_pinhole(cam, c2w, 0.5 * (w < h ? w : h) / tan(0.5 * CAMERA_ANGLE_X),
+                                  0.5 * w, 0.5 * h, w, h, what, st);
 }
 
 /* ---------------------------------------------------------------- objects */
@@ -278,8 +295,8 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
      * ss x ss samples of pixel (i, j) are centred on its centre
      * (j + 1/2, i + 1/2). In fine indices the principal point (W/2, H/2) is
      * at (W ss / 2 - 1/2, H ss / 2 - 1/2) and the focal is f ss. */
-    const double f2 = cam->focal * ss, cx2 = 0.5 * W * ss - WS_PIXEL_CENTER,
-                 cy2 = 0.5 * H * ss - WS_PIXEL_CENTER;
+    const double f2 = cam->focal * ss, cx2 = cam->cx * ss - WS_PIXEL_CENTER,
+                 cy2 = cam->cy * ss - WS_PIXEL_CENTER;
     float *depth = ws_malloc(sizeof *depth * W2 * H2, "a depth buffer", st);
     float *shade = depth ? ws_calloc((size_t)W2 * H2, sizeof *shade, "a shading buffer", st) : NULL;
     double *cc =
@@ -415,6 +432,16 @@ static int write_text_file(const char *path, const char *text, ws_status *st) {
     return ws_outfile_commit(&f, st);
 }
 
+/* Writes root (then deleted) as path; ok = 0: building it ran out of memory. */
+static int write_json(const char *path, cJSON *root, int ok, ws_status *st) {
+    char *text = ok ? cJSON_Print(root) : NULL;
+    cJSON_Delete(root);
+    if (!text) return ws_fail(st, WS_ENOMEM, "%s: out of memory building the JSON", path);
+    int rc = write_text_file(path, text, st);
+    cJSON_free(text);
+    return rc;
+}
+
 /* transforms_SPLIT.json of the split's n cameras */
 static int write_transforms(const char *dir, int split, const double center[3],
                             double (*c2w)[4][4], int n, ws_status *st) {
@@ -437,12 +464,42 @@ static int write_transforms(const char *dir, int split, const double center[3],
         for (int i = 0; i < 4 && ok; i++)
             ok = cJSON_AddItemToArray(m, cJSON_CreateDoubleArray(c2w[k][i], 4));
     }
-    char *text = ok ? cJSON_Print(root) : NULL;
-    cJSON_Delete(root);
-    if (!text) return ws_fail(st, WS_ENOMEM, "%s: out of memory building the JSON", path);
-    int rc = write_text_file(path, text, st);
-    cJSON_free(text);
-    return rc;
+    return write_json(path, root, ok, st);
+}
+
+/* SCENE/transforms.json of every view, nerfstudio layout: global pinhole
+ * intrinsics with zero distortion, the split lists, frames in split order. */
+static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *opt,
+                                       double (*c2w)[4][4], ws_status *st) {
+    char path[4400];
+    snprintf(path, sizeof path, "%s/transforms.json", dir);
+    ws_camera cam;
+    if (synth_camera(opt, c2w[0], path, &cam, st)) return st->code;
+    static const char *const list_keys[WS_NSPLITS] = {"train_filenames", "val_filenames",
+                                                      "test_filenames"};
+    static const char *const zero[] = {"k1", "k2", "p1", "p2"};
+    cJSON *root = cJSON_CreateObject(), *frames = NULL, *lists[WS_NSPLITS] = {NULL};
+    int ok = root && cJSON_AddStringToObject(root, "camera_model", "OPENCV") &&
+             cJSON_AddNumberToObject(root, "fl_x", cam.focal) &&
+             cJSON_AddNumberToObject(root, "fl_y", cam.focal) &&
+             cJSON_AddNumberToObject(root, "cx", cam.cx) && cJSON_AddNumberToObject(root, "cy", cam.cy) &&
+             cJSON_AddNumberToObject(root, "w", cam.width) && cJSON_AddNumberToObject(root, "h", cam.height);
+    for (int k = 0; k < 4 && ok; k++) ok = cJSON_AddNumberToObject(root, zero[k], 0) != NULL;
+    for (int s = 0; s < WS_NSPLITS && ok; s++) ok = (lists[s] = cJSON_AddArrayToObject(root, list_keys[s])) != NULL;
+    ok = ok && (frames = cJSON_AddArrayToObject(root, "frames"));
+    for (int s = 0, v = 0; s < WS_NSPLITS && ok; s++)
+        for (int k = 0; k < opt->views[s] && ok; k++, v++) {
+            char file_path[64];
+            snprintf(file_path, sizeof file_path, "rgb/%s/r_%d.png", ws_split_names[s], k);
+            cJSON *frame = cJSON_CreateObject(), *m = NULL;
+            ok = cJSON_AddItemToArray(frames, frame) &&
+                 cJSON_AddStringToObject(frame, "file_path", file_path) &&
+                 cJSON_AddItemToArray(lists[s], cJSON_CreateString(file_path)) &&
+                 (m = cJSON_AddArrayToObject(frame, "transform_matrix"));
+            for (int i = 0; i < 4 && ok; i++)
+                ok = cJSON_AddItemToArray(m, cJSON_CreateDoubleArray(c2w[v][i], 4));
+        }
+    return write_json(path, root, ok, st);
 }
 
 static int check_options(const ws_synth_options *opt, ws_status *st) {
@@ -453,6 +510,15 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
                            s == WS_TRAIN);
     if (opt->size < 8 || opt->size > 4096)
         return ws_fail(st, WS_EUSAGE, "--size: %d is not in [8, 4096]", opt->size);
+    if ((opt->width && (opt->width < 8 || opt->width > 4096)) ||
+        (opt->height && (opt->height < 8 || opt->height > 4096)))
+        return ws_fail(st, WS_EUSAGE, "--width x --height: %d x %d is not in [8, 4096]", opt->width,
+                       opt->height);
+    if (!opt->nerfstudio && (opt->width || opt->height) && opt->width != opt->height)
+        return ws_fail(st, WS_EUSAGE,
+                       "--width %d --height %d: a NeRF-synthetic scene is square (--layout nerfstudio "
+                       "takes other shapes)",
+                       opt->width, opt->height);
     return WS_OK;
 }
 
@@ -481,7 +547,7 @@ static int write_views(const char *dir, const scene_object *obj, const ws_synth_
         snprintf(what, sizeof what, "%s: camera", path);
         ws_camera cam;
         ws_image img = {0};
-        if (!ws_camera_init(&cam, c2w[v], CAMERA_ANGLE_X, opt->size, opt->size, what, vs) &&
+        if (!synth_camera(opt, c2w[v], what, &cam, vs) &&
             !(obj->solid ? ws_solid_render(obj->solid, &cam, SUPERSAMPLE, background, &img, vs)
                          : ws_synth_render(obj->tubes, &cam, SUPERSAMPLE, background, &img, vs)))
             ws_png_write(path, &img, vs);
@@ -524,7 +590,8 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         place_cameras(center, opt, c2w);
         rc = write_views(dir, &what, opt, c2w, total, st);
     }
-    for (int s = 0, first = 0; s < WS_NSPLITS && !rc; first += opt->views[s++])
+    if (!rc && opt->nerfstudio) rc = write_transforms_nerfstudio(dir, opt, c2w, st);
+    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++])
         if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     if (!rc) rc = ws_curves_save(path, solid ? &sol.edges : &obj.curves, st);

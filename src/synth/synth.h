@@ -9,6 +9,12 @@
  *   DIR/gt_curves.json                    (the tubes' curves, thickness = tube
  *                                          radius; a solid's sharp edges)
  *   DIR/gt_points.ply                     (solids: 20,000 surface points)
+ * or, with opt.nerfstudio, in the nerfstudio layout: DIR/transforms.json
+ * (fl_x, fl_y, cx, cy, w, h, frames[] with file_path "rgb/SPLIT/r_K.png",
+ * train/val/test_filenames) and the same images, which may be width x
+ * height. The focal length fits the field of view to the shorter side, so
+ * the centred square of a wide image is the square image of the same
+ * camera.
  * Train cameras lie on a Fibonacci spiral over the upper hemisphere, val and
  * test cameras at random (seeded) positions of that hemisphere. Same name,
  * options and seed give the same bytes. */
@@ -26,6 +32,8 @@ typedef struct {
     int size;              /* square image side in pixels [224] */
     uint64_t seed;         /* camera placement [0] */
     int white_background;  /* 1: the object on white instead of black [0] */
+    int width, height;     /* a non-square image (nerfstudio layout); 0: size x size */
+    int nerfstudio;        /* 1: one transforms.json with intrinsics (scene.h) [0] */
 } ws_synth_options;
 
 typedef struct {
