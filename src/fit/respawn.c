@@ -24,7 +24,7 @@ int ws_respawn_create(ws_respawn **out, const ws_scene *scene, int n_curves, dou
     r->sil = ws_calloc(r->train->n, sizeof *r->sil, "silhouettes", st);
     int rc = r->sil ? WS_OK : st->code;
     for (int k = 0; k < r->train->n && !rc; k++)
-        rc = ws_silhouette_make(&r->train->views[k].photo, NULL, &r->sil[k], st);
+        rc = ws_view_silhouette(&r->train->views[k], &r->sil[k], st);
     if (!rc) rc = ws_scene_hull_surface(scene, WS_TRAIN, WS_HULL_INIT_RESOLUTION, &r->surface, st);
     /* The stroke length of the initial spread (surface.h), without its rng. */
     int k = n_curves < r->surface.n ? n_curves : r->surface.n, *picked = NULL;

@@ -74,7 +74,7 @@ static int check_split(const ws_scene *scene, int s, int resolution, ws_check_sp
     r->disagree = r->agreement ? ws_malloc(sizeof *r->disagree * sp->n, "check agreement", st) : NULL;
     int rc = r->disagree ? WS_OK : st->code;
     for (int k = 0; k < sp->n && !rc; k++)
-        rc = ws_silhouette_make(&sp->views[k].photo, NULL, &sil[k], st);
+        rc = ws_view_silhouette(&sp->views[k], &sil[k], st);
     const hypothesis listed = {0, 0, 1.0};
     if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &listed, r->agreement, &r->mean, st);
     if (!rc) {
@@ -202,7 +202,7 @@ static int shift_elsewhere(const ws_scene *scene, int resolution, ws_check_repor
         ws_silhouette *sil = ws_calloc(sp->n, sizeof *sil, "silhouettes", st);
         double *trial = sil ? ws_malloc(sizeof *trial * sp->n, "check agreement", st) : NULL;
         int rc = trial ? WS_OK : st->code;
-        for (int k = 0; k < sp->n && !rc; k++) rc = ws_silhouette_make(&sp->views[k].photo, NULL, &sil[k], st);
+        for (int k = 0; k < sp->n && !rc; k++) rc = ws_view_silhouette(&sp->views[k], &sil[k], st);
         const hypothesis h = {shift, 0, 1.0};
         double mean = 0;
         if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &h, trial, &mean, st);

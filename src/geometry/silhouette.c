@@ -119,6 +119,10 @@ int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouett
     return WS_OK;
 }
 
+int ws_view_silhouette(const ws_view *v, ws_silhouette *s, ws_status *st) {
+    return ws_silhouette_make(&v->photo, v->mask.data ? &v->mask : NULL, s, st);
+}
+
 void ws_silhouette_free(ws_silhouette *s) {
     free(s->in);
     free(s->distance);

@@ -16,6 +16,7 @@
 #define WS_SILHOUETTE_H
 #include <stdint.h>
 #include "io/image.h"
+#include "io/scene.h"
 #include "nn/base/status.h"
 
 #define WS_SILHOUETTE_THRESHOLD 0.02
@@ -34,6 +35,9 @@ typedef struct {
  * the photo (3 x H x W) against its background as above. */
 int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouette *s,
                        ws_status *st);
+/* A view's silhouette: from its mask where the scene gives one (scene.h),
+ * else from its photo. */
+int ws_view_silhouette(const ws_view *v, ws_silhouette *s, ws_status *st);
 void ws_silhouette_free(ws_silhouette *s);
 
 #endif

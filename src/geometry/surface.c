@@ -64,7 +64,7 @@ int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_h
     ws_hull h = {0};
     int rc = hv ? WS_OK : st->code;
     for (int k = 0; k < sp->n && !rc; k++) {
-        rc = ws_silhouette_make(&sp->views[k].photo, NULL, &sil[k], st);
+        rc = ws_view_silhouette(&sp->views[k], &sil[k], st);
         hv[k] = (ws_hull_view){.cam = &sp->views[k].cam, .sil = &sil[k]};
     }
     if (!rc) rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), &h, st);
