@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 #include "check.h"
+#include "reference_pyramid.h"
 #include "render/edges.h"
 #include "nn/base/rng.h"
 
@@ -18,38 +19,19 @@ static double now(void) {
 /* The definition of edges.h written out the slow way: explicit pyramid and
  * a 2-D Gaussian kernel. */
 static double reference_loss(const double *alpha, const float *edge, int W, int H) {
-    const int R = (int)ceil(3 * WS_EDGES_SIGMA);
-    double k[64], ksum = 0;
-    for (int t = -R; t <= R; t++) ksum += k[t + R] = exp(-t * t / (2 * WS_EDGES_SIGMA * WS_EDGES_SIGMA));
     double *d = malloc((size_t)W * H * sizeof *d), *next = malloc((size_t)W * H * sizeof *next);
     for (int p = 0; p < W * H; p++) d[p] = alpha[p] - edge[p];
     int w = W, h = H;
     double loss = 0;
     for (int s = 0; s < WS_EDGES_LEVELS; s++) {
         if (s > 0) {
-            int w2 = (w + 1) / 2, h2 = (h + 1) / 2;
-            for (int i = 0; i < h2; i++)
-                for (int j = 0; j < w2; j++) {
-                    double sum = 0;
-                    int count = 0;
-                    for (int a = 2 * i; a <= 2 * i + 1; a++)
-                        for (int b = 2 * j; b <= 2 * j + 1; b++)
-                            if (a < h && b < w) sum += d[a * w + b], count++;
-                    next[i * w2 + j] = sum / count;
-                }
-            w = w2, h = h2;
+            ref_pool(d, w, h, next);
+            w = (w + 1) / 2, h = (h + 1) / 2;
             memcpy(d, next, (size_t)w * h * sizeof *d);
         }
+        ref_blur(d, w, h, WS_EDGES_SIGMA, next);
         double level = 0;
-        for (int i = 0; i < h; i++)
-            for (int j = 0; j < w; j++) {
-                double g = 0;
-                for (int a = -R; a <= R; a++)
-                    for (int b = -R; b <= R; b++)
-                        if (i + a >= 0 && i + a < h && j + b >= 0 && j + b < w)
-                            g += k[a + R] * k[b + R] / (ksum * ksum) * d[(i + a) * w + j + b];
-                level += g * g;
-            }
+        for (int p = 0; p < w * h; p++) level += next[p] * next[p];
         loss += level / (w * h) / WS_EDGES_LEVELS;
     }
     free(d);

@@ -202,6 +202,28 @@ int main(void) {
 
     ws_loss_options lo;
     ws_loss_options_default(&lo);
+    /* the line loss alone (no CLIP), in training at progress 0.3 (levels
+     * 1..3 weighted 0.2, 1, 1) and in evaluation (all levels): double
+     * precision end to end */
+    lo.conv_weight = lo.fc_weight = lo.global_weight = 0;
+    lo.lines_weight = 2;
+    {
+        setup s = {0};
+        ws_curves c = {0};
+        ws_rng rng;
+        ws_rng_seed(&rng, 8);
+        if (make_setup(&s, scene, NULL, &lo) == WS_OK && ws_curves_alloc(&c, 3, &st) == WS_OK) {
+            c.thickness = 0.03;
+            c.overlap = 0.6;
+            make_curves(&c, s.scene.center, &rng);
+            ws_loss_set_progress(s.loss, 0.3);
+            check_gradient(&s, &c, 1, "lines, training at progress 0.3");
+            check_gradient(&s, &c, 0, "lines, evaluation");
+        }
+        ws_curves_free(&c);
+        free_setup(&s);
+    }
+    ws_loss_options_default(&lo);
     lo.weights_path = weights;
     lo.n_layer_weights = 2;
     lo.layer_weights[0] = 1;

@@ -236,7 +236,7 @@ static void test_errors(const char *curves_path, int ntest) {
         {"render %s/nothere.json --scene SCENE --out %s", 1, "nothere.json: cannot open: No such file or directory\n"},
         {"grad SCENE --curves %s --view NTEST --loss l2%.0s", 2, "wiresketch: --view: NTEST is not in [0, LAST] (the test split has NTEST views)\n"},
         {"grad SCENE --curves %s --loss bogus%.0s", 2,
-         "wiresketch: --loss: 'bogus' is not clip, edges, clip+edges or l2\n"},
+         "wiresketch: --loss: 'bogus' is not clip, edges, clip+edges, sobel or l2\n"},
         {"grad SCENE --curves %s --loss clip --weights %s/none.bin", 1, "none.bin: no CLIP weight file"},
         {"export %s --obj %s/nodir/x.obj", 1, "x.obj: cannot write"},
         {"export %s%.0s", 2, "wiresketch: nothing to do: give --obj, --ply or --svg (see --help)\n"},

@@ -13,11 +13,13 @@ int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list 
     int clip = !strcmp(name, "clip") || !strcmp(name, "clip+edges");
     if (!clip) lo->conv_weight = lo->fc_weight = lo->global_weight = 0;
     if (!strcmp(name, "edges") || !strcmp(name, "clip+edges"))
+        lo->lines_weight = edges_weight;
+    else if (!strcmp(name, "sobel"))
         lo->edges_weight = edges_weight;
     else if (!strcmp(name, "l2"))
         lo->l2_weight = 1.0;
     else if (!clip)
-        return ws_fail(st, WS_EUSAGE, "--loss: '%s' is not clip, edges, clip+edges or l2", name);
+        return ws_fail(st, WS_EUSAGE, "--loss: '%s' is not clip, edges, clip+edges, sobel or l2", name);
     if (ws_loss_uses_clip(lo) && access(lo->weights_path, R_OK) != 0)
         return ws_fail(st, WS_EINPUT,
                        "%s: no CLIP weight file; convert OpenAI's ViT-B-32.pt once with "

@@ -10,6 +10,7 @@ const ws_command ws_commands[] = {
     {"embed", cmd_embed, "CLIP embedding of images, one JSON array per line"},
     {"bench", cmd_bench, "benchmarks: speed against the hardware's floor (tables)"},
     {"check", cmd_check, "check that every view's photo agrees with its camera (silhouettes)"},
+    {"rank", cmd_rank, "losses of the ground truth and of worse sketches (a markdown table)"},
     {"scene", cmd_scene, "write a synthetic test scene (NeRF layout) with its ground-truth curves"},
 };
 const int ws_ncommands = sizeof ws_commands / sizeof ws_commands[0];

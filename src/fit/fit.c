@@ -56,10 +56,15 @@ static void shuffle(int *order, int n, ws_rng *rng) {
     }
 }
 
+static long schedule_steps(const fit_run *r);
+
 /* One Adam step on the views of a batch. A non-finite loss or gradient is
  * reported and the step refused: the control points and moments stay. */
 static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws_status *st) {
     int np = r->s.curves.n * WS_CURVE_FLOATS;
+    /* over the epochs' schedule, not --max-steps: a run stopped early and
+     * resumed sees the same progress at each step */
+    ws_objective_set_progress(r->objective, (double)r->s.global_step / schedule_steps(r));
     int rc = ws_objective_batch(r->objective, &r->s.curves, views, nviews, &r->s.rng, loss, r->grad, st);
     if (rc && rc != WS_ENUMERIC) return rc;
     int finite = !rc && isfinite(*loss);
@@ -111,9 +116,14 @@ static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_st
     return WS_OK;
 }
 
-static long total_steps(const fit_run *r) {
+/* The steps of the epochs' schedule. */
+static long schedule_steps(const fit_run *r) {
     int n = r->scene.split[WS_TRAIN].n, bs = r->opt->batch_size;
-    long steps = (long)r->opt->epochs * ((n + bs - 1) / bs) * r->opt->inner_steps;
+    return (long)r->opt->epochs * ((n + bs - 1) / bs) * r->opt->inner_steps;
+}
+
+static long total_steps(const fit_run *r) {
+    long steps = schedule_steps(r);
     return r->opt->max_steps > 0 && r->opt->max_steps < steps ? r->opt->max_steps : steps;
 }
 

@@ -12,6 +12,8 @@
 #include "render/augment.h"
 #include "nn/clip.h"
 #include "render/edges.h"
+#include "render/thin_edges.h"
+#include "objective/lines.h"
 #include "objective/loss.h"
 #include "objective/loss_l2.h"
 #include "objective/view_cache.h"
@@ -85,6 +87,9 @@ struct ws_loss {
     clip_part clip;
     ws_view_cache edge_cache;        /* per view: the photo's edge map */
     ws_edges_workspace *edges_ws;
+    ws_view_cache line_cache;        /* per view: the photo's thin edges */
+    ws_lines_workspace *lines_ws;
+    double progress;                 /* of the fit, for the line loss's levels */
     loss_item items[1 + WS_LOSS_MAX_AUG]; /* this step's items, 0 the identity */
     int banked_step;                 /* items 1..A come from the view's bank */
     int *bank_order;                 /* N: scratch for drawing distinct indices */
@@ -207,7 +212,7 @@ int ws_loss_options_check(const ws_loss_options *opt, ws_status *st) {
                        1 + opt->num_aug);
     /* a negative weight would make its term a reward for looking unlike the photo */
     int negative = opt->conv_weight < 0 || opt->fc_weight < 0 || opt->global_weight < 0 ||
-                   opt->edges_weight < 0 || opt->l2_weight < 0;
+                   opt->edges_weight < 0 || opt->l2_weight < 0 || opt->lines_weight < 0;
     for (int l = 0; l < opt->n_layer_weights; l++) negative |= opt->layer_weights[l] < 0;
     if (negative)
         return ws_fail(st, WS_EUSAGE, "loss weights (--clip-weight, --clip-conv-loss, "
@@ -234,6 +239,10 @@ int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *sc
     if (opt->edges_weight != 0 && (ws_edges_workspace_create(&L->edges_ws, L->W, L->H, st) ||
                                    ws_view_cache_init(&L->edge_cache, scene, pixels, "edge maps", st)))
         return st->code;
+    if (opt->lines_weight != 0 && (ws_lines_workspace_create(&L->lines_ws, L->W, L->H, st) ||
+                                   ws_view_cache_init(&L->line_cache, scene, pixels, "edge maps", st)))
+        return st->code;
+    L->progress = 1;
     L->items[0].identity = 1;
     if (!(L->bank_order = ws_calloc(opt->aug_bank ? opt->aug_bank : 1, sizeof *L->bank_order,
                                     "augmentation bank", st)) ||
@@ -252,6 +261,8 @@ void ws_loss_free(ws_loss *L) {
     if (L->use_clip) clip_part_free(&L->clip);
     ws_view_cache_free(&L->edge_cache);
     ws_edges_workspace_free(L->edges_ws);
+    ws_view_cache_free(&L->line_cache);
+    ws_lines_workspace_free(L->lines_ws);
     ws_aug_workspace_free(L->aug_ws);
     free(L->bank_order);
     free(L->alpha_f);
@@ -465,6 +476,14 @@ static int fill_edge_map(void *ctx, int split, int view, float *slot, ws_status 
     return WS_OK;
 }
 
+/* Fills a slot of the line cache: the thin edges of the view's photo. */
+static int fill_line_target(void *ctx, int split, int view, float *slot, ws_status *st) {
+    ws_loss *L = ctx;
+    return ws_thin_edges(L->scene->split[split].views[view].photo.data, L->W, L->H, slot, st);
+}
+
+void ws_loss_set_progress(ws_loss *L, double progress) { L->progress = progress; }
+
 /* This step's items 1..A: fresh transforms from rng, or (a training view
  * with a bank) A distinct ones of the view's bank, chosen with rng. */
 static int draw_transforms(ws_loss *L, int split, int view, ws_rng *rng, ws_status *st) {
@@ -543,6 +562,15 @@ int ws_loss_combine(ws_loss *L, int split, int view, const double *alpha, int au
             ws_edges_loss_backward(alpha, edges, L->W, L->H, L->edges_ws, L->edge_dalpha);
             for (size_t i = 0; i < pixels; i++) dalpha[i] += w * L->edge_dalpha[i];
         }
+    }
+    if (L->opt.lines_weight != 0) {
+        double w = L->opt.lines_weight, levels[WS_LINES_LEVELS];
+        const float *target;
+        if (ws_view_cache_get(&L->line_cache, split, view, fill_line_target, L, &target, st)) return st->code;
+        ws_lines_weights(augment ? L->progress : 1, levels);
+        loss += w * ws_lines_loss(alpha, target, levels, L->lines_ws, dalpha ? L->edge_dalpha : NULL);
+        if (dalpha)
+            for (size_t i = 0; i < pixels; i++) dalpha[i] += w * L->edge_dalpha[i];
     }
     if (L->opt.l2_weight != 0) {
         double w = L->opt.l2_weight;

@@ -5,7 +5,12 @@
  *   tokens and channels of (h_l(S_a) - h_l(T_a))^2;
  * - CLIP fc: fc_weight * mean over items of (1 - cos(e(S_a), e(T_a)));
  * - CLIP global: global_weight * sum over a = 1..A of (1 - cos(e(S_a), e(T_0)));
- * - edges: edges_weight * the weight-free edge loss (edges.h) of item 0;
+ * - lines: lines_weight * the line-drawing loss (lines.h) of item 0 against
+ *   the photo's thin edges (thin_edges.h), its level weights following the
+ *   fit's progress (ws_loss_set_progress) in training and final (p = 1) in
+ *   evaluation (augment = 0);
+ * - edges: edges_weight * the former weight-free loss, Sobel edges compared
+ *   in L2 (edges.h) of item 0 (`--loss sobel`);
  * - l2: l2_weight * mean over pixels and channels of (S_0 - T_0)^2.
  * S_a, T_a: the stroke image and the photo under augmentation a (a = 0:
  * none). One CLIP forward and backward per stroke image; the photo's
@@ -51,6 +56,7 @@ typedef struct {
     double layer_weights[WS_LOSS_MAX_LAYERS]; /* clip_conv_layer_weights, block l */
     double fc_weight;          /* clip_fc_loss_weight */
     double global_weight;      /* clip_weight */
+    double lines_weight;
     double edges_weight;
     double l2_weight;
     int num_aug;               /* A */
@@ -75,6 +81,10 @@ int ws_loss_options_check(const ws_loss_options *opt, ws_status *st);
 int ws_loss_create(ws_loss **loss, const ws_loss_options *opt, const ws_scene *scene,
                    ws_status *st);
 void ws_loss_free(ws_loss *loss);
+
+/* The fit's progress in [0, 1] (steps done / steps planned): sets the line
+ * loss's coarse-to-fine level weights of training steps (lines.h). */
+void ws_loss_set_progress(ws_loss *loss, double progress);
 
 /* From now on add the time of augmentation and CLIP to t (NULL: stop). */
 void ws_loss_set_timing(ws_loss *loss, ws_step_timing *t);

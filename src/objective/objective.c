@@ -90,6 +90,8 @@ void ws_objective_set_timing(ws_objective *o, ws_step_timing *t) {
 
 void ws_objective_set_cutoff(ws_objective *o, double cutoff) { o->splat_opt.cutoff = cutoff; }
 
+void ws_objective_set_progress(ws_objective *o, double progress) { ws_loss_set_progress(o->loss, progress); }
+
 const ws_gaussians *ws_objective_gaussians(const ws_objective *o) { return &o->gaussians; }
 
 const ws_loss *ws_objective_loss(const ws_objective *o) { return o->loss; }

@@ -54,6 +54,8 @@ const ws_loss *ws_objective_loss(const ws_objective *obj);
 
 /* From now on add the time of each part to t (NULL: stop). */
 void ws_objective_set_timing(ws_objective *obj, ws_step_timing *t);
+/* The fit's progress in [0, 1] (ws_loss_set_progress). */
+void ws_objective_set_progress(ws_objective *obj, double progress);
 /* Splat with this cut-off from now on (the benchmarks compare them). */
 void ws_objective_set_cutoff(ws_objective *obj, double cutoff);
 

@@ -3,8 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "render/edges.h"
-
-#define MAX_RADIUS 16 /* bounds ceil(3 * WS_EDGES_SIGMA) */
+#include "render/pyramid.h"
 
 struct ws_edges_workspace {
     int W, H;
@@ -13,8 +12,7 @@ struct ws_edges_workspace {
     double *blur[WS_EDGES_LEVELS];  /* G * D_s */
     double *tmp;                    /* the row pass of a blur, H x W */
     double *row_sum;                /* per-row sums of squares, H */
-    int radius;
-    double kernel[2 * MAX_RADIUS + 1];
+    ws_blur_kernel kernel;
 };
 
 static float luminance(const float *photo, size_t hw, int W, int H, int i, int j) {
@@ -77,15 +75,10 @@ int ws_edges_workspace_create(ws_edges_workspace **out, int W, int H, ws_status 
         ws_edges_workspace_free(ws);
         return st->code;
     }
-    ws->radius = (int)ceil(3 * WS_EDGES_SIGMA);
-    if (ws->radius > MAX_RADIUS) {
+    if (ws_blur_kernel_init(&ws->kernel, WS_EDGES_SIGMA)) {
         ws_edges_workspace_free(ws);
         return ws_fail(st, WS_EINTERNAL, "edges: blur sigma %g is too large", WS_EDGES_SIGMA);
     }
-    double sum = 0;
-    for (int t = -ws->radius; t <= ws->radius; t++)
-        sum += ws->kernel[t + ws->radius] = exp(-t * t / (2 * WS_EDGES_SIGMA * WS_EDGES_SIGMA));
-    for (int t = 0; t <= 2 * ws->radius; t++) ws->kernel[t] /= sum;
     *out = ws;
     return WS_OK;
 }
@@ -101,51 +94,14 @@ void ws_edges_workspace_free(ws_edges_workspace *ws) {
     free(ws);
 }
 
-/* out = G * in on a w x h image, zero outside; out may be in. The kernel is
- * symmetric and the padding zero, so this map is its own transpose. */
-static void blur(const ws_edges_workspace *ws, const double *in, double *out, int w, int h) {
-    const int R = ws->radius;
-    const double *k = ws->kernel + R;
-    double *tmp = ws->tmp;
-#pragma omp parallel for
-    for (int i = 0; i < h; i++)
-        for (int j = 0; j < w; j++) {
-            double s = 0;
-            for (int t = j - R < 0 ? -j : -R; t <= R && j + t < w; t++) s += k[t] * in[(size_t)i * w + j + t];
-            tmp[(size_t)i * w + j] = s;
-        }
-#pragma omp parallel for
-    for (int i = 0; i < h; i++)
-        for (int j = 0; j < w; j++) {
-            double s = 0;
-            for (int t = i - R < 0 ? -i : -R; t <= R && i + t < h; t++) s += k[t] * tmp[(size_t)(i + t) * w + j];
-            out[(size_t)i * w + j] = s;
-        }
-}
-
-/* Number of pixels of a w x h image that pooled cell (i, j) covers. */
-static int cell_count(int w, int h, int i, int j) {
-    return (2 * i + 1 < h ? 2 : 1) * (2 * j + 1 < w ? 2 : 1);
-}
-
 /* diff[0] = alpha - edge, diff[s] = pool(diff[s-1]), blur[s] = G * diff[s]. */
 static void pyramid(const double *alpha, const float *edge, ws_edges_workspace *ws) {
     size_t n = (size_t)ws->W * ws->H;
     for (size_t k = 0; k < n; k++) ws->diff[0][k] = alpha[k] - edge[k];
-    for (int s = 1; s < WS_EDGES_LEVELS; s++) {
-        int wi = ws->w[s - 1], hi = ws->h[s - 1], wo = ws->w[s];
-        const double *in = ws->diff[s - 1];
-        double *out = ws->diff[s];
-#pragma omp parallel for
-        for (int i = 0; i < ws->h[s]; i++)
-            for (int j = 0; j < wo; j++) {
-                double sum = 0;
-                for (int a = 2 * i; a < 2 * i + 2 && a < hi; a++)
-                    for (int b = 2 * j; b < 2 * j + 2 && b < wi; b++) sum += in[(size_t)a * wi + b];
-                out[(size_t)i * wo + j] = sum / cell_count(wi, hi, i, j);
-            }
-    }
-    for (int s = 0; s < WS_EDGES_LEVELS; s++) blur(ws, ws->diff[s], ws->blur[s], ws->w[s], ws->h[s]);
+    for (int s = 1; s < WS_EDGES_LEVELS; s++)
+        ws_pool2_forward(ws->diff[s - 1], ws->w[s - 1], ws->h[s - 1], ws->diff[s]);
+    for (int s = 0; s < WS_EDGES_LEVELS; s++)
+        ws_blur_forward(&ws->kernel, ws->diff[s], ws->blur[s], ws->tmp, ws->w[s], ws->h[s]);
 }
 
 double ws_edges_loss_forward(const double *alpha, const float *edge, int W, int H,
@@ -182,19 +138,11 @@ void ws_edges_loss_backward(const double *alpha, const float *edge, int W, int H
         size_t ns = (size_t)ws->w[s] * ws->h[s];
         double scale = 2.0 / ((double)ns * WS_EDGES_LEVELS);
         for (size_t k = 0; k < ns; k++) ws->blur[s][k] *= scale;
-        blur(ws, ws->blur[s], ws->diff[s], ws->w[s], ws->h[s]);
+        ws_blur_forward(&ws->kernel, ws->blur[s], ws->diff[s], ws->tmp, ws->w[s], ws->h[s]);
     }
     /* Through the pooling, coarsest first: each child gets its cell's
      * gradient divided by the cell's pixel count. */
-    for (int s = WS_EDGES_LEVELS - 1; s > 0; s--) {
-        int wi = ws->w[s - 1], hi = ws->h[s - 1], wo = ws->w[s];
-        const double *g = ws->diff[s];
-        double *gin = ws->diff[s - 1];
-#pragma omp parallel for
-        for (int a = 0; a < hi; a++)
-            for (int b = 0; b < wi; b++)
-                gin[(size_t)a * wi + b] +=
-                    g[(size_t)(a / 2) * wo + b / 2] / cell_count(wi, hi, a / 2, b / 2);
-    }
+    for (int s = WS_EDGES_LEVELS - 1; s > 0; s--)
+        ws_pool2_backward(ws->diff[s], ws->w[s - 1], ws->h[s - 1], ws->diff[s - 1]);
     for (size_t k = 0; k < n; k++) dalpha[k] = ws->diff[0][k];
 }

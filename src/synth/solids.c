@@ -16,7 +16,7 @@
 
 #define AMBIENT 0.15
 #define KEY 0.55
-#define HEAD 0.3
+#define FILL 0.35
 /* The most triangles and curves any solid here needs. */
 #define MAX_TRIANGLES 1024
 #define MAX_EDGES 64
@@ -326,6 +326,8 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
     }
     double light[3] = {0.3, -0.5, 0.8}, key[3];
     normalize3(light);
+    double fill[3] = {-0.5, 0.4, 1.0}; /* camera space: from the upper left, behind the camera */
+    normalize3(fill);
     for (int x = 0; x < 3; x++) key[x] = dot3(cam->R[x], light);
     /* fine sample (I, J) lies at pixel coordinates ((I + 1/2) / ss - 1/2,
      * (J + 1/2) / ss - 1/2): the ss x ss samples of pixel (i, j) spread
@@ -363,7 +365,7 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
                 normalize3(view);
                 if (dot3(n, view) < 0)
                     for (int x = 0; x < 3; x++) n[x] = -n[x];
-                shade[at] = (float)(AMBIENT + KEY * fmax(0, dot3(n, key)) + HEAD * dot3(n, view));
+                shade[at] = (float)(AMBIENT + KEY * fmax(0, dot3(n, key)) + FILL * fmax(0, dot3(n, fill)));
             }
     }
     const size_t plane = (size_t)W * H;

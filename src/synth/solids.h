@@ -13,10 +13,12 @@
  *                 round hole (radius 0.35) along its axis: 18 edges of the
  *                 prism and the 2 circles of the hole (8 arcs), 26 curves.
  * Rendering (ws_solid_render): the nearest triangle along each ray, shaded
- *   albedo x (AMBIENT + KEY max(0, n.l) + HEAD max(0, n.v))
- * with a fixed key light l in world space and a head light v towards the
- * camera, so that faces of different orientation differ in brightness like
- * in a real render; the background colour where no face is hit. */
+ *   albedo x (AMBIENT + KEY max(0, n.l) + FILL max(0, n.f))
+ * with a key light l fixed in world space and a fill light f fixed to the
+ * camera (from its upper left), so that faces of different orientation
+ * differ in brightness like in a real render (a light on the camera's axis
+ * would light two faces turned alike from it alike); the background colour
+ * where no face is hit. */
 #ifndef WS_SOLIDS_H
 #define WS_SOLIDS_H
 #include <stdint.h>

@@ -1,0 +1,79 @@
+/* cmd_rank.c: `wiresketch rank SCENE`: the losses of the ground truth and
+ * of the sketches an objective must rank below it (ranking.h), as a
+ * markdown table, one column per thickness. */
+#include <stdio.h>
+#include <string.h>
+#include "base/paths.h"
+#include "base/runtime.h"
+#include "cli/args.h"
+#include "cli/cli_loss.h"
+#include "cli/cli_view.h"
+#include "cli/commands.h"
+#include "objective/ranking.h"
+
+int cmd_rank(int argc, char **argv) {
+    ws_status st;
+    ws_status_clear(&st);
+    const char *split_name = "test", *loss_name = "edges", *gt_path = NULL;
+    int size = 224, threads = 0;
+    ws_arg_list thick = {4, {0.005, 0.01, 0.02, 0.04}};
+    ws_loss_options lo;
+    ws_loss_options_default(&lo);
+    const ws_arg args[] = {
+        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [edges]"},
+        {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
+        {"--gt-curves", WS_ARG_STRING, &gt_path, 0, "ground-truth curves [SCENE/gt_curves.json]"},
+        {"--thickness", WS_ARG_DOUBLES, &thick, 16, "thicknesses, one column each [0.005 0.01 0.02 0.04]"},
+        {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
+        {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
+        {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = all cores [0]"},
+    };
+    ws_command_spec spec = {"rank SCENE [options]",
+                            "the losses of the ground truth and of worse sketches (empty, a dot, dots,\n"
+                            "half, shifted by 1% and 5%, plus 10 random strokes), one column per thickness",
+                            args, (int)(sizeof args / sizeof args[0]), 1, 1};
+    const char *pos[1];
+    int npos, help;
+    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
+    if (help) return 0;
+    int split = ws_split_index(split_name);
+    if (split < 0) ws_fail(&st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
+    for (int k = 0; k < thick.n && !st.code; k++)
+        if (!(thick.v[k] > 0)) ws_fail(&st, WS_EUSAGE, "--thickness: %g is not positive", thick.v[k]);
+    if (st.code || ws_cli_check_size(size, &st) || ws_cli_choose_loss(loss_name, 1.0, NULL, &lo, &st) ||
+        ws_runtime_init(threads, &st))
+        return ws_cli_fail(&st);
+    char gt_default[WS_PATH_MAX];
+    snprintf(gt_default, sizeof gt_default, "%s/gt_curves.json", pos[0]);
+    ws_scene scene = {0};
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = size;
+    ws_curves gt = {0};
+    ws_loss *loss = NULL;
+    double table[16][WS_RANK_COUNT];
+    int rc = ws_curves_load(gt_path ? gt_path : gt_default, &gt, &st);
+    if (!rc) rc = ws_scene_load(&scene, pos[0], &so, &st);
+    if (!rc) rc = ws_loss_create(&loss, &lo, &scene, &st);
+    for (int k = 0; k < thick.n && !rc; k++)
+        rc = ws_rank_losses(loss, &scene, split, &gt, thick.v[k], 0, table[k], &st);
+    if (!rc) {
+        printf("| %s loss, %s (%d views, %d px) |", loss_name, pos[0], scene.split[split].n, size);
+        for (int k = 0; k < thick.n; k++) printf(" %g |", thick.v[k]);
+        printf("\n| --- |");
+        for (int k = 0; k < thick.n; k++) printf(" ---: |");
+        printf("\n");
+        for (int r = 0; r < WS_RANK_COUNT; r++) {
+            printf("| %s |", ws_rank_names[r]);
+            for (int k = 0; k < thick.n; k++) {
+                int beaten = r > WS_RANK_TRUTH && table[k][r] <= table[k][WS_RANK_TRUTH];
+                printf(" %s%.4g%s |", beaten ? "**" : "", table[k][r], beaten ? "**" : "");
+            }
+            printf("\n");
+        }
+    }
+    ws_loss_free(loss);
+    ws_scene_free(&scene);
+    ws_curves_free(&gt);
+    return rc ? ws_cli_fail(&st) : 0;
+}
