@@ -15,7 +15,7 @@
 CC       ?= cc
 OPT      ?= -O2
 CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT) -g -Wall -Wextra \
-            -Wno-unused-parameter -fopenmp -Isrc -I. \
+            -Wno-unused-parameter -fopenmp -fPIC -Isrc -I. \
             $(shell pkg-config --cflags openblas libpng zlib libcjson)
 LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson) -lgif -lm -fopenmp
 
@@ -46,14 +46,14 @@ CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 HEADERS   := $(wildcard src/*.h src/*/*.h nn/*.h nn/*/*.h) tests/check.h tests/cli_run.h
 
-.PHONY: all test test-scenes check-layers clean bench demo fuzz fuzz-build
+.PHONY: all test test-scenes check-layers clean install uninstall bench demo fuzz fuzz-build
 all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example
 
 # nn/'s vector kernels (fastmath.h) fuse multiply-adds where the CPU has
 # them; plain x86-64 code has no FMA, so elsewhere this changes nothing.
 $(BUILD)/obj/nn/%.o: CFLAGS += -ffp-contract=fast
 
-$(BUILD)/obj/%.o: %.c $(HEADERS)
+$(BUILD)/obj/%.o: %.c $(HEADERS) Makefile
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) -c $< -o $@
 
@@ -70,6 +70,52 @@ $(BUILD)/embed_example: tools/embed_example.c $(BUILD)/libwiresketch.a $(HEADERS
 $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a $(HEADERS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS) -Itests $< $(BUILD)/libwiresketch.a -o $@ $(LDLIBS)
+
+# `make install PREFIX=/usr/local DESTDIR=` installs the program, the static
+# and the shared library (soname libwiresketch.so.SOVERSION), the headers
+# under include/wiresketch/ (their folders kept: #include "wiresketch.h"
+# with -I PREFIX/include/wiresketch), wiresketch.pc and the man page
+# (made from the program's --help by tools/make_man.sh); `make uninstall`
+# with the same PREFIX and DESTDIR removes them.
+VERSION   := 0.1.0
+SOVERSION := 0
+PREFIX    ?= /usr/local
+DESTDIR   ?=
+SHLIB     := libwiresketch.so.$(VERSION)
+INST_HEADERS := $(filter-out tests/%,$(HEADERS))
+ROOT      := $(DESTDIR)$(PREFIX)
+
+$(BUILD)/$(SHLIB): $(LIB_OBJ)
+	$(CC) -shared -Wl,-soname,libwiresketch.so.$(SOVERSION) $^ -o $@ $(LDLIBS)
+
+$(BUILD)/wiresketch.1: $(BUILD)/wiresketch tools/make_man.sh
+	bash tools/make_man.sh $(BUILD)/wiresketch $(VERSION) > $@.tmp && mv $@.tmp $@
+
+$(BUILD)/wiresketch.pc: Makefile
+	@mkdir -p $(dir $@)
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	    'Name: wiresketch' 'Description: 3D wireframe sketches of an object from multi-view photos' \
+	    'Version: $(VERSION)' 'Requires.private: openblas libpng zlib libcjson' \
+	    'Libs: -L$${libdir} -lwiresketch' 'Libs.private: -lgif -lm -fopenmp' \
+	    'Cflags: -I$${includedir}/wiresketch -D_POSIX_C_SOURCE=200809L' > $@
+
+install: all $(BUILD)/$(SHLIB) $(BUILD)/wiresketch.1 $(BUILD)/wiresketch.pc
+	install -d $(ROOT)/bin $(ROOT)/lib/pkgconfig $(ROOT)/include/wiresketch $(ROOT)/share/man/man1
+	install -m 755 $(BUILD)/wiresketch $(ROOT)/bin/wiresketch
+	install -m 644 $(BUILD)/libwiresketch.a $(ROOT)/lib/libwiresketch.a
+	install -m 755 $(BUILD)/$(SHLIB) $(ROOT)/lib/$(SHLIB)
+	ln -sf $(SHLIB) $(ROOT)/lib/libwiresketch.so.$(SOVERSION)
+	ln -sf libwiresketch.so.$(SOVERSION) $(ROOT)/lib/libwiresketch.so
+	for h in $(INST_HEADERS); do \
+	    install -D -m 644 $$h $(ROOT)/include/wiresketch/$${h#src/} || exit 1; done
+	sed 's|^prefix=.*|prefix=$(PREFIX)|' $(BUILD)/wiresketch.pc > $(ROOT)/lib/pkgconfig/wiresketch.pc
+	install -m 644 $(BUILD)/wiresketch.1 $(ROOT)/share/man/man1/wiresketch.1
+
+uninstall:
+	rm -f $(ROOT)/bin/wiresketch $(ROOT)/lib/libwiresketch.a $(ROOT)/lib/$(SHLIB) \
+	    $(ROOT)/lib/libwiresketch.so.$(SOVERSION) $(ROOT)/lib/libwiresketch.so \
+	    $(ROOT)/lib/pkgconfig/wiresketch.pc $(ROOT)/share/man/man1/wiresketch.1
+	rm -rf $(ROOT)/include/wiresketch
 
 test: check-layers all $(TEST_BIN)
 	@BUILD=$(BUILD) bash tests/run.sh $(TEST_BIN)

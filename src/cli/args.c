@@ -122,7 +122,7 @@ void ws_args_usage(const ws_command_spec *spec) {
                                                         : " X";
         char head[64];
         snprintf(head, sizeof head, "%s%s", a->name, value);
-        printf("  %-26s %s\n", head, a->help);
+        printf("  %-26s  %s\n", head, a->help); /* two spaces at least: tools/make_man.sh splits there */
     }
 }
 
