@@ -2,7 +2,8 @@
  *
  * run_cmd(out, size, fmt, ...) runs a shell command line (stdout and stderr
  * together), stores what it printed (up to size - 1 bytes) in `out` and
- * returns its exit code, -1 when it could not run or did not exit. */
+ * returns its exit code, -1 when it could not run or did not exit.
+ * read_text(path, buf, size) reads a file's text for a test to search. */
 #ifndef WS_CLI_RUN_H
 #define WS_CLI_RUN_H
 #include <stdarg.h>
@@ -29,6 +30,15 @@ static int run_cmd(char *out, size_t size, const char *fmt, ...) {
     }
     int status = pclose(p);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* The first size - 1 bytes of a file as a string ("" when unreadable). */
+static inline const char *read_text(const char *path, char *buf, size_t size) {
+    FILE *f = fopen(path, "rb");
+    size_t n = f ? fread(buf, 1, size - 1, f) : 0;
+    if (f) fclose(f);
+    buf[n] = '\0';
+    return buf;
 }
 
 #endif

@@ -19,11 +19,7 @@ static char out[1 << 16];
 
 static int file_has(const char *path, const char *text) {
     static char buf[1 << 20];
-    FILE *f = fopen(path, "rb");
-    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
-    if (f) fclose(f);
-    buf[n] = '\0';
-    return strstr(buf, text) != NULL;
+    return strstr(read_text(path, buf, sizeof buf), text) != NULL;
 }
 
 /* Every command of `wiresketch --help` and every option of its own --help

@@ -11,6 +11,7 @@ const ws_command ws_commands[] = {
     {"bench", cmd_bench, "benchmarks: speed against the hardware's floor (tables)"},
     {"check", cmd_check, "check that every view's photo agrees with its camera (silhouettes)"},
     {"rank", cmd_rank, "losses of the ground truth and of worse sketches (a markdown table)"},
+    {"sweep", cmd_sweep, "one fit per value of the varied options, then a contact sheet and a page"},
     {"scene", cmd_scene, "write a synthetic test scene (NeRF layout) with its ground-truth curves"},
 };
 const int ws_ncommands = sizeof ws_commands / sizeof ws_commands[0];

@@ -1,0 +1,383 @@
+/* cmd_sweep.c: `wiresketch sweep SCENE --out DIR --vary NAME=V1,V2,...
+ * [--vary ...] [fit options]`: one fit per combination of the varied
+ * values, then a contact sheet and a page that show every run's test
+ * renders side by side with the photos, with its metrics and time.
+ *
+ * Each run is a child `wiresketch fit SCENE --out DIR/RUN [fit options]
+ * --NAME VALUE ...` (the varied values come last, so they win over the
+ * same option among the fit options), RUN naming its values
+ * ("n_curves=10,thickness=0.03"). Resumable: a run that finished has
+ * DIR/RUN/sweep.done and is skipped; one with a checkpoint and no
+ * sweep.done continues with `fit --resume`. An interrupt (Ctrl-C) reaches
+ * the running fit, which checkpoints; the sweep then stops, and the same
+ * command continues it. */
+#include <cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <spawn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "base/outfile.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "io/image.h"
+#include "nn/base/bytes.h"
+
+extern char **environ;
+
+#define MAX_VARY 8
+#define MAX_VALUES 32
+#define MAX_RUNS 1024
+#define GAP 4 /* pixels of white between the contact sheet's cells */
+
+typedef struct {
+    char name[64];
+    int n;
+    char value[MAX_VALUES][64];
+} vary_axis;
+
+typedef struct {
+    const char *scene, *out;
+    int nvary;
+    vary_axis vary[MAX_VARY];
+    int nfit;
+    char **fit_args; /* passed through to every fit */
+    int views, cell; /* contact sheet: test views shown, pixels per cell */
+} sweep_plan;
+
+static volatile sig_atomic_t sweep_stop;
+static void on_signal(int sig) {
+    (void)sig;
+    sweep_stop = 1;
+}
+
+static int usage_help(void) {
+    printf("usage: wiresketch sweep SCENE --out DIR --vary NAME=V1,V2,... [--vary ...] [fit options]\n"
+           "One fit per combination of the varied values (each in DIR/NAME=V,...; resumable),\n"
+           "then DIR/contact_sheet.png and DIR/index.html: every run's test renders side by\n"
+           "side with the photos, with its metrics and time.\n\n"
+           "options:\n"
+           "  --out DIR                   output directory (required)\n"
+           "  --vary NAME=V1,V2,...       a fit option and its values; repeat for a grid\n"
+           "  --sheet-views N             test views shown per run [6]\n"
+           "  --sheet-cell N              pixels per image in the contact sheet [128]\n"
+           "  (any other option)          passed to every fit (see wiresketch fit --help)\n");
+    return 0;
+}
+
+static int parse_vary(const char *text, vary_axis *a, ws_status *st) {
+    const char *eq = strchr(text, '=');
+    size_t len = eq ? (size_t)(eq - text) : 0;
+    if (!eq || len == 0 || len >= sizeof a->name || !eq[1])
+        return ws_fail(st, WS_EUSAGE, "--vary: '%s' is not NAME=V1,V2,...", text);
+    memcpy(a->name, text, len);
+    a->name[len] = '\0';
+    for (const char *c = a->name; *c; c++)
+        if (!(*c == '_' || *c == '-' || (*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9')))
+            return ws_fail(st, WS_EUSAGE, "--vary: '%s' is not an option name", a->name);
+    a->n = 0;
+    for (const char *v = eq + 1; *v;) {
+        size_t n = strcspn(v, ",");
+        if (n == 0 || n >= sizeof a->value[0] || a->n == MAX_VALUES)
+            return ws_fail(st, WS_EUSAGE, "--vary %s: an empty, too long or %dth value", a->name,
+                           MAX_VALUES + 1);
+        for (size_t k = 0; k < n; k++)
+            if (v[k] == '/' || (unsigned char)v[k] < 0x20)
+                return ws_fail(st, WS_EUSAGE, "--vary %s: value '%.*s' cannot name a folder", a->name,
+                               (int)n, v);
+        memcpy(a->value[a->n], v, n);
+        a->value[a->n++][n] = '\0';
+        v += n + (v[n] == ',');
+    }
+    return WS_OK;
+}
+
+static int parse_plan(int argc, char **argv, sweep_plan *p, int *help, ws_status *st) {
+    memset(p, 0, sizeof *p);
+    p->views = 6;
+    p->cell = 128;
+    *help = 0;
+    p->fit_args = ws_calloc((size_t)argc + 1, sizeof *p->fit_args, "arguments", st);
+    if (!p->fit_args) return st->code;
+    for (int i = 0; i < argc; i++) {
+        const char *a = argv[i];
+        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            *help = 1;
+            return WS_OK;
+        }
+        int is_int = !strcmp(a, "--sheet-views") || !strcmp(a, "--sheet_views") ||
+                     !strcmp(a, "--sheet-cell") || !strcmp(a, "--sheet_cell");
+        if ((!strcmp(a, "--out") || !strcmp(a, "--vary") || is_int) && !next)
+            return ws_fail(st, WS_EUSAGE, "%s: needs a value", a);
+        if (!strcmp(a, "--out")) {
+            p->out = argv[++i];
+        } else if (!strcmp(a, "--vary")) {
+            if (p->nvary == MAX_VARY) return ws_fail(st, WS_EUSAGE, "--vary: at most %d", MAX_VARY);
+            if (parse_vary(argv[++i], &p->vary[p->nvary++], st)) return st->code;
+        } else if (is_int) {
+            char *end;
+            long v = strtol(argv[++i], &end, 10);
+            int *dest = strstr(a, "views") ? &p->views : &p->cell;
+            if (*end || v < 1 || v > 1024)
+                return ws_fail(st, WS_EUSAGE, "%s: '%s' is not in [1, 1024]", a, argv[i]);
+            *dest = (int)v;
+        } else if (!p->scene && strncmp(a, "--", 2)) {
+            p->scene = a;
+        } else {
+            p->fit_args[p->nfit++] = argv[i];
+        }
+    }
+    if (!p->scene) return ws_fail(st, WS_EUSAGE, "sweep: missing SCENE (see --help)");
+    if (!p->out) return ws_fail(st, WS_EUSAGE, "--out: required (see --help)");
+    if (!p->nvary) return ws_fail(st, WS_EUSAGE, "--vary: required (see --help)");
+    return WS_OK;
+}
+
+/* Run k of the grid (the last axis varies fastest): its folder name and
+ * each axis' value index. */
+static void run_of(const sweep_plan *p, int k, int *index, char *name, size_t size) {
+    for (int a = p->nvary - 1; a >= 0; a--) {
+        index[a] = k % p->vary[a].n;
+        k /= p->vary[a].n;
+    }
+    size_t n = 0;
+    name[0] = '\0';
+    for (int a = 0; a < p->nvary && n < size; a++)
+        n += (size_t)snprintf(name + n, size - n, "%s%s=%s", a ? "," : "", p->vary[a].name,
+                              p->vary[a].value[index[a]]);
+}
+
+static int exists(const char *path) { return access(path, F_OK) == 0; }
+
+/* Runs `wiresketch fit ARGS` (this very program) and waits for it. */
+static int spawn_fit(char **args, const char *run, ws_status *st) {
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0) return ws_fail(st, WS_EIO, "sweep: cannot find the program itself: %s", strerror(errno));
+    self[n] = '\0';
+    args[0] = self;
+    pid_t pid;
+    int rc = posix_spawn(&pid, self, NULL, NULL, args, environ);
+    if (rc) return ws_fail(st, WS_EIO, "%s: cannot start fit: %s", run, strerror(rc));
+    int status;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR) return ws_fail(st, WS_EIO, "%s: lost the fit: %s", run, strerror(errno));
+    if (!WIFEXITED(status) || WEXITSTATUS(status))
+        return ws_fail(st, WIFEXITED(status) && WEXITSTATUS(status) == 2 ? WS_EUSAGE : WS_EINPUT,
+                       "%s: the fit failed (exit %d; its message is above)", run,
+                       WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    return WS_OK;
+}
+
+/* One run: skipped when done, resumed from its checkpoint, or started. */
+static int do_run(const sweep_plan *p, int k, int nruns, ws_status *st) {
+    int index[MAX_VARY];
+    char name[1024], dir[4200], path[4400], values[MAX_VARY][80];
+    run_of(p, k, index, name, sizeof name);
+    snprintf(dir, sizeof dir, "%s/%s", p->out, name);
+    snprintf(path, sizeof path, "%s/sweep.done", dir);
+    if (exists(path)) {
+        fprintf(stderr, "sweep: run %d of %d (%s): done before, skipped\n", k + 1, nruns, name);
+        return WS_OK;
+    }
+    char *args[2 * MAX_VARY + MAX_RUNS + 8];
+    int n = 1;
+    args[n++] = "fit";
+    snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
+    int resume = exists(path);
+    if (resume) {
+        args[n++] = "--resume";
+        args[n++] = dir;
+    } else {
+        args[n++] = (char *)p->scene;
+        args[n++] = "--out";
+        args[n++] = dir;
+        for (int i = 0; i < p->nfit && n < MAX_RUNS; i++) args[n++] = p->fit_args[i];
+        for (int a = 0; a < p->nvary; a++) {
+            snprintf(values[a], sizeof values[a], "--%s", p->vary[a].name);
+            args[n++] = values[a];
+            args[n++] = (char *)p->vary[a].value[index[a]];
+        }
+    }
+    args[n] = NULL;
+    fprintf(stderr, "sweep: run %d of %d (%s)%s\n", k + 1, nruns, name, resume ? ": resumed" : "");
+    if (spawn_fit(args, dir, st)) return st->code;
+    if (sweep_stop) return WS_OK;
+    snprintf(path, sizeof path, "%s/sweep.done", dir);
+    ws_outfile f;
+    if (ws_outfile_open(&f, path, st)) return st->code;
+    fprintf(f.fp, "%s\n", name);
+    return ws_outfile_commit(&f, st);
+}
+
+/* The test views' names of a finished run (from its metrics-free test/
+ * folder: r_K.png beside r_K_photo.png), in order K = 0, 1, ... */
+static int test_view_name(const char *dir, int k, char *name, size_t size) {
+    snprintf(name, size, "r_%d", k);
+    char path[4400];
+    snprintf(path, sizeof path, "%s/test/%s.png", dir, name);
+    return exists(path);
+}
+
+static double metric(const cJSON *m, const char *key) {
+    const cJSON *x = cJSON_GetObjectItemCaseSensitive(m, key);
+    return cJSON_IsNumber(x) ? x->valuedouble : NAN;
+}
+
+static void put_html(FILE *f, const char *s) {
+    for (; *s; s++) {
+        if (*s == '<') fputs("&lt;", f);
+        else if (*s == '>') fputs("&gt;", f);
+        else if (*s == '&') fputs("&amp;", f);
+        else if (*s == '"') fputs("&quot;", f);
+        else fputc(*s, f);
+    }
+}
+
+static void put_number(FILE *f, double v, const char *fmt) {
+    if (isfinite(v))
+        fprintf(f, fmt, v);
+    else
+        fputs("&ndash;", f);
+}
+
+/* Pastes the PNG at path (resampled to cell x cell) into the sheet at cell
+ * (row, col); a missing image leaves the cell grey. */
+static void paste(ws_image *sheet, const char *path, int row, int col, int cell) {
+    static const float white[3] = {1, 1, 1};
+    ws_image img;
+    ws_status st;
+    int ok = exists(path) && ws_png_read(path, cell, cell, white, &img, &st) == WS_OK;
+    const size_t plane = (size_t)sheet->width * sheet->height;
+    for (int i = 0; i < cell; i++)
+        for (int j = 0; j < cell; j++)
+            for (int c = 0; c < 3; c++) {
+                size_t at = (size_t)(GAP + row * (cell + GAP) + i) * sheet->width + GAP + col * (cell + GAP) + j;
+                sheet->data[c * plane + at] = ok ? img.data[((size_t)c * cell + i) * cell + j] : 0.5f;
+            }
+    if (ok) ws_image_free(&img);
+}
+
+/* DIR/contact_sheet.png (row 0: the photos; then one row per run, in grid
+ * order) and DIR/index.html (the same with names, metrics and times). */
+static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
+    char first[4200], name[1024], view[64], path[4400];
+    int index[MAX_VARY], nviews = 0;
+    run_of(p, 0, index, name, sizeof name);
+    snprintf(first, sizeof first, "%s/%s", p->out, name);
+    while (nviews < p->views && test_view_name(first, nviews, view, sizeof view)) nviews++;
+    if (nviews == 0) return ws_fail(st, WS_EINPUT, "%s/test: no test renders to show (a scene without a test split?)", first);
+    ws_image sheet;
+    const int cell = p->cell;
+    if (ws_image_alloc(&sheet, GAP + nviews * (cell + GAP), GAP + (nruns + 1) * (cell + GAP), 3, st))
+        return st->code;
+    for (size_t k = 0; k < (size_t)sheet.width * sheet.height * 3; k++) sheet.data[k] = 1;
+    snprintf(path, sizeof path, "%s/index.html", p->out);
+    ws_outfile f;
+    if (ws_outfile_open(&f, path, st)) {
+        ws_image_free(&sheet);
+        return st->code;
+    }
+    FILE *h = f.fp;
+    fputs("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>wiresketch sweep</title>\n"
+          "<style>body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}"
+          "td,th{border:1px solid #ccc;padding:4px;vertical-align:top;font-size:13px}"
+          "img{display:block}</style></head><body>\n<h1>wiresketch sweep</h1>\n<p>scene ", h);
+    put_html(h, p->scene);
+    fprintf(h, "; contact sheet: <a href=\"contact_sheet.png\">contact_sheet.png</a> (row 1: the photos, "
+               "then one row per run in this order)</p>\n<table>\n<tr><th>run</th><th>test loss</th>"
+               "<th>Chamfer / diag.</th><th>F-score</th><th>surface mean / diag.</th><th>steps</th>"
+               "<th>time (s)</th>");
+    for (int v = 0; v < nviews; v++) {
+        test_view_name(first, v, view, sizeof view);
+        snprintf(path, sizeof path, "%s/test/%s_photo.png", first, view);
+        paste(&sheet, path, 0, v, cell);
+        fprintf(h, "<th>%s<br><img src=\"", view);
+        put_html(h, name);
+        fprintf(h, "/test/%s_photo.png\" width=\"%d\"></th>", view, cell);
+    }
+    fputs("</tr>\n", h);
+    for (int k = 0; k < nruns; k++) {
+        char dir[4200];
+        run_of(p, k, index, name, sizeof name);
+        snprintf(dir, sizeof dir, "%s/%s", p->out, name);
+        snprintf(path, sizeof path, "%s/metrics.json", dir);
+        unsigned char *bytes = NULL;
+        size_t len = 0;
+        ws_status ignored;
+        cJSON *m = ws_read_file(path, (size_t)1 << 20, &bytes, &len, &ignored) == WS_OK
+                       ? cJSON_ParseWithLength((const char *)bytes, len)
+                       : NULL;
+        free(bytes);
+        fputs("<tr><td><a href=\"", h);
+        put_html(h, name);
+        fputs("/report.html\">", h);
+        put_html(h, name);
+        fputs("</a></td>", h);
+        /* the columns of the header, from the run's metrics.json */
+        static const char *const columns[][2] = {{"test_loss", "%.5g"}, {"chamfer", "%.4f"},
+                                                 {"fscore", "%.3f"},    {"surface_mean", "%.4f"},
+                                                 {"steps", "%.0f"},     {"seconds", "%.1f"}};
+        for (size_t c = 0; c < sizeof columns / sizeof columns[0]; c++) {
+            fputs("<td>", h);
+            put_number(h, metric(m, columns[c][0]), columns[c][1]);
+            fputs("</td>", h);
+        }
+        cJSON_Delete(m);
+        for (int v = 0; v < nviews; v++) {
+            test_view_name(first, v, view, sizeof view);
+            snprintf(path, sizeof path, "%s/test/%s.png", dir, view);
+            paste(&sheet, path, k + 1, v, cell);
+            fputs("<td><img src=\"", h);
+            put_html(h, name);
+            fprintf(h, "/test/%s.png\" width=\"%d\"></td>", view, cell);
+        }
+        fputs("</tr>\n", h);
+    }
+    fputs("</table>\n</body></html>\n", h);
+    int rc = ws_outfile_commit(&f, st);
+    snprintf(path, sizeof path, "%s/contact_sheet.png", p->out);
+    if (!rc) rc = ws_png_write(path, &sheet, st);
+    ws_image_free(&sheet);
+    return rc;
+}
+
+int cmd_sweep(int argc, char **argv) {
+    ws_status st;
+    ws_status_clear(&st);
+    sweep_plan p;
+    int help;
+    if (parse_plan(argc, argv, &p, &help, &st)) {
+        free(p.fit_args);
+        return ws_cli_fail(&st);
+    }
+    if (help) {
+        free(p.fit_args);
+        return usage_help();
+    }
+    long nruns = 1;
+    for (int a = 0; a < p.nvary; a++) nruns *= p.vary[a].n;
+    int rc = nruns > MAX_RUNS ? ws_fail(&st, WS_EUSAGE, "--vary: %ld runs; at most %d", nruns, MAX_RUNS)
+                              : ws_mkdir(p.out, &st);
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    for (int k = 0; k < nruns && !rc && !sweep_stop; k++) rc = do_run(&p, k, (int)nruns, &st);
+    if (!rc && !sweep_stop) rc = write_summary(&p, (int)nruns, &st);
+    free(p.fit_args);
+    if (rc) return ws_cli_fail(&st);
+    if (sweep_stop) {
+        fprintf(stderr, "wiresketch: sweep interrupted; run the same command again to continue\n");
+        return 1;
+    }
+    fprintf(stderr, "wiresketch: sweep done; see %s/index.html and %s/contact_sheet.png\n", p.out, p.out);
+    return 0;
+}

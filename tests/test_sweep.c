@@ -1,0 +1,117 @@
+/* test_sweep.c: `wiresketch sweep` on the committed fixture scene: one fit
+ * per combination (a 2 x 2 grid), each with its values (the curve count
+ * reaches curves.json), the contact sheet's size and cells (photo row,
+ * then each run's renders, pixel for pixel), the page's rows, resuming
+ * (finished runs skipped; a run without sweep.done continues from its
+ * checkpoint and ends the same), and the usage errors. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "check.h"
+#include "cli_run.h"
+#include "io/image.h"
+#include "render/curves.h"
+
+static char bin[512], tmp[256];
+static char out[1 << 16];
+
+#define SWEEP "%s sweep tests/fixtures/scene_small --out %s/sw --vary n_curves=3,5 --vary thickness=0.02,0.03 " \
+              "--loss edges --size 48 --max-steps 2 --quiet --threads 1 --sheet-cell 32"
+
+static int count_in(const char *path, const char *text) {
+    static char buf[1 << 20];
+    int k = 0;
+    for (const char *p = read_text(path, buf, sizeof buf); (p = strstr(p, text)); p++) k++;
+    return k;
+}
+
+/* The contact sheet's cell (row, col) is the image at path, resampled. */
+static int cell_is(const ws_image *sheet, int row, int col, const char *path) {
+    const float white[3] = {1, 1, 1};
+    ws_image img;
+    ws_status st;
+    if (ws_png_read(path, 32, 32, white, &img, &st)) return 0;
+    int same = 1;
+    size_t plane = (size_t)sheet->width * sheet->height;
+    for (int c = 0; c < 3; c++)
+        for (int i = 0; i < 32; i++)
+            for (int j = 0; j < 32; j++) {
+                size_t at = (size_t)(4 + row * 36 + i) * sheet->width + 4 + col * 36 + j;
+                float want = img.data[((size_t)c * 32 + i) * 32 + j];
+                same &= (int)(sheet->data[c * plane + at] * 255 + 0.5f) == (int)(want * 255 + 0.5f);
+            }
+    ws_image_free(&img);
+    return same;
+}
+
+static int same_file(const char *a, const char *b) {
+    char cmd[1400], o[64];
+    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
+    return run_cmd(o, sizeof o, "%s", cmd) == 0;
+}
+
+int main(void) {
+    const char *build = getenv("BUILD");
+    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_sweep.%ld", (long)getpid());
+    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    int rc = run_cmd(out, sizeof out, SWEEP, bin, tmp);
+    CHECK(rc == 0 && strstr(out, "sweep: run 4 of 4 (n_curves=5,thickness=0.03)"), "sweep: %s", out);
+    const char *runs[4] = {"n_curves=3,thickness=0.02", "n_curves=3,thickness=0.03", "n_curves=5,thickness=0.02",
+                           "n_curves=5,thickness=0.03"};
+    char path[600], other[600];
+    for (int k = 0; k < 4; k++) {
+        snprintf(path, sizeof path, "%s/sw/%s/curves.json", tmp, runs[k]);
+        ws_curves c;
+        ws_status st;
+        int ok = ws_curves_load(path, &c, &st) == WS_OK;
+        CHECK(ok && c.n == (k < 2 ? 3 : 5) && c.thickness == (k % 2 ? 0.03 : 0.02), "%s: %d curves, thickness %g",
+              runs[k], ok ? c.n : -1, ok ? c.thickness : -1);
+        if (ok) ws_curves_free(&c);
+        snprintf(path, sizeof path, "%s/sw/%s/sweep.done", tmp, runs[k]);
+        CHECK(access(path, F_OK) == 0, "%s finished", runs[k]);
+    }
+    /* the contact sheet: 4 test views (the fixture's) x (photos + 4 runs) */
+    ws_image sheet;
+    ws_status st;
+    const float black[3] = {0, 0, 0};
+    snprintf(path, sizeof path, "%s/sw/contact_sheet.png", tmp);
+    if (ws_png_read(path, 0, 0, black, &sheet, &st) == WS_OK) {
+        CHECK(sheet.width == 4 + 4 * 36 && sheet.height == 4 + 5 * 36, "sheet %d x %d", sheet.width, sheet.height);
+        snprintf(other, sizeof other, "%s/sw/%s/test/r_2_photo.png", tmp, runs[0]);
+        CHECK(cell_is(&sheet, 0, 2, other), "row 0 shows the photos");
+        snprintf(other, sizeof other, "%s/sw/%s/test/r_3.png", tmp, runs[2]);
+        CHECK(cell_is(&sheet, 3, 3, other), "row 3 shows run 3's renders");
+        ws_image_free(&sheet);
+    } else {
+        CHECK(0, "contact sheet: %s", st.msg);
+    }
+    snprintf(path, sizeof path, "%s/sw/index.html", tmp);
+    CHECK(count_in(path, "/report.html\">n_curves=") == 4 && count_in(path, "<tr>") == 5 &&
+              count_in(path, "/test/r_0.png\"") == 4,
+          "index.html: one row per run with its renders");
+    /* again: everything skipped, the same curves */
+    snprintf(other, sizeof other, "%s/before.json", tmp);
+    snprintf(path, sizeof path, "%s/sw/%s/curves.json", tmp, runs[1]);
+    run_cmd(out, sizeof out, "cp '%s' '%s'", path, other);
+    rc = run_cmd(out, sizeof out, SWEEP, bin, tmp);
+    CHECK(rc == 0 && strstr(out, "run 4 of 4 (n_curves=5,thickness=0.03): done before, skipped"), "rerun: %s", out);
+    /* a run without sweep.done continues from its checkpoint */
+    run_cmd(out, sizeof out, "rm %s/sw/%s/sweep.done", tmp, runs[1]);
+    rc = run_cmd(out, sizeof out, SWEEP, bin, tmp);
+    CHECK(rc == 0 && strstr(out, "run 2 of 4 (n_curves=3,thickness=0.03): resumed"), "resume: %s", out);
+    CHECK(same_file(path, other), "the resumed run ends with the same curves");
+    /* usage errors */
+    rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/e --vary n_curves", bin, tmp);
+    CHECK(rc == 2 && strstr(out, "wiresketch: --vary: 'n_curves' is not NAME=V1,V2,...\n"), "bad --vary: %s", out);
+    rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --vary n_curves=2", bin);
+    CHECK(rc == 2 && strstr(out, "wiresketch: --out: required (see --help)\n"), "no --out: %s", out);
+    rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/e --vary bogus=1 --loss edges", bin, tmp);
+    CHECK(rc == 2 && strstr(out, "wiresketch: --bogus: unknown option") && strstr(out, "the fit failed (exit 2"),
+          "unknown option: %s", out);
+    rc = run_cmd(out, sizeof out, "%s sweep --help", bin);
+    CHECK(rc == 0 && !strncmp(out, "usage: wiresketch sweep SCENE --out DIR --vary", 46), "--help: %s", out);
+    run_cmd(out, sizeof out, "rm -rf %s", tmp);
+    return check_summary();
+}
