@@ -7,6 +7,7 @@
  * tight kernel, combine(), on copies of q, k, v padded to whole vector
  * blocks (and transposed where the sum runs over D). */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 #include "attention.h"
 #include "fastmath.h"
@@ -99,11 +100,50 @@ NN_INLINE void gather_rows(float *dst, const float *src, size_t row, int T, int 
     }
 }
 
-/* dst [D][Tp] = the same rows transposed, zero padded. */
+/* A 16 x 16 transpose in four steps h = 8, 4, 2, 1: rows i and i + h
+ * exchange their off-diagonal h x h blocks. Lane l of step h's masks
+ * picks from the pair (a, b) = (row i, row i + h), b's lanes numbered
+ * from 16; each shuffle is one vpermt2ps under AVX-512. */
+typedef int32_t ivec16 __attribute__((vector_size(VEC * sizeof(int32_t))));
+static const ivec16 swap_lo[4] = {
+    {0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23},
+    {0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27},
+    {0, 1, 16, 17, 4, 5, 20, 21, 8, 9, 24, 25, 12, 13, 28, 29},
+    {0, 16, 2, 18, 4, 20, 6, 22, 8, 24, 10, 26, 12, 28, 14, 30}};
+static const ivec16 swap_hi[4] = {
+    {8, 9, 10, 11, 12, 13, 14, 15, 24, 25, 26, 27, 28, 29, 30, 31},
+    {4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31},
+    {2, 3, 18, 19, 6, 7, 22, 23, 10, 11, 26, 27, 14, 15, 30, 31},
+    {1, 17, 3, 19, 5, 21, 7, 23, 9, 25, 11, 27, 13, 29, 15, 31}};
+
+/* dst (rows ds apart) = the 16 x 16 tile at src (rows ss apart) transposed. */
+NN_INLINE void transpose_tile(float *dst, size_t ds, const float *src, size_t ss) {
+    vec16 r[VEC];
+    for (int i = 0; i < VEC; i++) memcpy(&r[i], src + i * ss, sizeof r[i]);
+#pragma GCC unroll 4
+    for (int step = 0; step < 4; step++) {
+        int h = 8 >> step;
+#pragma GCC unroll 16
+        for (int i = 0; i < VEC; i++)
+            if (!(i & h)) {
+                vec16 a = r[i], b = r[i + h];
+                r[i] = __builtin_shuffle(a, b, swap_lo[step]);
+                r[i + h] = __builtin_shuffle(a, b, swap_hi[step]);
+            }
+    }
+    for (int i = 0; i < VEC; i++) memcpy(dst + i * ds, &r[i], sizeof r[i]);
+}
+
+/* dst [D][Tp] = the same rows transposed, zero padded: whole 16 x 16
+ * tiles by shuffles, the rest element by element. */
 NN_INLINE void gather_transposed(float *dst, const float *src, size_t row, int T, int D, int Tp) {
     for (int d = 0; d < D; d++) memset(dst + (size_t)d * Tp + T, 0, (size_t)(Tp - T) * sizeof *dst);
+    int Tt = T / VEC * VEC, Dt = D / VEC * VEC;
+    for (int j = 0; j < Tt; j += VEC)
+        for (int d = 0; d < Dt; d += VEC)
+            transpose_tile(dst + (size_t)d * Tp + j, (size_t)Tp, src + j * row + d, row);
     for (int j = 0; j < T; j++)
-        for (int d = 0; d < D; d++) dst[(size_t)d * Tp + j] = src[j * row + d];
+        for (int d = j < Tt ? Dt : 0; d < D; d++) dst[(size_t)d * Tp + j] = src[j * row + d];
 }
 
 /* Logits (unscaled) -> probabilities of scale * logits, in place. */
