@@ -160,6 +160,21 @@ static void test_thin_edges(void) {
             stray += e[i * W + j] == 1 && !near_edge;
         }
     CHECK(crease == 16 && stray == 0, "crease beside a silhouette: %d of 16 crease rows, %d stray pixels", crease, stray);
+    /* a mask's outline: the object pixels beside background ones */
+    float *mask = malloc(W * H * sizeof *mask);
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) mask[i * W + j] = i >= 10 && i < 30 && j >= 12 && j < 36;
+    memset(e, 0, W * H * sizeof *e);
+    ws_thin_edges_add_outline(mask, W, H, e);
+    int ring = 0, wrong = 0;
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            int on = mask[i * W + j] && (i == 10 || i == 29 || j == 12 || j == 35);
+            ring += on && e[i * W + j] == 1;
+            wrong += !on && e[i * W + j] != 0;
+        }
+    CHECK(ring == 2 * 20 + 2 * 24 - 4 && wrong == 0, "mask outline: %d of 84 ring pixels, %d others", ring, wrong);
+    free(mask);
     /* no gradient, no edges */
     step_photo(photo, W, H, 0.3f, 0.3f);
     ws_thin_edges(photo, W, H, e, &st);

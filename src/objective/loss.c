@@ -479,7 +479,10 @@ static int fill_edge_map(void *ctx, int split, int view, float *slot, ws_status 
 /* Fills a slot of the line cache: the thin edges of the view's photo. */
 static int fill_line_target(void *ctx, int split, int view, float *slot, ws_status *st) {
     ws_loss *L = ctx;
-    return ws_thin_edges(L->scene->split[split].views[view].photo.data, L->W, L->H, slot, st);
+    const ws_view *v = &L->scene->split[split].views[view];
+    if (ws_thin_edges(v->photo.data, L->W, L->H, slot, st)) return st->code;
+    if (v->mask.data) ws_thin_edges_add_outline(v->mask.data, L->W, L->H, slot);
+    return WS_OK;
 }
 
 void ws_loss_set_progress(ws_loss *L, double progress) { L->progress = progress; }

@@ -113,3 +113,14 @@ int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st) 
     free(stack);
     return WS_OK;
 }
+
+void ws_thin_edges_add_outline(const float *mask, int W, int H, float *edge) {
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            size_t at = (size_t)i * W + j;
+            if (!(mask[at] >= 0.5f)) continue;
+            int outline = (i > 0 && mask[at - W] < 0.5f) || (i + 1 < H && mask[at + W] < 0.5f) ||
+                          (j > 0 && mask[at - 1] < 0.5f) || (j + 1 < W && mask[at + 1] < 0.5f);
+            if (outline) edge[at] = 1;
+        }
+}

@@ -34,4 +34,11 @@
 /* edge: H x W, overwritten with E. Fails only when out of memory. */
 int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st);
 
+/* The silhouette's outline where the view has a mask (an alpha channel or a
+ * mask_path image; scene.h): edge = 1 also on every object pixel (mask >=
+ * 1/2) with a 4-neighbour inside the image that is background. Photos
+ * composited onto a background of the object's own brightness lose their
+ * outline; the mask keeps it. */
+void ws_thin_edges_add_outline(const float *mask, int W, int H, float *edge);
+
 #endif
