@@ -80,6 +80,7 @@ int cmd_eval(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
     const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
+    const char *edge_maps = NULL;
     const char *gt_points = NULL, *gt_curves = NULL;
     double edges_weight = 1.0;
     int size = 224, threads = 0;
@@ -94,6 +95,8 @@ int cmd_eval(int argc, char **argv) {
         {"--gt-curves", WS_ARG_STRING, &gt_curves, 0, "ground-truth curves [SCENE/gt_curves.json if present]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
         {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
+        {"--edge-maps", WS_ARG_STRING, &edge_maps, 0,
+         "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
         {"--loss", WS_ARG_STRING, &loss_name, 0,
          "auto, none, clip, edges, clip+edges or l2 [auto: clip when the CLIP weight file exists, else none]"},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
@@ -120,6 +123,7 @@ int cmd_eval(int argc, char **argv) {
     ws_scene_options sopt;
     ws_scene_options_default(&sopt);
     sopt.width = sopt.height = size;
+    sopt.edge_maps_dir = edge_maps;
     if (ws_cli_background(background, sopt.background, &sopt.background_auto, &st) ||
         ws_cli_check_size(size, &st) ||
         (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st)))

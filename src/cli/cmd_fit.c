@@ -86,7 +86,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &opt->out_dir, 0, "output directory [out]"},
         {"--resume", WS_ARG_STRING, resume_dir, 0, "continue the fit whose output directory is DIR"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges or l2 [clip]"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [clip]"},
         {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
@@ -110,6 +110,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
          "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
         {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
         {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
+        {"--edge-maps", WS_ARG_STRING, &opt->edge_maps, 0,
+         "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
         {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
         {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
         {"--threads", WS_ARG_INT, &opt->threads, 0, "threads, 0 = all cores [0]"},

@@ -14,7 +14,7 @@
 int cmd_rank(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
-    const char *split_name = "test", *loss_name = "edges", *gt_path = NULL;
+    const char *split_name = "test", *loss_name = "edges", *gt_path = NULL, *edge_maps = NULL;
     int size = 224, threads = 0;
     ws_arg_list thick = {4, {0.005, 0.01, 0.02, 0.04}};
     ws_loss_options lo;
@@ -25,6 +25,7 @@ int cmd_rank(int argc, char **argv) {
         {"--gt-curves", WS_ARG_STRING, &gt_path, 0, "ground-truth curves [SCENE/gt_curves.json]"},
         {"--thickness", WS_ARG_DOUBLES, &thick, 16, "thicknesses, one column each [0.005 0.01 0.02 0.04]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
+        {"--edge-maps", WS_ARG_STRING, &edge_maps, 0, "directory of the views' edge maps [none]"},
         {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
         {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = all cores [0]"},
     };
@@ -49,6 +50,7 @@ int cmd_rank(int argc, char **argv) {
     ws_scene_options so;
     ws_scene_options_default(&so);
     so.width = so.height = size;
+    so.edge_maps_dir = edge_maps;
     ws_curves gt = {0};
     ws_loss *loss = NULL;
     double table[16][WS_RANK_COUNT];

@@ -34,6 +34,7 @@ void ws_scene_options_default(ws_scene_options *opt) {
     opt->background[0] = opt->background[1] = opt->background[2] = 0.0f;
     opt->background_auto = 0;
     opt->load_images = 1;
+    opt->edge_maps_dir = NULL;
 }
 
 void ws_scene_free(ws_scene *scene) {
@@ -41,6 +42,7 @@ void ws_scene_free(ws_scene *scene) {
         for (int k = 0; k < scene->split[s].n; k++) {
             ws_image_free(&scene->split[s].views[k].photo);
             ws_image_free(&scene->split[s].views[k].mask);
+            ws_image_free(&scene->split[s].views[k].edges);
         }
         free(scene->split[s].views);
         scene->split[s].views = NULL;
@@ -160,6 +162,21 @@ static int parse_frame(const cJSON *frame, const char *what, const char *dir,
         char mask_what[4400];
         snprintf(mask_what, sizeof mask_what, "%s: mask_path", what);
         if (resolve_image(dir, mp->valuestring, mask_what, v->mask_path, sizeof v->mask_path, st))
+            return st->code;
+    }
+    const cJSON *ep = cJSON_GetObjectItemCaseSensitive(frame, "edge_path");
+    if (ep && !cJSON_IsString(ep))
+        return ws_fail(st, WS_EINPUT, "%s: edge_path is not a string", what);
+    if (opt->load_images && opt->edge_maps_dir) {
+        char edge_what[4400];
+        snprintf(edge_what, sizeof edge_what, "%s: --edge-maps", what);
+        if (resolve_image(opt->edge_maps_dir, fp->valuestring, edge_what, v->edge_path, sizeof v->edge_path, st))
+            return st->code;
+    } else if (ep && opt->load_images) {
+        if (check_scene_path(ep->valuestring, "edge_path", what, st)) return st->code;
+        char edge_what[4400];
+        snprintf(edge_what, sizeof edge_what, "%s: edge_path", what);
+        if (resolve_image(dir, ep->valuestring, edge_what, v->edge_path, sizeof v->edge_path, st))
             return st->code;
     }
     return WS_OK;
@@ -475,6 +492,26 @@ static void border_median(const ws_image *img, float out[3], float *scratch) {
     }
 }
 
+/* The view's edge map read like its photo: resampled to the image file's
+ * size w x h, its first channel kept, cropped, resampled to the working size. */
+static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, ws_status *st) {
+    static const float black[3] = {0, 0, 0};
+    ws_image rgb = {0}, part = {0};
+    int rc = ws_png_read(v->edge_path, w, h, black, &rgb, st);
+    if (rc) return rc;
+    float *first = realloc(rgb.data, (size_t)w * h * sizeof *first);
+    ws_image gray = {rgb.width, rgb.height, 1, first ? first : rgb.data};
+    const int *k = v->crop;
+    if (k[2]) {
+        rc = ws_image_crop(&gray, k[0], k[1], k[2], k[3], &part, st);
+        ws_image_free(&gray);
+        gray = part;
+    }
+    if (!rc) rc = ws_image_resample(&gray, opt->width, opt->height, &v->edges, st);
+    ws_image_free(&gray);
+    return rc;
+}
+
 /* One view's photo and mask, at the working size: the image decoded whole
  * (alpha composited), its mask (the mask_path image, else the alpha), the
  * background where a mask_path says so, then the crop (nerfstudio) and the
@@ -510,6 +547,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
                     for (int c = 0; c < 3; c++) full.data[c * plane + p] = bg[c];
         }
     }
+    if (!rc && v->edge_path[0]) rc = load_edge_map(v, full.width, full.height, opt, st);
     const int *k = v->crop;
     if (!rc && k[2]) {
         rc = ws_image_crop(&full, k[0], k[1], k[2], k[3], &part, st);

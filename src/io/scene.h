@@ -23,7 +23,12 @@
  * and non-pinhole camera models are refused.
  *
  * In both layouts a frame's optional mask_path (a PNG, white = object) is
- * relative to SCENE. */
+ * relative to SCENE, and so is its optional edge_path (a grayscale PNG, an
+ * edge map made elsewhere, e.g. by a learned detector); with
+ * opt.edge_maps_dir every view's edge map is instead DIR/<file_path>.png
+ * (the photo's own relative name, e.g. DIR/train/r_0.png). Edge maps are read like the photos (resampled to
+ * the image's size, cropped, resampled to the working size; first channel,
+ * values in [0, 1]). */
 #ifndef WS_SCENE_H
 #define WS_SCENE_H
 #include "render/camera.h"
@@ -45,6 +50,8 @@ typedef struct {
     int crop[4];          /* x0, y0, width, height: the file's pixels that make the
                              working view; width 0: the whole file (NeRF-synthetic) */
     int file_width, file_height; /* the image size the scene file states; 0: any */
+    char edge_path[4096]; /* the frame's edge_path or --edge-maps file; "" when none */
+    ws_image edges;       /* 1 x height x width from edge_path; data NULL when none */
 } ws_view;
 
 typedef struct {
@@ -59,6 +66,7 @@ typedef struct {
     int background_auto;   /* 1: instead, each image's own background: the median
                               of its border pixels (composited on black) */
     int load_images;       /* 0: cameras only (e.g. for render) */
+    const char *edge_maps_dir; /* NULL, or the directory of every view's edge map */
 } ws_scene_options;
 
 enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1 };

@@ -480,6 +480,10 @@ static int fill_edge_map(void *ctx, int split, int view, float *slot, ws_status 
 static int fill_line_target(void *ctx, int split, int view, float *slot, ws_status *st) {
     ws_loss *L = ctx;
     const ws_view *v = &L->scene->split[split].views[view];
+    if (v->edges.data) { /* the user's own edge map (scene.h: edge_path, --edge-maps) */
+        memcpy(slot, v->edges.data, (size_t)L->W * L->H * sizeof *slot);
+        return WS_OK;
+    }
     if (ws_thin_edges(v->photo.data, L->W, L->H, slot, st)) return st->code;
     if (v->mask.data) ws_thin_edges_add_outline(v->mask.data, L->W, L->H, slot);
     return WS_OK;
