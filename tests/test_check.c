@@ -317,6 +317,10 @@ int main(void) {
         CHECK(rc == 1 && strstr(out, "wrote a corrected copy"), "%s --write-fixed: %s", broken_ways[b].name, out);
         check_cause(bin, fixed, broken_ways[b].size, WS_CAUSE_NONE, "corrected copy", "consistent");
     }
+    int bad = run(out, sizeof out, "%s check %s --resolution 4", bin, dir);
+    CHECK(bad == 2 && strstr(out, "--resolution: 4 is not in [8, 512]"), "bad --resolution: %d %s", bad, out);
+    bad = run(out, sizeof out, "%s check %s/nowhere", bin, tmp);
+    CHECK(bad == 1 && strstr(out, "nowhere"), "missing scene: %d %s", bad, out);
     /* fit refuses a broken scene, naming --no-check, and fits it with it */
     snprintf(broken, sizeof broken, "%s/shift", tmp);
     int rc = run(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet",

@@ -21,10 +21,7 @@ int ws_respawn_create(ws_respawn **out, const ws_scene *scene, int n_curves, dou
     ws_respawn *r = ws_calloc(1, sizeof *r, "respawn", st);
     if (!r) return st->code;
     r->train = &scene->split[WS_TRAIN];
-    r->sil = ws_calloc(r->train->n, sizeof *r->sil, "silhouettes", st);
-    int rc = r->sil ? WS_OK : st->code;
-    for (int k = 0; k < r->train->n && !rc; k++)
-        rc = ws_view_silhouette(&r->train->views[k], &r->sil[k], st);
+    int rc = ws_split_silhouettes(r->train, &r->sil, st);
     if (!rc) rc = ws_scene_hull_surface(scene, WS_TRAIN, WS_HULL_INIT_RESOLUTION, &r->surface, st);
     /* The stroke length of the initial spread (surface.h), without its rng. */
     int k = n_curves < r->surface.n ? n_curves : r->surface.n, *picked = NULL;
@@ -45,8 +42,7 @@ int ws_respawn_create(ws_respawn **out, const ws_scene *scene, int n_curves, dou
 
 void ws_respawn_free(ws_respawn *r) {
     if (!r) return;
-    for (int k = 0; r->sil && k < r->train->n; k++) ws_silhouette_free(&r->sil[k]);
-    free(r->sil);
+    ws_silhouettes_free(r->sil, r->train->n);
     ws_hull_surface_free(&r->surface);
     free(r);
 }

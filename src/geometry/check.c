@@ -68,13 +68,12 @@ static int check_split(const ws_scene *scene, int s, int resolution, ws_check_sp
     const ws_split *sp = &scene->split[s];
     *r = (ws_check_split){.n = sp->n, .focal_scale = 1};
     if (sp->n == 0) return WS_OK;
-    ws_silhouette *sil = ws_calloc(sp->n, sizeof *sil, "silhouettes", st);
-    double *trial = sil ? ws_malloc(sizeof *trial * sp->n, "check agreement", st) : NULL;
+    ws_silhouette *sil = NULL;
+    if (ws_split_silhouettes(sp, &sil, st)) return st->code;
+    double *trial = ws_malloc(sizeof *trial * sp->n, "check agreement", st);
     r->agreement = trial ? ws_malloc(sizeof *r->agreement * sp->n, "check agreement", st) : NULL;
     r->disagree = r->agreement ? ws_malloc(sizeof *r->disagree * sp->n, "check agreement", st) : NULL;
     int rc = r->disagree ? WS_OK : st->code;
-    for (int k = 0; k < sp->n && !rc; k++)
-        rc = ws_view_silhouette(&sp->views[k], &sil[k], st);
     const hypothesis listed = {0, 0, 1.0};
     if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &listed, r->agreement, &r->mean, st);
     if (!rc) {
@@ -121,8 +120,7 @@ static int check_split(const ws_scene *scene, int s, int resolution, ws_check_sp
         r->cause = WS_CAUSE_UNKNOWN;
         r->fixed_mean = r->mean;
     }
-    for (int k = 0; sil && k < sp->n; k++) ws_silhouette_free(&sil[k]);
-    free(sil);
+    ws_silhouettes_free(sil, sp->n);
     free(trial);
     return rc;
 }
@@ -199,16 +197,15 @@ static int shift_elsewhere(const ws_scene *scene, int resolution, ws_check_repor
         ws_check_split *c = &r->split[s];
         if (c->n == 0 || c->cause != WS_CAUSE_NONE) continue;
         const ws_split *sp = &scene->split[s];
-        ws_silhouette *sil = ws_calloc(sp->n, sizeof *sil, "silhouettes", st);
-        double *trial = sil ? ws_malloc(sizeof *trial * sp->n, "check agreement", st) : NULL;
+        ws_silhouette *sil = NULL;
+        if (ws_split_silhouettes(sp, &sil, st)) return st->code;
+        double *trial = ws_malloc(sizeof *trial * sp->n, "check agreement", st);
         int rc = trial ? WS_OK : st->code;
-        for (int k = 0; k < sp->n && !rc; k++) rc = ws_view_silhouette(&sp->views[k], &sil[k], st);
         const hypothesis h = {shift, 0, 1.0};
         double mean = 0;
         if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &h, trial, &mean, st);
         if (!rc && mean >= WS_CHECK_MEAN_OK) c->repair_shift = shift;
-        for (int k = 0; sil && k < sp->n; k++) ws_silhouette_free(&sil[k]);
-        free(sil);
+        ws_silhouettes_free(sil, sp->n);
         free(trial);
         if (rc) return rc;
     }

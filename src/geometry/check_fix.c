@@ -16,7 +16,7 @@
 
 /* Applies split r's fix to the parsed transforms `root` (checked by the
  * scene loader already: an object with camera_angle_x and frames). */
-static int fix_transforms(cJSON *root, const ws_check_split *r, const char *path, ws_status *st) {
+static int fix_transforms(cJSON *root, const ws_check_split *r, ws_status *st) {
     cJSON *frames = cJSON_GetObjectItemCaseSensitive(root, "frames");
     int n = cJSON_GetArraySize(frames);
     if (r->repair_shift) {
@@ -53,7 +53,6 @@ static int fix_transforms(cJSON *root, const ws_check_split *r, const char *path
     }
     if (r->cause == WS_CAUSE_BAD_FRAMES)
         for (int d = r->ndisagree - 1; d >= 0; d--) cJSON_DeleteItemFromArray(frames, r->disagree[d]);
-    (void)path;
     return WS_OK;
 }
 
@@ -69,7 +68,7 @@ static int write_split(const ws_scene *scene, int s, const ws_check_split *r, co
     free(bytes);
     if (!root) return ws_fail(st, WS_EINPUT, "%s: changed while it was checked", in_path);
     char *text = NULL;
-    int rc = fix_transforms(root, r, in_path, st);
+    int rc = fix_transforms(root, r, st);
     if (!rc && !(text = cJSON_Print(root))) rc = ws_fail(st, WS_ENOMEM, "out of memory for %s", out_path);
     cJSON_Delete(root);
     ws_outfile f;

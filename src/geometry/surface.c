@@ -59,14 +59,12 @@ int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_h
                           ws_status *st) {
     const ws_split *sp = &scene->split[split];
     *s = (ws_hull_surface){0};
-    ws_silhouette *sil = ws_calloc(sp->n ? sp->n : 1, sizeof *sil, "silhouettes", st);
-    ws_hull_view *hv = sil ? ws_malloc(sizeof *hv * (sp->n ? sp->n : 1), "hull views", st) : NULL;
+    ws_silhouette *sil = NULL;
+    if (ws_split_silhouettes(sp, &sil, st)) return st->code;
+    ws_hull_view *hv = ws_malloc(sizeof *hv * (sp->n ? sp->n : 1), "hull views", st);
     ws_hull h = {0};
     int rc = hv ? WS_OK : st->code;
-    for (int k = 0; k < sp->n && !rc; k++) {
-        rc = ws_view_silhouette(&sp->views[k], &sil[k], st);
-        hv[k] = (ws_hull_view){.cam = &sp->views[k].cam, .sil = &sil[k]};
-    }
+    for (int k = 0; k < sp->n && !rc; k++) hv[k] = (ws_hull_view){.cam = &sp->views[k].cam, .sil = &sil[k]};
     if (!rc) rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), &h, st);
     if (!rc) rc = ws_hull_surface_make(&h, s, st);
     if (!rc && s->n == 0)
@@ -74,8 +72,7 @@ int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_h
                                     "`wiresketch check %s`)", scene->dir, ws_split_names[split], scene->dir);
     if (rc) ws_hull_surface_free(s);
     ws_hull_free(&h);
-    for (int k = 0; sil && k < sp->n; k++) ws_silhouette_free(&sil[k]);
-    free(sil);
+    ws_silhouettes_free(sil, sp->n);
     free(hv);
     return rc;
 }
