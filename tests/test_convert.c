@@ -1,15 +1,17 @@
 /* test_convert.c: runs tools/test_convert.py, the checks of the weight
  * converter (tools/convert_weights.py: good inputs in every format, unknown
- * formats, hostile pickles, missing and mis-shaped tensors), and counts each
- * of its "ok NAME" / "FAIL NAME: detail" lines as one assertion. The
- * converter and its checks need python3 with the standard library only. */
+ * formats, hostile pickles, missing and mis-shaped tensors; deep JSON and
+ * module nesting, a zip bomb, stride-0 views, damaged members, malformed or
+ * overlapping safetensors entries, NaN, FIFOs, OUT onto IN, signals), and
+ * counts each of its "ok NAME" / "FAIL NAME: detail" lines as one assertion.
+ * The converter and its checks need python3 with the standard library only. */
 #include <stdio.h>
 #include <string.h>
 #include <sys/wait.h>
 #include "check.h"
 
 /* tools/test_convert.py makes this many checks; fewer means it stopped early. */
-enum { EXPECTED_CHECKS = 41 };
+enum { EXPECTED_CHECKS = 84 };
 
 int main(void) {
     FILE *p = popen("python3 tools/test_convert.py 2>&1", "r");

@@ -16,17 +16,29 @@ knows a handful of names (the tensor rebuild functions, storage types,
 OrderedDict, TorchScript module classes as inert records) and refuses every
 other global: it never imports or runs anything a file asks for.
 
+It is as strict as the loader (nn/weightfile.c): inputs are bounded before
+anything is allocated for them (JSON depth, header and pickle sizes, tensor
+counts, pickle memo indices, the loader's architecture limits), storage
+members are streamed and never inflated past what their tensor needs, and
+it never writes a file the loader would refuse (NaN or Inf values).
+
 Every failure prints one line "convert_weights.py: IN: what is wrong" on
-stderr and exits with status 1.
+stderr (OUT instead of IN when the output is at fault or the conversion is
+interrupted) and exits with status 1.
 """
 import argparse
 import array
 import collections
 import io
+import itertools
 import json
 import math
 import os
 import pickle
+import pickletools
+import re
+import signal
+import stat
 import struct
 import sys
 import zipfile
@@ -53,45 +65,174 @@ STORAGE_ELEMENT = {"f32": 4, "f16": 2, "bf16": 2, "f64": 8, "i64": 8, "i32": 4, 
 SAFETENSORS_DTYPES = {"F32": "f32", "F16": "f16", "BF16": "bf16", "F64": "f64", "I64": "i64",
                       "I32": "i32", "I16": "i16", "I8": "i8", "U8": "u8", "BOOL": "bool"}
 
+# The loader's architecture limits (nn/weightfile.c): a file beyond them would be refused there.
+MAX_WIDTH, MAX_LAYERS, MAX_RESOLUTION = 65536, 4096, 16384
+# What an input may describe, bounded by what a CLIP file can hold: an image and a text tower
+# of at most MAX_LAYERS blocks, 16 tensors a block in Hugging Face's naming (q, k, v apart)
+# and 16 outside the blocks; so at most 131 104 tensors.
+MAX_TENSORS = 2 * (16 * MAX_LAYERS + 16)
+# A tensor takes about 110 bytes of a safetensors header or of a data.pkl in OpenAI's and
+# Hugging Face's files; 256 a tensor bounds either at 32 MiB.
+MAX_DESCRIPTION_BYTES = 256 * MAX_TENSORS
+# Headers nest 3 deep and config.json 3 or 4; json.loads recurses once a level.
+MAX_JSON_DEPTH = 64
+MAX_CONFIG_BYTES = 1 << 20                 # a CLIP config.json has a few kilobytes
+MAX_MODULE_DEPTH = 64                      # OpenAI's TorchScript modules nest about 6 deep
+# PyTorch writes a storage with exactly the bytes of its tensor; a member may hold this
+# much more than the tensor reading it uses, and no more (it is read through to its end).
+STORAGE_SLACK = 1 << 20
+CHUNK = 1 << 20                            # bytes read, converted and written at a time
+
 
 class ConvertError(Exception):
-    pass
+    """A refusal: one line naming path (the input when None) and what is wrong."""
+
+    def __init__(self, message, path=None):
+        super().__init__(message)
+        self.path = path
+
+
+class Interrupted(BaseException):
+    """SIGINT or SIGTERM: unwinds like KeyboardInterrupt, so the temporary file is removed."""
+
+
+def on_signal(signum, frame):
+    """Raise Interrupted once; further signals are ignored so that cleanup runs to the end."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    raise Interrupted(signal.Signals(signum).name)
+
+
+def one_line(text):
+    """text with control characters escaped: names from the input may hold newlines."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def brief(value):
+    """A JSON value for a message: a printable string as is, else JSON, cut to 40 characters."""
+    text = value if isinstance(value, str) and value.isprintable() else json.dumps(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def is_count(value):
+    """An integer >= 0; bool is an int to Python but never a size or an offset."""
+    return type(value) is int and value >= 0
+
+
+def open_regular(path):
+    """path opened for binary reading. Its type is checked with os.stat before opening, so
+    a FIFO or a device is refused without blocking, and again on the descriptor (opened
+    O_NONBLOCK, should the name have changed in between)."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        raise ConvertError("no such file")
+    if stat.S_ISDIR(mode):
+        raise ConvertError("is a directory")
+    if not stat.S_ISREG(mode):
+        raise ConvertError("not a regular file")
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise ConvertError("not a regular file")
+    return os.fdopen(fd, "rb")
+
+
+# --------------------------------------------------------------------------
+# JSON (safetensors headers, config.json) with bounded depth and no duplicate keys
+
+JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"', re.S)
+NOT_BRACKETS = bytes(b for b in range(256) if b not in b"[]{}")
+BRACKET_STEP = [1 if b in b"[{" else -1 for b in range(256)]
+
+
+def json_depth(raw):
+    """How deep [ and { nest in JSON text, strings skipped: counted before json.loads, which
+    recurses once a level and fails with a RecursionError long before the input ends."""
+    brackets = JSON_STRING.sub(b"", raw).translate(None, NOT_BRACKETS)
+    return max(itertools.accumulate(map(BRACKET_STEP.__getitem__, brackets)), default=0)
+
+
+def parse_json(raw, what):
+    """raw (bytes) parsed as JSON; refuses deep nesting and a key given twice, which
+    json.loads would silently resolve to its last value."""
+    if json_depth(raw) > MAX_JSON_DEPTH:
+        raise ConvertError(f"{what} nests deeper than {MAX_JSON_DEPTH} levels")
+
+    def no_duplicates(pairs):
+        seen = set()
+        for key, _ in pairs:
+            if key in seen:
+                raise ConvertError(f"{what} has the key {key} twice")
+            seen.add(key)
+        return dict(pairs)
+
+    try:
+        return json.loads(raw.decode("utf-8"), object_pairs_hook=no_duplicates)
+    except ValueError as e:  # UnicodeDecodeError and JSONDecodeError alike
+        raise ConvertError(f"malformed {what} ({e})")
 
 
 # --------------------------------------------------------------------------
 # Tensors: a dtype, a shape and a way to get its contiguous little-endian bytes
 
 class Tensor:
-    def __init__(self, dtype, shape, read):
-        self.dtype, self.shape, self.read = dtype, tuple(shape), read
+    """chunks() yields the values, row-major little-endian, in pieces of whole elements."""
 
-    def numel(self):
-        n = 1
-        for d in self.shape:
-            n *= d
-        return n
+    def __init__(self, dtype, shape, chunks):
+        self.dtype, self.shape, self.chunks = dtype, tuple(shape), chunks
+
+
+def numel_of(shape):
+    n = 1
+    for d in shape:
+        n *= d
+    return n
+
+
+# Inf and NaN have every exponent bit set. Per dtype: (byte, mask) of the element's top byte
+# and of the byte below it (little-endian) that together hold the exponent.
+EXPONENT_BYTES = {"f16": (1, 0x7c, 0, 0x00), "bf16": (1, 0x7f, 0, 0x80),
+                  "f32": (3, 0x7f, 2, 0x80), "f64": (7, 0x7f, 6, 0xf0)}
+ALL_SET = {mask: bytes(b & mask == mask for b in range(256)) for mask in (0x00, 0x7c, 0x7f, 0x80, 0xf0)}
+
+
+def finite(raw, dtype):
+    """Whether every element of raw is finite, tested on the exponent bits a byte column at a
+    time (bytes.translate and an integer AND), not a Python step per element."""
+    size = ELEMENT[dtype][0]
+    top, top_mask, low, low_mask = EXPONENT_BYTES[dtype]
+    high = int.from_bytes(raw[top::size].translate(ALL_SET[top_mask]), "little")
+    return not high & int.from_bytes(raw[low::size].translate(ALL_SET[low_mask]), "little")
 
 
 def encode(tensor, out_dtype, name):
-    """The tensor's values as contiguous little-endian bytes of out_dtype."""
+    """The tensor's values as contiguous little-endian bytes of out_dtype, chunk by chunk, so
+    that memory stays bounded whatever the tensor's size. NaN and Inf are refused here: the
+    loader refuses a file holding them."""
     if tensor.dtype not in ELEMENT:
         raise ConvertError(f"tensor {name} has dtype {tensor.dtype}, not a floating type")
-    raw = tensor.read()
-    if tensor.dtype == out_dtype:
-        return raw
-    n = tensor.numel()
-    if tensor.dtype == "bf16":  # the upper half of an f32
-        halves = array.array("H", raw)
-        if sys.byteorder == "big":
-            halves.byteswap()
-        values = array.array("I", (h << 16 for h in halves)).tobytes()
-        values = struct.unpack(f"<{n}f", values)
-    else:
-        values = struct.unpack(f"<{n}{ELEMENT[tensor.dtype][1]}", raw)
-    try:
-        return struct.pack(f"<{n}{ELEMENT[out_dtype][1]}", *values)
-    except (OverflowError, struct.error):
-        raise ConvertError(f"tensor {name} has values outside the f16 range; use --dtype f32")
+    size, code = ELEMENT[tensor.dtype]
+    for raw in tensor.chunks():
+        if not finite(raw, tensor.dtype):
+            raise ConvertError(f"tensor {name} has NaN or Inf values")
+        if tensor.dtype == out_dtype:
+            yield raw
+            continue
+        n = len(raw) // size
+        if tensor.dtype == "bf16":  # the upper half of an f32
+            halves = array.array("H", raw)
+            if sys.byteorder == "big":
+                halves.byteswap()
+            values = array.array("I", (h << 16 for h in halves)).tobytes()
+            values = struct.unpack(f"<{n}f", values)
+        else:
+            values = struct.unpack(f"<{n}{code}", raw)
+        try:
+            converted = struct.pack(f"<{n}{ELEMENT[out_dtype][1]}", *values)
+        except (OverflowError, struct.error):
+            raise ConvertError(f"tensor {name} has values outside the f16 range; use --dtype f32")
+        yield converted
 
 
 def transpose2(data, rows, cols, element):
@@ -131,13 +272,13 @@ class TorchTensor:
 
 
 def _ints(value, what):
-    if not isinstance(value, tuple) or not all(isinstance(v, int) and v >= 0 for v in value):
+    if not isinstance(value, tuple) or not all(is_count(v) for v in value):
         raise ConvertError(f"malformed tensor {what} in the pickle")
     return value
 
 
 def _rebuild_tensor_v2(storage, storage_offset, size, stride, *rest):
-    if not isinstance(storage, Storage) or not isinstance(storage_offset, int) or storage_offset < 0:
+    if not isinstance(storage, Storage) or not is_count(storage_offset):
         raise ConvertError("malformed tensor in the pickle")
     size, stride = _ints(size, "size"), _ints(stride, "stride")
     if len(size) != len(stride):
@@ -164,6 +305,20 @@ ALLOWED_GLOBALS = {
     ("torch.jit._pickle", "build_boollist"): _identity,
     ("torch.jit._pickle", "build_tensorlist"): _identity,
 }
+MEMO_STORES = {"PUT", "BINPUT", "LONG_BINPUT"}
+
+
+def check_memo(data):
+    """Refuses a memo index past the pickle's length. Picklers number their memo entries 0, 1,
+    2, ...; the C Unpickler grows its memo to twice the largest index and zeroes it, so a
+    9-byte data.pkl storing at index 2^31 would take 32 GB."""
+    try:
+        for op, arg, _ in pickletools.genops(data):
+            if op.name in MEMO_STORES and arg >= len(data):
+                raise ConvertError(f"malformed data.pkl (memo index {arg} in a pickle of "
+                                   f"{len(data)} bytes)")
+    except ValueError as e:  # an unknown opcode, a truncated argument
+        raise ConvertError(f"malformed data.pkl ({e})")
 
 
 class ClosedUnpickler(pickle.Unpickler):
@@ -183,26 +338,67 @@ class ClosedUnpickler(pickle.Unpickler):
     def persistent_load(self, pid):
         if (not isinstance(pid, tuple) or len(pid) != 5 or pid[0] != "storage"
                 or not isinstance(pid[1], StorageType) or not isinstance(pid[2], str)
-                or not isinstance(pid[4], int) or pid[4] < 0):
+                or not is_count(pid[4])):
             raise ConvertError("malformed storage reference in the pickle")
         return Storage(pid[2], pid[1].dtype, pid[4])
 
 
+# Everything zipfile raises for a damaged member or archive (a flipped byte, a cut stream, an
+# encrypted or unknown compression method); OSError for the input's own read errors.
+ZIP_ERRORS = (zipfile.BadZipFile, zipfile.LargeZipFile, EOFError, zlib.error, NotImplementedError,
+              RuntimeError, ValueError, struct.error, OSError)
+
+
 class TorchArchive:
-    def __init__(self, path):
-        self.path = path
-        self.zip = zipfile.ZipFile(path)
+    def __init__(self, f):
+        try:
+            self.zip = zipfile.ZipFile(f)
+        except ZIP_ERRORS as e:
+            raise ConvertError(f"a damaged zip file ({e})")
         pkls = [n for n in self.zip.namelist() if n.count("/") == 1 and n.endswith("/data.pkl")]
         if len(pkls) != 1:
             raise ConvertError("a zip file but not a PyTorch archive (no single <name>/data.pkl)")
         self.root = pkls[0][:-len("data.pkl")]
         order = self.root + "byteorder"
-        if order in self.zip.namelist() and self.zip.read(order).strip() != b"little":
+        if order in self.zip.namelist() and self.read_member(order, 16).strip() != b"little":
             raise ConvertError("a big-endian PyTorch archive; re-save it on a little-endian machine")
-        self.storages = {}
+        self.readers = {}  # storage key -> the name of the tensor that read it
+
+    def member_chunks(self, name, begin, end):
+        """Bytes begin..end of the member name, CHUNK at a time. The member is read through to
+        its end, where zipfile checks its CRC-32: callers bound its size first."""
+        try:
+            with self.zip.open(name) as member:
+                pos = 0
+                while pos < begin:
+                    skipped = len(member.read(min(CHUNK, begin - pos)))
+                    if not skipped:
+                        raise ConvertError(f"archive member {name} is truncated")
+                    pos += skipped
+                while pos < end:
+                    want = min(CHUNK, end - pos)
+                    block = member.read(want)
+                    if len(block) != want:
+                        raise ConvertError(f"archive member {name} is truncated")
+                    yield block
+                    pos += want
+                while member.read(CHUNK):
+                    pass
+        except ZIP_ERRORS as e:
+            raise ConvertError(f"archive member {name} is damaged ({e})")
+
+    def read_member(self, name, limit):
+        """A whole small member (data.pkl, byteorder), refused unread past limit bytes."""
+        size = self.zip.getinfo(name).file_size
+        if size > limit:
+            raise ConvertError(f"archive member {name} has {size} bytes, more than the {limit} "
+                               f"a CLIP model needs")
+        return b"".join(self.member_chunks(name, 0, size))
 
     def load(self):
-        unpickler = ClosedUnpickler(self.zip.read(self.root + "data.pkl"))
+        data = self.read_member(self.root + "data.pkl", MAX_DESCRIPTION_BYTES)
+        check_memo(data)
+        unpickler = ClosedUnpickler(data)
         try:
             return unpickler.load()
         except ConvertError:
@@ -210,76 +406,109 @@ class TorchArchive:
         except Exception as e:  # any malformed pickle: a one-line refusal
             raise ConvertError(f"malformed data.pkl ({type(e).__name__}: {e})")
 
-    def storage_bytes(self, storage):
-        if storage.key not in self.storages:
-            name = f"{self.root}data/{storage.key}"
-            try:
-                info = self.zip.getinfo(name)
-            except KeyError:
-                raise ConvertError(f"storage {name} missing from the archive")
-            need = storage.numel * STORAGE_ELEMENT[storage.dtype]
-            if info.file_size < need:
-                raise ConvertError(f"storage {name} has {info.file_size} bytes, needs {need}")
-            self.storages[storage.key] = self.zip.read(name)[:need]
-        return self.storages[storage.key]
+    def storage_member(self, storage, used, name):
+        """The member holding storage, read by tensor name up to byte used. Refused when
+        another tensor of the tower read it, or when it holds more than used + STORAGE_SLACK
+        bytes: PyTorch gives each weight a storage of its own size, and a bigger member (say
+        3 GB of deflated zeros under a 100-byte tensor) would all be inflated."""
+        member = f"{self.root}data/{storage.key}"
+        try:
+            info = self.zip.getinfo(member)
+        except KeyError:
+            raise ConvertError(f"storage {member} missing from the archive")
+        need = storage.numel * STORAGE_ELEMENT[storage.dtype]
+        if info.file_size < need:
+            raise ConvertError(f"storage {member} has {info.file_size} bytes, needs {need}")
+        if info.file_size > used + STORAGE_SLACK:
+            raise ConvertError(f"storage {member} has {info.file_size} bytes, tensor {name} uses "
+                               f"{used}; refusing to inflate the rest")
+        if storage.key in self.readers:
+            raise ConvertError(f"tensors {self.readers[storage.key]} and {name} share storage "
+                               f"{member}")
+        self.readers[storage.key] = name
+        return member
 
-    def tensor(self, t):
-        """A Tensor reading the torch tensor t (any strides) from its storage."""
+    def tensor(self, name, t):
+        """A Tensor reading the torch tensor t from its storage: contiguous tensors streamed,
+        others (a transposed weight) gathered in memory. Either must be a dense block of its
+        storage, every element once: a stride-0 view of a few bytes could otherwise claim
+        gigabytes of output."""
         dtype = t.storage.dtype
         element = STORAGE_ELEMENT[dtype]
-        numel = 1
-        for d in t.size:
-            numel *= d
+        numel = numel_of(t.size)
         last = t.offset + sum((d - 1) * s for d, s in zip(t.size, t.stride)) if numel else t.offset
         if numel and last >= t.storage.numel:
             raise ConvertError(f"a tensor reaches past its storage {t.storage.key}")
+        dims = sorted((s, d) for d, s in zip(t.size, t.stride) if d != 1)
 
-        def read():
-            data = self.storage_bytes(t.storage)
+        def chunks():
+            expect = 1
+            for s, d in dims:
+                if s != expect:
+                    raise ConvertError(f"tensor {name} is not a dense block of its storage (a "
+                                       f"stride-0, overlapping or gapped view)")
+                expect *= d
+            member = self.storage_member(t.storage, (t.offset + numel) * element, name)
+            begin, end = t.offset * element, (t.offset + numel) * element
             contiguous, expect = True, 1
             for d, s in reversed(list(zip(t.size, t.stride))):
                 if d != 1 and s != expect:
                     contiguous = False
                 expect *= d
             if contiguous:
-                return data[t.offset * element:(t.offset + numel) * element]
+                yield from self.member_chunks(member, begin, end)
+                return
+            data = b"".join(self.member_chunks(member, begin, end))
             out = bytearray(numel * element)
             for i in range(numel):
-                rem, src = i, t.offset
+                rem, src = i, 0
                 for d, s in reversed(list(zip(t.size, t.stride))):
                     src += (rem % d) * s
                     rem //= d
                 out[i * element:(i + 1) * element] = data[src * element:(src + 1) * element]
-            return bytes(out)
+            yield bytes(out)
 
-        return Tensor(dtype, t.size, read)
+        return Tensor(dtype, t.size, chunks)
 
 
 def named_tensors(archive, obj):
-    """name -> Tensor for a state dict or a TorchScript module tree."""
+    """name -> Tensor for a state dict or a TorchScript module tree, at most MAX_TENSORS of
+    them. The module tree is walked with an explicit stack, MAX_MODULE_DEPTH deep at most
+    (recursion would end in a RecursionError on a hostile file), in the order a recursive walk
+    takes."""
     named = {}
+
+    def add(name, t):
+        if len(named) == MAX_TENSORS:
+            raise ConvertError(f"more than {MAX_TENSORS} tensors; no CLIP model has so many")
+        named[name] = archive.tensor(name, t)
+
     if isinstance(obj, dict):
         for k, v in obj.items():
             if isinstance(k, str) and isinstance(v, TorchTensor):
-                named[k] = archive.tensor(v)
+                add(k, v)
         return named
     if not isinstance(obj, ScriptObject):
         raise ConvertError("neither a state dict nor a TorchScript module")
-    seen = set()
-
-    def walk(o, prefix):
-        if id(o) in seen or not isinstance(getattr(o, "state", None), dict):
-            return
-        seen.add(id(o))
-        for k, v in o.state.items():
+    if not isinstance(getattr(obj, "state", None), dict):
+        return named
+    seen, stack = {id(obj)}, [(iter(obj.state.items()), "")]
+    while stack:
+        items, prefix = stack[-1]
+        for k, v in items:
             if not isinstance(k, str):
                 continue
             if isinstance(v, TorchTensor):
-                named[prefix + k] = archive.tensor(v)
-            elif isinstance(v, ScriptObject):
-                walk(v, prefix + k + ".")
-
-    walk(obj, "")
+                add(prefix + k, v)
+            elif (isinstance(v, ScriptObject) and id(v) not in seen
+                  and isinstance(getattr(v, "state", None), dict)):
+                if len(stack) == MAX_MODULE_DEPTH:
+                    raise ConvertError(f"TorchScript modules nested more than {MAX_MODULE_DEPTH} deep")
+                seen.add(id(v))
+                stack.append((iter(v.state.items()), prefix + k + "."))
+                break
+        else:
+            stack.pop()
     return named
 
 
@@ -296,51 +525,87 @@ def image_tower_from_torch(named):
 # Hugging Face safetensors
 
 def read_safetensors(f, size):
+    """name -> Tensor of a safetensors file. Refuses a header past MAX_DESCRIPTION_BYTES or
+    listing more than MAX_TENSORS tensors, an entry whose fields are not what the format says
+    (a shape of [64.9], ["64"] or [true]), and entries sharing bytes."""
     header_len = struct.unpack("<Q", f.read(8))[0]
     if header_len > size - 8:
         raise ConvertError("truncated safetensors header")
-    try:
-        header = json.loads(f.read(header_len).decode("utf-8"))
-    except (UnicodeDecodeError, ValueError) as e:
-        raise ConvertError(f"malformed safetensors header ({e})")
+    if header_len > MAX_DESCRIPTION_BYTES:
+        raise ConvertError(f"safetensors header of {header_len} bytes; a CLIP model's takes less "
+                           f"than {MAX_DESCRIPTION_BYTES}")
+    header = parse_json(f.read(header_len), "safetensors header")
     if not isinstance(header, dict):
         raise ConvertError("malformed safetensors header")
+    count = len(header) - ("__metadata__" in header)
+    if count > MAX_TENSORS:
+        raise ConvertError(f"safetensors header lists {count} tensors; no CLIP model has more "
+                           f"than {MAX_TENSORS}")
     base, data_size = 8 + header_len, size - 8 - header_len
-    named = {}
+    named, spans = {}, []
     for name, info in header.items():
         if name == "__metadata__":
             continue
-        try:
-            dtype = SAFETENSORS_DTYPES[info["dtype"]]
-            shape = [int(d) for d in info["shape"]]
-            begin, end = (int(x) for x in info["data_offsets"])
-        except (KeyError, TypeError, ValueError):
+        if not isinstance(info, dict) or not {"dtype", "shape", "data_offsets"} <= info.keys():
             raise ConvertError(f"malformed safetensors entry {name}")
-        numel = 1
-        for d in shape:
-            if d < 0:
-                raise ConvertError(f"malformed safetensors entry {name}")
-            numel *= d
-        if not 0 <= begin <= end <= data_size or end - begin != numel * STORAGE_ELEMENT[dtype]:
+        dtype, shape, offsets = info["dtype"], info["shape"], info["data_offsets"]
+        if not isinstance(dtype, str) or dtype not in SAFETENSORS_DTYPES:
+            raise ConvertError(f"safetensors entry {name} has dtype {brief(dtype)}, which is not "
+                               f"one of {', '.join(SAFETENSORS_DTYPES)}")
+        if not isinstance(shape, list) or not all(is_count(d) for d in shape):
+            raise ConvertError(f"safetensors entry {name} has shape {brief(shape)}, not a list of "
+                               f"integers >= 0")
+        if not isinstance(offsets, list) or len(offsets) != 2 or not all(is_count(x) for x in offsets):
+            raise ConvertError(f"safetensors entry {name} has data_offsets {brief(offsets)}, not "
+                               f"two integers >= 0")
+        dtype = SAFETENSORS_DTYPES[dtype]
+        begin, end = offsets
+        if not begin <= end <= data_size or end - begin != numel_of(shape) * STORAGE_ELEMENT[dtype]:
             raise ConvertError(f"safetensors entry {name} has bad data offsets")
+        if begin < end:
+            spans.append((begin, end, name))
 
-        def read(begin=begin, end=end):
-            f.seek(base + begin)
-            return f.read(end - begin)
+        def chunks(begin=begin, end=end, name=name):
+            try:
+                f.seek(base + begin)
+                while begin < end:
+                    want = min(CHUNK, end - begin)
+                    block = f.read(want)
+                    if len(block) != want:
+                        raise ConvertError(f"safetensors entry {name} is cut short (the file "
+                                           f"shrank while being read)")
+                    yield block
+                    begin += want
+            except OSError as e:
+                raise ConvertError(f"cannot read ({e.strerror or e})")
 
-        named[name] = Tensor(dtype, shape, read)
+        named[name] = Tensor(dtype, shape, chunks)
+    spans.sort()
+    for (_, end, first), (begin, _, second) in zip(spans, spans[1:]):
+        if begin < end:
+            raise ConvertError(f"safetensors entries {first} and {second} share bytes (their "
+                               f"data_offsets overlap)")
     return named
 
 
 def read_hf_config(path):
+    """The vision part of the config.json beside a safetensors file, or None when there is
+    none. Opened as the input is (a FIFO or a directory refused unread), bounded in size and
+    depth, and its integer fields checked to be integers (true is not 1)."""
     config_path = os.path.join(os.path.dirname(os.path.abspath(path)), "config.json")
-    if not os.path.exists(config_path):
+    if not os.path.lexists(config_path):
         return None
     try:
-        with open(config_path) as f:
-            config = json.load(f)
-    except (OSError, ValueError) as e:
+        with open_regular(config_path) as f:
+            size = os.fstat(f.fileno()).st_size
+            if size > MAX_CONFIG_BYTES:
+                raise ConvertError(f"{size} bytes; a CLIP config.json has a few thousand")
+            raw = f.read(MAX_CONFIG_BYTES + 1)
+    except OSError as e:
+        raise ConvertError(f"cannot read {config_path} ({e.strerror or e})")
+    except ConvertError as e:
         raise ConvertError(f"cannot read {config_path} ({e})")
+    config = parse_json(raw, config_path)
     # CLIPModel: nested (older files name it vision_config_dict); CLIPVisionModel: top level
     vision = None
     if isinstance(config, dict):
@@ -349,11 +614,14 @@ def read_hf_config(path):
         raise ConvertError(f"{config_path} has no vision_config")
     act = vision.get("hidden_act", "quick_gelu")
     if act != "quick_gelu":
-        raise ConvertError(f"{config_path} says hidden_act {act}; wiresketch implements OpenAI's "
-                           f"quick_gelu only")
+        raise ConvertError(f"{config_path} says hidden_act {brief(act)}; wiresketch implements "
+                           f"OpenAI's quick_gelu only")
     eps = vision.get("layer_norm_eps", 1e-5)
     if eps != 1e-5:
-        raise ConvertError(f"{config_path} says layer_norm_eps {eps}; wiresketch uses 1e-5")
+        raise ConvertError(f"{config_path} says layer_norm_eps {brief(eps)}; wiresketch uses 1e-5")
+    for key in ("num_attention_heads", "hidden_size", "num_hidden_layers", "patch_size", "image_size"):
+        if key in vision and type(vision[key]) is not int:
+            raise ConvertError(f"{config_path} says {key} {brief(vision[key])}, not an integer")
     return vision
 
 
@@ -484,6 +752,11 @@ def architecture(tower, heads, hf_config, display):
         layers += 1
     if layers == 0:
         raise ConvertError(f"tensor {display('transformer.resblocks.0.attn.in_proj_weight')} missing")
+    if (width > MAX_WIDTH or layers > MAX_LAYERS or patch * grid > MAX_RESOLUTION
+            or proj[1] > MAX_WIDTH):
+        raise ConvertError(f"width {width}, {layers} layers, resolution {patch * grid}, output "
+                           f"{proj[1]}: beyond what wiresketch loads (width and output {MAX_WIDTH}, "
+                           f"{MAX_LAYERS} layers, resolution {MAX_RESOLUTION})")
     if heads is None and hf_config is not None:
         heads = hf_config.get("num_attention_heads")
     if heads is None:
@@ -517,30 +790,36 @@ def check_tower(tower, arch, display):
     return expected
 
 
-def tensor_bytes(t, out_dtype, name):
+def tensor_chunks(t, out_dtype, name):
+    """The bytes of a tower tensor in out_dtype, in pieces: a Concat part by part, a Transposed
+    one whole (the transpose needs it all; it is the projection, well under a megabyte)."""
     if isinstance(t, Concat):
-        return b"".join(encode(p, out_dtype, name) for p in t.parts)
-    if isinstance(t, Transposed):
+        for p in t.parts:
+            yield from encode(p, out_dtype, name)
+    elif isinstance(t, Transposed):
         rows, cols = t.tensor.shape
-        return transpose2(encode(t.tensor, out_dtype, name), rows, cols, ELEMENT[out_dtype][0])
-    return encode(t, out_dtype, name)
+        data = b"".join(encode(t.tensor, out_dtype, name))
+        yield transpose2(data, rows, cols, ELEMENT[out_dtype][0])
+    else:
+        yield from encode(t, out_dtype, name)
 
 
 def write_weight_file(out_path, arch, tower, expected, out_dtype, display):
+    """Writes OUT.tmp.PID and renames it to OUT, so that OUT is complete or untouched; the
+    temporary file is removed on any failure, SIGINT and SIGTERM included (Interrupted), and
+    a write error names OUT, the file the user asked for."""
     element = ELEMENT[out_dtype][0]
     count = len(expected)
     offset = HEADER.size + count * ENTRY.size
     table, offsets = [], []
     for name, shape in expected:
         offset = (offset + ALIGN - 1) // ALIGN * ALIGN
-        numel = 1
-        for d in shape:
-            numel *= d
+        nbytes = numel_of(shape) * element
         dims = list(shape) + [0] * (4 - len(shape))
         table.append(ENTRY.pack(name.encode("ascii"), OUT_DTYPES[out_dtype], len(shape), *dims,
-                                offset, numel * element))
+                                offset, nbytes))
         offsets.append(offset)
-        offset += numel * element
+        offset += nbytes
     head = HEADER.pack(MAGIC, VERSION, arch["width"], arch["layers"], arch["heads"], arch["patch"],
                        arch["resolution"], arch["output_dim"], count) + b"".join(table)
     tmp = f"{out_path}.tmp.{os.getpid()}"
@@ -557,24 +836,31 @@ def write_weight_file(out_path, arch, tower, expected, out_dtype, display):
             put(head)
             for (name, _), start in zip(expected, offsets):
                 put(b"\0" * (start - pos))
-                put(tensor_bytes(tower[name], out_dtype, display(name)))
+                for piece in tensor_chunks(tower[name], out_dtype, display(name)):
+                    put(piece)
             f.write(struct.pack("<I", crc & 0xffffffff))
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, out_path)
-    except BaseException:
-        if os.path.exists(tmp):
+    except BaseException as e:
+        if os.path.lexists(tmp):
             os.unlink(tmp)
+        if isinstance(e, OSError):  # reading the input raises ConvertError, not OSError
+            raise ConvertError(f"cannot write ({e.strerror or e})", out_path) from None
         raise
     return pos + 4
 
 
-def load_tower(path, heads):
-    """(tower, architecture, display): OpenAI-named tensors of the image tower;
-    display maps such a name back to the name in the input file."""
-    size = os.path.getsize(path)
-    if zipfile.is_zipfile(path):
-        archive = TorchArchive(path)
+def load_tower(f, path, heads):
+    """(tower, architecture, display): OpenAI-named tensors of the image tower read from f,
+    the open input path; display maps such a name back to the name in the input file."""
+    size = os.fstat(f.fileno()).st_size
+    try:
+        is_zip = zipfile.is_zipfile(f)
+    except ZIP_ERRORS as e:  # is_zipfile reads the end records, and can trip on them
+        raise ConvertError(f"a damaged zip file ({e})")
+    if is_zip:
+        archive = TorchArchive(f)
         named = named_tensors(archive, archive.load())
         prefixed = any(k.startswith("visual.") for k in named)
         tower = image_tower_from_torch(named)
@@ -583,16 +869,43 @@ def load_tower(path, heads):
             return "visual." + name if prefixed else name
 
         return tower, architecture(tower, heads, None, display), display
-    with open(path, "rb") as f:
-        start = f.read(9)
+    f.seek(0)
+    start = f.read(9)
     if len(start) == 9 and start[8:9] == b"{" and struct.unpack("<Q", start[:8])[0] <= size - 8:
-        f = open(path, "rb")  # stays open for the lazy reads until the process ends
+        f.seek(0)
         tower = image_tower_from_hf(read_safetensors(f, size))
         return tower, architecture(tower, heads, read_hf_config(path), hf_name), hf_name
     if start[:2] == b"\x80\x02":
         raise ConvertError("a legacy (pre-1.6) torch.save file; re-save it with a current PyTorch")
     raise ConvertError("unknown format (expected a TorchScript archive such as ViT-B-32.pt, a "
                        "torch.save state dict, or a model.safetensors)")
+
+
+def same_file(a, b):
+    """Whether writing b would replace a: one path, or two names (a hard or symbolic link)
+    of one file. Converting a model onto itself would destroy the user's original."""
+    if os.path.abspath(a) == os.path.abspath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # b does not exist yet
+        return False
+
+
+def convert(args):
+    """Converts args.input to args.output; returns the success line or raises."""
+    with open_regular(args.input) as f:
+        if same_file(args.input, args.output):
+            raise ConvertError(f"the same file as {args.output}; refusing to overwrite the model "
+                               f"with its conversion")
+        if os.path.isdir(args.output):
+            raise ConvertError("is a directory", args.output)
+        tower, arch, display = load_tower(f, args.input, args.heads)
+        expected = check_tower(tower, arch, display)
+        nbytes = write_weight_file(args.output, arch, tower, expected, args.dtype, display)
+    return (f"{args.output}: ViT width {arch['width']}, {arch['layers']} layers, {arch['heads']} "
+            f"heads, patch {arch['patch']}, resolution {arch['resolution']}, output "
+            f"{arch['output_dim']}; {len(expected)} tensors, {args.dtype}, {nbytes} bytes")
 
 
 def main(argv):
@@ -607,22 +920,21 @@ def main(argv):
                         help="attention heads (default: config.json beside a safetensors file, "
                              "else width / 64 as in OpenAI's models)")
     args = parser.parse_args(argv)
+    signal.signal(signal.SIGINT, on_signal)
+    signal.signal(signal.SIGTERM, on_signal)
     try:
-        if not os.path.isfile(args.input):
-            raise ConvertError("no such file")
-        tower, arch, display = load_tower(args.input, args.heads)
-        expected = check_tower(tower, arch, display)
-        nbytes = write_weight_file(args.output, arch, tower, expected, args.dtype, display)
+        line = convert(args)
     except ConvertError as e:
-        print(f"convert_weights.py: {args.input}: {e}", file=sys.stderr)
-        return 1
-    except OSError as e:
-        print(f"convert_weights.py: {e.filename or args.input}: {e.strerror or e}", file=sys.stderr)
-        return 1
-    print(f"{args.output}: ViT width {arch['width']}, {arch['layers']} layers, {arch['heads']} heads, "
-          f"patch {arch['patch']}, resolution {arch['resolution']}, output {arch['output_dim']}; "
-          f"{len(expected)} tensors, {args.dtype}, {nbytes} bytes")
-    return 0
+        where, what = e.path or args.input, str(e)
+    except OSError as e:  # opening or reading the input
+        where, what = e.filename or args.input, e.strerror or str(e)
+    except Interrupted as e:
+        where, what = args.output, f"interrupted by {e}; not written"
+    else:
+        print(line)
+        return 0
+    print(f"convert_weights.py: {one_line(str(where))}: {one_line(what)}", file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":

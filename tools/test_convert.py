@@ -4,18 +4,22 @@
 Run by tests/test_convert.c (python3 tools/test_convert.py from the repository
 root). Builds small inputs by hand: PyTorch zip archives whose pickles are
 written opcode by opcode (no torch needed), safetensors files, and hostile
-variants of both; runs the converter on each and checks the exit status, the
-exact message, and for the good inputs every value of the weight file it
-wrote. Prints one line per check, "ok NAME" or "FAIL NAME: detail", and
+variants of both (deep nesting, a zip bomb, stride-0 views, damaged members,
+malformed JSON fields, NaN, FIFOs, an output onto the input, signals); runs
+the converter on each and checks the exit status, the exact one-line
+message, and for the good inputs every value of the weight file it wrote. Prints one line per check, "ok NAME" or "FAIL NAME: detail", and
 exits non-zero when any check failed.
 """
+import hashlib
 import json
 import os
 import random
+import signal
 import struct
 import subprocess
 import sys
 import tempfile
+import time
 import zipfile
 import zlib
 
@@ -34,15 +38,29 @@ def check(name, cond, detail=""):
 
 
 def convert(*args):
-    p = subprocess.run([sys.executable, CONVERTER, *args], capture_output=True, text=True)
+    """(exit status, stdout, stderr); status None when the converter blocked for 60 s."""
+    try:
+        p = subprocess.run([sys.executable, CONVERTER, *args], capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        return None, "", "(blocked for 60 s)"
     return p.returncode, p.stdout.strip(), p.stderr.strip()
 
 
+def expect_failure(name, args, where, message, absent=None):
+    """The converter run on args exits 1 with the one line "convert_weights.py: where: message"
+    and leaves no file at absent."""
+    if absent and os.path.exists(absent):
+        os.unlink(absent)
+    rc, _, err = convert(*args)
+    want = f"convert_weights.py: {where}: {message}"
+    wrote = bool(absent) and os.path.exists(absent)
+    check(name, rc == 1 and err == want and not wrote,
+          f"exit {rc}, stderr\n  got  {err!r}\n  want {want!r}" + (f"\n  and {absent} written" if wrote else ""))
+
+
 def expect_refusal(name, path, message, *extra):
-    rc, _, err = convert(path, os.path.join(TMP, "refused.bin"), *extra)
-    want = f"convert_weights.py: {path}: {message}"
-    check(name, rc == 1 and err == want and not os.path.exists(os.path.join(TMP, "refused.bin")),
-          f"exit {rc}, stderr\n  got  {err!r}\n  want {want!r}")
+    out = os.path.join(TMP, "refused.bin")
+    expect_failure(name, (path, out, *extra), path, message, absent=out)
 
 
 # ---- a tiny image tower: OpenAI name -> (shape, values) --------------------
@@ -99,7 +117,11 @@ class Pickle:
         self.b += b"X" + struct.pack("<I", len(data)) + data
 
     def int_(self, v):
-        self.b += b"J" + struct.pack("<i", v)
+        if -2 ** 31 <= v < 2 ** 31:
+            self.b += b"J" + struct.pack("<i", v)  # BININT
+        else:
+            data = v.to_bytes(v.bit_length() // 8 + 1, "little", signed=True)
+            self.b += b"\x8a" + bytes([len(data)]) + data  # LONG1
 
     def ints(self, values):
         self.b += b"("
@@ -128,8 +150,8 @@ class Pickle:
         self.b += b"tR"  # TUPLE, REDUCE
 
 
-def write_torch_zip(path, pickle_bytes, storages, root="archive"):
-    with zipfile.ZipFile(path, "w", zipfile.ZIP_STORED) as z:
+def write_torch_zip(path, pickle_bytes, storages, root="archive", compression=zipfile.ZIP_STORED):
+    with zipfile.ZipFile(path, "w", compression) as z:
         z.writestr(f"{root}/data.pkl", bytes(pickle_bytes))
         for key, data in storages.items():
             z.writestr(f"{root}/data/{key}", data)
@@ -139,9 +161,11 @@ def write_torch_zip(path, pickle_bytes, storages, root="archive"):
 STORAGE_TYPE = {"f32": "FloatStorage", "f16": "HalfStorage"}
 
 
-def write_state_dict(path, tower, prefix="visual.", drop=(), reshape=None, extra_text=True):
+def write_state_dict(path, tower, prefix="visual.", drop=(), reshape=None, extra_text=True, override=None,
+                     compression=zipfile.ZIP_STORED):
     """A torch.save-style state dict: most tensors contiguous, proj a transposed view,
-    class_embedding at an offset inside a larger storage, linear weights f16."""
+    class_embedding at an offset inside a larger storage, linear weights f16. override maps
+    a name to (storage key, member bytes or None for no member, storage numel, offset, stride)."""
     p, storages = Pickle(), {}
     p.ordered_dict()
     p.b += b"("  # MARK for SETITEMS
@@ -152,7 +176,12 @@ def write_state_dict(path, tower, prefix="visual.", drop=(), reshape=None, extra
         dtype = "f16" if name.endswith("weight") and not ".ln_" in "." + name else "f32"
         key = str(i)
         p.string(prefix + name)
-        if name == "proj":  # stored as proj^T, read through strides
+        if override and name in override:
+            key, data, storage_numel, offset, stride = override[name]
+            if data is not None:
+                storages[key] = data
+            p.tensor(STORAGE_TYPE[dtype], key, storage_numel, offset, shape, stride)
+        elif name == "proj":  # stored as proj^T, read through strides
             rows, cols = shape
             t = [values[r * cols + c] for c in range(cols) for r in range(rows)]
             storages[key] = pack(t, dtype)
@@ -169,14 +198,48 @@ def write_state_dict(path, tower, prefix="visual.", drop=(), reshape=None, extra
         storages["text"] = pack([0.5] * 12, "f32")
         p.tensor("FloatStorage", "text", 12, 0, (4, 3), (3, 1))
     p.b += b"u."  # SETITEMS, STOP
-    write_torch_zip(path, p.b, storages)
+    write_torch_zip(path, p.b, storages, compression=compression)
+
+
+def write_raw_zip(path, members):
+    """A zip written field by field, so a member's bytes, sizes and CRC can be anything:
+    members are (name, method, payload, crc, uncompressed size)."""
+    local, central = bytearray(), bytearray()
+    for name, method, payload, crc, size in members:
+        n = name.encode()
+        central += struct.pack("<IHHHHHHIIIHHHHHII", 0x02014B50, 20, 20, 0, method, 0, 0x21, crc,
+                               len(payload), size, len(n), 0, 0, 0, 0, 0, len(local)) + n
+        local += struct.pack("<IHHHHHIIIHH", 0x04034B50, 20, 0, method, 0, 0x21, crc, len(payload),
+                             size, len(n), 0) + n + payload
+    end = struct.pack("<IHHHHIIH", 0x06054B50, 0, 0, len(members), len(members), len(central),
+                      len(local), 0)
+    with open(path, "wb") as f:
+        f.write(local + central + end)
+
+
+def zip_bomb(path, tower, gib=3):
+    """A state dict whose conv1.weight (192 bytes) sits in a storage of gib GiB of zeros,
+    deflated to about a megabyte a GiB: a valid archive, CRC included."""
+    size = gib << 30
+    write_state_dict(path, tower, override={"conv1.weight": ("0", b"", size // 2, 0, (12, 4, 2, 1))})
+    zeros, co = bytes(1 << 20), zlib.compressobj(9, zlib.DEFLATED, -15)
+    first = co.compress(zeros) + co.flush(zlib.Z_FULL_FLUSH)
+    rest = co.compress(zeros) + co.flush(zlib.Z_FULL_FLUSH)  # after a full flush every MiB deflates alike
+    stream, crc = first + rest * ((size >> 20) - 1) + co.flush(), 0
+    for _ in range(size >> 20):
+        crc = zlib.crc32(zeros, crc)
+    with zipfile.ZipFile(path) as z:
+        members = [(i.filename, 0, z.read(i), zlib.crc32(z.read(i)), i.file_size) for i in z.infolist()]
+    write_raw_zip(path, [(n, 8, stream, crc, size) if n == "archive/data/0" else (n, m, d, c, s)
+                         for n, m, d, c, s in members])
 
 
 HF_BLOCK = {"ln_1": "layer_norm1", "attn.out_proj": "self_attn.out_proj", "ln_2": "layer_norm2",
             "mlp.c_fc": "mlp.fc1", "mlp.c_proj": "mlp.fc2"}
 
 
-def write_safetensors(path, tower, dtype="bf16", extra=None, heads=2, act="quick_gelu", drop=()):
+def write_safetensors(path, tower, dtype="bf16", extra=None, heads=2, act="quick_gelu", drop=(), edit=None):
+    """A model.safetensors and its config.json; edit(header) may change the header dict."""
     named = {}
     for name, (shape, values) in tower.items():
         if name == "conv1.weight":
@@ -216,6 +279,8 @@ def write_safetensors(path, tower, dtype="bf16", extra=None, heads=2, act="quick
                         "data_offsets": [offset, offset + len(blob)]}
         blobs.append(blob)
         offset += len(blob)
+    if edit:
+        edit(header)
     text = json.dumps(header).encode()
     with open(path, "wb") as f:
         f.write(struct.pack("<Q", len(text)) + text + b"".join(blobs))
@@ -223,6 +288,11 @@ def write_safetensors(path, tower, dtype="bf16", extra=None, heads=2, act="quick
                                 "patch_size": PATCH, "image_size": PATCH * GRID, "hidden_act": act}}
     with open(os.path.join(os.path.dirname(path), "config.json"), "w") as f:
         json.dump(config, f)
+
+
+def write_raw_safetensors(path, text, data=b""):
+    with open(path, "wb") as f:
+        f.write(struct.pack("<Q", len(text)) + text + data)
 
 
 # ---- reading a weight file back ----------------------------------------------
@@ -257,6 +327,232 @@ def check_output(name, out, tower, dtype, heads):
     bad = [t[0] for t in tensors if t[0] in tower and (t[2] != tower[t[0]][0] or t[4] != tower[t[0]][1]
                                                        or t[1] != dtype or t[3] % 64)]
     check(name + " values", names_ok and not bad, f"wrong: {bad}")
+
+
+def hostile_json(tower, hf_dir, st):
+    """Safetensors headers and config.json: nesting, duplicate keys, non-integer fields, shared
+    bytes, NaN, and the bounds on header size and tensor count."""
+    config = os.path.join(hf_dir, "config.json")
+    deep = b'{"a": ' + b"[" * 100000 + b"]" * 100000 + b"}"
+    write_raw_safetensors(st, deep)
+    expect_refusal("safetensors header nested 100 000 deep", st, "safetensors header nests deeper than 64 levels")
+
+    write_safetensors(st, tower)
+    with open(config, "wb") as f:
+        f.write(b'{"vision_config": ' + b"[" * 100000 + b"]" * 100000 + b"}")
+    expect_refusal("config.json nested 100 000 deep", st, f"{config} nests deeper than 64 levels")
+    with open(config, "w") as f:
+        f.write('{"vision_config": {"num_attention_heads": 2, "num_attention_heads": 4}}')
+    expect_refusal("config.json duplicate key", st, f"{config} has the key num_attention_heads twice")
+    with open(config, "w") as f:
+        json.dump({"vision_config": {"num_attention_heads": True}}, f)
+    expect_refusal("config.json num_attention_heads true", st,
+                   f"{config} says num_attention_heads true, not an integer")
+    with open(config, "w") as f:
+        json.dump({"vision_config": {"hidden_size": 8.0}}, f)
+    expect_refusal("config.json hidden_size 8.0", st, f"{config} says hidden_size 8.0, not an integer")
+    with open(config, "w") as f:
+        f.write('{"vision_config": {}}' + " " * (1 << 20))
+    expect_refusal("config.json past 1 MiB", st, f"cannot read {config} ({(1 << 20) + 21} bytes; a CLIP config.json "
+                   f"has a few thousand)")
+
+    write_safetensors(st, tower)
+    with open(st, "rb") as f:
+        n = struct.unpack("<Q", f.read(8))[0]
+        text, data = f.read(n), f.read()
+    ln = "vision_model.pre_layrnorm.weight"
+    entry = json.dumps(json.loads(text)[ln]).encode()
+    write_raw_safetensors(st, b'{"' + ln.encode() + b'": ' + entry + b", " + text[1:], data)
+    expect_refusal("safetensors duplicate key", st, f"safetensors header has the key {ln} twice")
+
+    for label, shape, shown in (("[64.9]", [64.9], "[64.9]"), ('["64"]', ["64"], '["64"]'),
+                                ("[true]", [True], "[true]")):
+        write_safetensors(st, tower, edit=lambda h: h[ln].update(shape=shape))
+        expect_refusal(f"safetensors shape {label}", st,
+                       f"safetensors entry {ln} has shape {shown}, not a list of integers >= 0")
+    write_safetensors(st, tower, edit=lambda h: h[ln].update(data_offsets=[0, True]))
+    expect_refusal("safetensors data_offsets [0, true]", st,
+                   f"safetensors entry {ln} has data_offsets [0, true], not two integers >= 0")
+
+    bias = "vision_model.pre_layrnorm.bias"
+    write_safetensors(st, tower, edit=lambda h: h[bias].update(data_offsets=h[ln]["data_offsets"]))
+    expect_refusal("safetensors shared data_offsets", st,  # equal offsets: named in sorted order
+                   f"safetensors entries {min(ln, bias)} and {max(ln, bias)} share bytes (their data_offsets "
+                   f"overlap)")
+
+    def overlap(h):
+        begin, end = h[ln]["data_offsets"]
+        h[bias]["data_offsets"] = [begin + 2, end + 2]
+    write_safetensors(st, tower, edit=overlap)
+    expect_refusal("safetensors overlapping data_offsets", st,
+                   f"safetensors entries {ln} and {bias} share bytes (their data_offsets overlap)")
+
+    inf = dict(tower)
+    inf["ln_pre.bias"] = ((W,), [1.0] * (W - 1) + [float("-inf")])
+    write_safetensors(st, inf)
+    expect_refusal("safetensors -Inf", st, f"tensor {bias} has NaN or Inf values")
+
+    with open(st, "wb") as f:  # a sparse file: the header length is refused before reading
+        f.write(struct.pack("<Q", 256 * 131104 + 1) + b"{")
+        f.truncate(8 + 256 * 131104 + 1)
+    expect_refusal("safetensors header past 32 MiB", st,
+                   f"safetensors header of {256 * 131104 + 1} bytes; a CLIP model's takes less than "
+                   f"{256 * 131104}")
+    write_raw_safetensors(st, ("{" + ", ".join(f'"{i}": 0' for i in range(131105)) + "}").encode())
+    expect_refusal("safetensors with 131 105 tensors", st,
+                   "safetensors header lists 131105 tensors; no CLIP model has more than 131104")
+    write_safetensors(st, tower)
+
+
+def hostile_archives(tower):
+    """PyTorch archives: deep module nesting, a memo bomb, a damaged member, stride-0 views, a
+    zip bomb, shared storages, NaN and Inf, too many tensors, an oversized data.pkl, an
+    architecture the loader refuses; and a deflated archive that must still convert."""
+    path, out = os.path.join(TMP, "hostile.pt"), os.path.join(TMP, "hostile.bin")
+    n = 5000
+    write_torch_zip(path, b"\x80\x02" + b"c__torch__\nM\n)\x81}X\x01\x00\x00\x00a" * n + b"N" + b"sb" * n + b".", {})
+    expect_refusal("TorchScript modules nested 5 000 deep", path, "TorchScript modules nested more than 64 deep")
+
+    write_torch_zip(path, b"\x80\x02Nr\xff\xff\xff\x7f.", {})  # LONG_BINPUT 2^31 - 1
+    expect_refusal("pickle memo index 2^31", path, "malformed data.pkl (memo index 2147483647 in a pickle of 9 bytes)")
+
+    write_state_dict(path, tower)
+    with zipfile.ZipFile(path) as z:
+        info = z.getinfo("archive/data/5")
+    with open(path, "r+b") as f:
+        f.seek(info.header_offset + 30 + len(info.filename) + 1)
+        byte = f.read(1)
+        f.seek(-1, 1)
+        f.write(bytes([byte[0] ^ 0x40]))
+    expect_refusal("one flipped byte in a storage", path, "archive member archive/data/5 is damaged (Bad CRC-32 for "
+                   "file 'archive/data/5')", "--heads", "2")
+
+    write_state_dict(path, tower, override={"conv1.weight": ("0", pack([0.5], "f16"), 1, 0, (0, 0, 0, 0))})
+    expect_refusal("stride-0 view", path, "tensor visual.conv1.weight is not a dense block of its storage (a stride-0, "
+                   "overlapping or gapped view)", "--heads", "2")
+
+    zip_bomb(path, tower)
+    rc, _, err = convert(path, out, "--heads", "2")
+    want = (f"convert_weights.py: {path}: storage archive/data/0 has {3 << 30} bytes, tensor visual.conv1.weight "
+            f"uses 192; refusing to inflate the rest")
+    check(f"zip bomb ({os.path.getsize(path) >> 20} MB, a 3 GiB storage)", rc == 1 and err == want,
+          f"exit {rc}, stderr\n  got  {err!r}\n  want {want!r}")
+
+    write_state_dict(path, tower, override={"ln_pre.bias": ("3", None, W, 0, (1,))})
+    expect_refusal("two tensors sharing a storage", path, "tensors visual.ln_pre.weight and visual.ln_pre.bias share "
+                   "storage archive/data/3", "--heads", "2")
+
+    bad = dict(tower)
+    bad["ln_pre.bias"] = ((W,), [float("nan")] + [0.0] * (W - 1))
+    write_state_dict(path, bad)
+    expect_refusal("NaN in an f32 tensor", path, "tensor visual.ln_pre.bias has NaN or Inf values", "--heads", "2")
+    bad = dict(tower)
+    shape, values = tower["conv1.weight"]
+    bad["conv1.weight"] = (shape, values[:-1] + [float("inf")])
+    write_state_dict(path, bad)
+    expect_refusal("Inf in an f16 tensor", path, "tensor visual.conv1.weight has NaN or Inf values", "--heads", "2")
+
+    p = Pickle()
+    p.ordered_dict()
+    p.b += b"("
+    p.string("visual.conv1.weight")
+    p.tensor("FloatStorage", "0", 1, 0, (1,), (1,))
+    p.b += b"q\x00"  # BINPUT 0: the same tensor under 131 105 names
+    for i in range(131104):
+        p.string(f"t{i}")
+        p.b += b"h\x00"  # BINGET 0
+    p.b += b"u."
+    write_torch_zip(path, p.b, {"0": pack([0.0], "f32")})
+    expect_refusal("state dict with 131 105 tensors", path, "more than 131104 tensors; no CLIP model has so many")
+
+    limit = 256 * 131104
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("archive/data.pkl", bytes(limit + 1))
+    expect_refusal("data.pkl past 32 MiB", path, f"archive member archive/data.pkl has {limit + 1} bytes, more than "
+                   f"the {limit} a CLIP model needs")
+
+    wide, p = 65537, Pickle()  # storages declared, never read: the architecture is refused first
+    p.ordered_dict()
+    p.b += b"("
+    for i, (name, shape) in enumerate((("conv1.weight", (wide, 3, 1, 1)), ("positional_embedding", (2, wide)),
+                                       ("proj", (wide, 1)),
+                                       ("transformer.resblocks.0.attn.in_proj_weight", (3 * wide, wide)))):
+        p.string("visual." + name)
+        p.tensor("FloatStorage", str(i), numel(shape), 0, shape, [numel(shape[d + 1:]) for d in range(len(shape))])
+    p.b += b"u."
+    write_torch_zip(path, p.b, {})
+    expect_refusal("width past the loader's limit", path, "width 65537, 1 layers, resolution 1, output 1: beyond what "
+                   "wiresketch loads (width and output 65536, 4096 layers, resolution 16384)", "--heads", "1")
+
+    write_state_dict(path, tower, compression=zipfile.ZIP_DEFLATED)
+    rc, _, err = convert(path, out, "--heads", "2")
+    check("deflated state dict converts", rc == 0, err)
+    check_output("deflated state dict", out, tower, 0, 2)
+
+
+def signalled(name, signum, src, out):
+    """The converter, held after its first tensor by a stand-in for tensor_chunks, gets signum
+    once OUT.tmp.PID exists: one line naming OUT, exit 1, no temporary file left."""
+    stub = ("import sys, time\nsys.path.insert(0, sys.argv[1])\nimport convert_weights as cw\n"
+            "real = cw.tensor_chunks\n"
+            "def held(*args):\n    yield from real(*args)\n    time.sleep(60)\n"
+            "cw.tensor_chunks = held\nsys.exit(cw.main(sys.argv[2:]))\n")
+    proc = subprocess.Popen([sys.executable, "-c", stub, os.path.dirname(CONVERTER), src, out, "--heads", "2"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    tmp, deadline = f"{out}.tmp.{proc.pid}", time.monotonic() + 20
+    while not os.path.exists(tmp) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    proc.send_signal(signum)
+    try:
+        _, err = proc.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        _, err = proc.communicate()
+    want = f"convert_weights.py: {out}: interrupted by {signal.Signals(signum).name}; not written"
+    check(name, proc.returncode == 1 and err.strip() == want and not os.path.exists(tmp) and not os.path.exists(out),
+          f"exit {proc.returncode}, stderr {err.strip()!r}, want {want!r}; {tmp} left: {os.path.exists(tmp)}")
+
+
+def digest(path):
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+def hostile_paths(tower, sd, hf_dir, st):
+    """Inputs that are not regular files, an output onto the input, output errors, signals."""
+    out = os.path.join(TMP, "paths.bin")
+    expect_refusal("a directory as input", hf_dir, "is a directory")
+    fifo = os.path.join(TMP, "fifo.pt")
+    os.mkfifo(fifo)
+    expect_refusal("a FIFO as input (refused without blocking)", fifo, "not a regular file")
+    config = os.path.join(hf_dir, "config.json")
+    os.unlink(config)
+    os.mkfifo(config)
+    expect_refusal("a FIFO as config.json", st, f"cannot read {config} (not a regular file)")
+    os.unlink(config)
+    os.mkdir(config)
+    expect_refusal("a directory as config.json", st, f"cannot read {config} (is a directory)")
+    os.rmdir(config)
+    write_safetensors(st, tower)
+
+    before = digest(sd)
+    link, hard = os.path.join(TMP, "link.pt"), os.path.join(TMP, "hard.pt")
+    os.symlink(sd, link)
+    os.link(sd, hard)
+    for label, target in (("the same path", sd), ("a symbolic link to it", link), ("a hard link to it", hard)):
+        expect_failure(f"OUT is IN: {label}", (sd, target, "--heads", "2"), sd,
+                       f"the same file as {target}; refusing to overwrite the model with its conversion")
+    check("OUT is IN: the model is intact", digest(sd) == before, "the input changed")
+
+    missing_dir = os.path.join(TMP, "no such dir", "out.bin")
+    expect_failure("an unwritable OUT is named, not OUT.tmp.PID", (sd, missing_dir, "--heads", "2"), missing_dir,
+                   "cannot write (No such file or directory)")
+    out_dir = os.path.join(TMP, "out_dir")
+    os.mkdir(out_dir)
+    expect_failure("a directory as OUT", (sd, out_dir, "--heads", "2"), out_dir, "is a directory")
+
+    signalled("SIGTERM removes OUT.tmp.PID", signal.SIGTERM, sd, out)
+    signalled("SIGINT removes OUT.tmp.PID", signal.SIGINT, sd, out)
 
 
 def main():
@@ -389,6 +685,9 @@ def main():
             f.truncate(os.path.getsize(st) - 10)
         expect_refusal("HF truncated data", st, "safetensors entry text_model.embeddings.token_embedding.weight "
                        "has bad data offsets")
+        hostile_json(tower, hf_dir, st)
+        hostile_archives(tower)
+        hostile_paths(tower, sd, hf_dir, st)
     print(f"{failures} checks failed" if failures else "all checks passed")
     return 1 if failures else 0
 
