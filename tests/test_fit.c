@@ -224,6 +224,14 @@ static void test_bad_input(void) {
     CHECK(run(args) == 2 && stderr_has("h/checkpoint.bin: stopped at batch 4, step 3 of its epoch, which "
                                        "--batch-size 1 and --inner-steps 2 do not have"),
           "resume with a schedule that does not fit");
+    /* What the checkpoint's curves and Adam moments embody cannot be
+     * overridden: refused, not silently ignored. */
+    snprintf(args, sizeof args, "fit --resume %s/h --learning_rate 0.1", tmp);
+    CHECK(run(args) == 2 && stderr_has("--learning-rate: fixed by the checkpoint of the run being resumed; "
+                                       "start a new fit to change it"),
+          "a resumed run's learning rate override");
+    snprintf(args, sizeof args, "fit --resume %s/h --n-curves 3", tmp);
+    CHECK(run(args) == 2 && stderr_has("--n-curves: fixed by the checkpoint"), "a resumed run's curve count");
     /* A bad weight file stops the fit before its first checkpoint. */
     snprintf(path, sizeof path, "%s/garbage.bin", tmp);
     FILE *g = fopen(path, "w");

@@ -6,8 +6,7 @@
 #include <string.h>
 #include "cli/args.h"
 
-/* Option names compare with '_' and '-' treated alike. */
-static int same_name(const char *a, const char *b) {
+int ws_arg_same_name(const char *a, const char *b) {
     for (; *a && *b; a++, b++) {
         char ca = *a == '_' ? '-' : *a, cb = *b == '_' ? '-' : *b;
         if (ca != cb) return 0;
@@ -91,7 +90,7 @@ int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char
         if (word[0] == '-' && word[1] == '-') {
             const ws_arg *a = NULL;
             for (int k = 0; k < spec->nargs && !a; k++)
-                if (same_name(spec->args[k].name, word)) a = &spec->args[k];
+                if (ws_arg_same_name(spec->args[k].name, word)) a = &spec->args[k];
             if (!a) return ws_fail(st, WS_EUSAGE, "%s: unknown option (see --help)", word);
             if (a->kind == WS_ARG_FLAG)
                 *(int *)a->dest = 1;

@@ -42,6 +42,9 @@ typedef struct {
 } ws_command_spec;
 
 /* On success positional[0..*npositional) point into argv. */
+/* Option names compare with '_' and '-' treated alike. */
+int ws_arg_same_name(const char *a, const char *b);
+
 int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
                   int *npositional, int *help, ws_status *st);
 

@@ -128,7 +128,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     };
     const ws_command_spec spec = {
         "fit SCENE [--out DIR] [options] | fit --resume DIR [options that override]",
-        "fit 3D curves to a multi-view scene (SPEC sections 5-7)", args,
+        "fit 3D curves to a multi-view scene (docs/METHOD.md sections 5-7)", args,
         (int)(sizeof args / sizeof args[0]), 0, 1};
     const char *pos[1];
     int npos;
@@ -175,6 +175,19 @@ static int check_stored_arguments(const char *path, int argc, char **argv, ws_st
     return WS_OK;
 }
 
+/* Options a resumed run cannot change: the checkpoint's curves, Adam
+ * moments (which hold the step size) and generator already embody them, so
+ * a new value would be ignored; it is refused instead. */
+static int fixed_on_resume(const char *arg, ws_status *st) {
+    static const char *const fixed[] = {"--learning-rate", "--n-curves", "--thickness", "--radius",
+                                        "--length", "--overlap", "--init", "--seed"};
+    for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++)
+        if (ws_arg_same_name(arg, fixed[k]))
+            return ws_fail(st, WS_EUSAGE, "%s: fixed by the checkpoint of the run being resumed; "
+                                          "start a new fit to change it", fixed[k]);
+    return WS_OK;
+}
+
 /* The arguments of a resumed run: those its checkpoint stored, then the
  * ones given now except --resume DIR, so that later ones override (e.g. a
  * larger --max-steps). The strings stay owned by saved/argv. */
@@ -194,6 +207,7 @@ static int resume_arguments(const char *dir, int argc, char **argv, int *run_arg
             i++;
             continue;
         }
+        if (fixed_on_resume(argv[i], st)) return st->code;
         (*run_argv)[n++] = argv[i];
     }
     *run_argc = n;
