@@ -531,8 +531,8 @@ static void test_stored_arguments(const unsigned char *c, size_t len) {
     /* an override is checked as the command line it is */
     const char *good[] = {scene, "--loss", "edges", "--size", "32", "--threads", "1", "--quiet"};
     write_with_arguments(path, c, len, good, 8);
-    rc = run("fit --resume %s --length 1e200", dir);
-    CHECK(ANSWER(2, rc, "--length: 1e+200 is not in [0, 1e+06]"), "override out of range");
+    rc = run("fit --resume %s --max-steps -5", dir);
+    CHECK(ANSWER(2, rc, "--max-steps, --eval-every and --snapshot-every must be >= 0"), "override out of range");
     CHECK(checkpoint_loads(path), "the refused checkpoint was damaged");
 }
 
