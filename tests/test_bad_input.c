@@ -679,7 +679,7 @@ static void test_numeric_faults(void) {
     size_t nbytes = (size_t)w[WF_ENTRY0 + 112] | (size_t)w[WF_ENTRY0 + 113] << 8;
     float *huge = malloc(nbytes);
     for (size_t i = 0; i < nbytes / 4; i++) huge[i] = 3e38f;
-    char path[400], dir[300], want[600];
+    char path[400], dir[300], want[1024];
     snprintf(path, sizeof path, "%s/w_overflow.bin", tmp);
     write_edited(path, w, len, data, huge, nbytes);
     free(huge);
