@@ -46,7 +46,7 @@ CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 HEADERS   := $(wildcard src/*.h src/*/*.h nn/*.h nn/*/*.h) tests/check.h tests/cli_run.h
 
-.PHONY: all test test-scenes check-layers clean install uninstall bench demo fuzz fuzz-build
+.PHONY: all test test-scenes check-layers clean install uninstall bench demo fuzz fuzz-build test-mpi bench-mpi
 all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example
 
 # nn/'s vector kernels (fastmath.h) fuse multiply-adds where the CPU has
@@ -136,6 +136,12 @@ test-scenes: all $(SCENE_TESTS)
 test-mpi: all
 	$(MAKE) MPI=1 build/mpi/wiresketch
 	@bash tests/mpi/run.sh build/mpi/wiresketch
+
+# `make bench-mpi`: the README's MPI tables (measured steps on 1 and 2
+# ranks, per-image costs, the model for 1..64 ranks).
+bench-mpi: all weights/random-f32.bin
+	$(MAKE) MPI=1 build/mpi/wiresketch
+	bash tools/bench_mpi.sh
 
 # Fuzzing (clang + libFuzzer; `bash tools/setup.sh fuzz` installs them). The
 # library is rebuilt with clang and coverage into build/fuzz; each target

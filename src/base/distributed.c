@@ -119,6 +119,7 @@ void ws_dist_allgather(void *buf, const size_t *bytes) {
 
 int ws_dist_max(int value) {
     int out = value;
+    sent_ += sizeof value * (size_t)(size_ - 1);
     check(MPI_Allreduce(&value, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
     return out;
 }

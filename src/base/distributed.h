@@ -47,7 +47,9 @@ _Noreturn void ws_dist_abort(const char *msg);
  * returns st->code. */
 int ws_dist_fail_alone(const ws_status *st);
 
-/* Bytes this rank has sent to other ranks so far. */
+/* Bytes this rank has sent to other ranks so far: what each collective
+ * hands to the others (an exchange's sends; an all-gather's or maximum's
+ * part once per other rank), not what the network carries for it. */
 size_t ws_dist_bytes_sent(void);
 
 #endif

@@ -227,10 +227,30 @@ static int respawn(fit_run *r, ws_status *st) {
     return moved ? ws_objective_sample(r->objective, &s->curves, st) : WS_OK;
 }
 
+/* On several ranks, unless quiet: the bytes all ranks sent each other per
+ * step since `before` (this rank's count then), for the README's scaling
+ * table. */
+static void report_traffic(const fit_run *r, size_t before, long steps) {
+    int N = ws_dist_size();
+    if (N == 1) return;
+    size_t *sent = calloc((size_t)N, sizeof *sent), *bytes = malloc((size_t)N * sizeof *bytes);
+    if (!sent || !bytes) ws_dist_abort("out of memory counting the traffic between ranks");
+    sent[ws_dist_rank()] = ws_dist_bytes_sent() - before;
+    for (int k = 0; k < N; k++) bytes[k] = sizeof *sent;
+    ws_dist_allgather(sent, bytes);
+    double total = 0;
+    for (int k = 0; k < N; k++) total += (double)sent[k];
+    if (speaks() && !r->opt->quiet && steps > 0)
+        fprintf(stderr, "fit: %d ranks sent each other %.0f bytes per step\n", N, total / steps);
+    free(sent);
+    free(bytes);
+}
+
 static int run_schedule(fit_run *r, const char *const *argv, int argc, int *interrupted,
                         ws_status *st) {
     const ws_fit_options *o = r->opt;
     ws_fit_state *s = &r->s;
+    size_t sent_before = ws_dist_bytes_sent();
     double rate_start = ws_seconds(), last_checkpoint = rate_start;
     long steps_this_run = 0;
     double loss = NAN;
@@ -252,6 +272,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         }
     }
     progress(r, loss, rate_start, steps_this_run, 1);
+    report_traffic(r, sent_before, steps_this_run);
     return WS_OK;
 }
 
