@@ -1,5 +1,6 @@
 /* cmd_fit.c: `wiresketch fit SCENE --out DIR [options]` and
  * `wiresketch fit --resume DIR`. */
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -72,11 +73,27 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
     }
 }
 
+/* The defaults of the options a loss wants otherwise, where the command
+ * line left them unset (NAN, -1): the original's for CLIP; for the line
+ * loss alone (`--loss edges`) those measured on the solid scenes (README,
+ * "Fits on the synthetic scenes"): thin strokes, long initial strokes, a
+ * small step and 4 epochs. */
+static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
+    int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
+    if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;
+    if (isnan(opt->thickness)) opt->thickness = lines ? 0.01 : original->thickness;
+    if (isnan(opt->length)) opt->length = lines ? 0.3 : original->length;
+    if (opt->epochs == -1) opt->epochs = lines ? 4 : original->epochs;
+}
+
 /* Parses the fit's own arguments (those of a new run, or those a checkpoint
  * stored) into opt; settings (or NULL) receives the report's table. */
 static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **resume_dir, int *help,
                      fit_settings *settings, ws_status *st) {
     ws_fit_options_default(opt);
+    const ws_fit_options original = *opt;
+    opt->learning_rate = opt->thickness = opt->length = NAN; /* unset: loss_defaults */
+    opt->epochs = -1;
     const char *loss_name = "clip", *background = "black";
     double edges_weight = 1.0;
     int seed = 0;
@@ -90,13 +107,13 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
-        {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10]"},
+        {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10; 4 with --loss edges]"},
         {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30]"},
-        {"--learning-rate", WS_ARG_DOUBLE, &opt->learning_rate, 0, "Adam step size [0.005]"},
+        {"--learning-rate", WS_ARG_DOUBLE, &opt->learning_rate, 0, "Adam step size [0.005; 0.0003 with --loss edges]"},
         {"--n-curves", WS_ARG_INT, &opt->n_curves, 0, "number of curves [25]"},
-        {"--thickness", WS_ARG_DOUBLE, &opt->thickness, 0, "Gaussian radius, world units [0.02]"},
+        {"--thickness", WS_ARG_DOUBLE, &opt->thickness, 0, "Gaussian radius, world units [0.02; 0.01 with --loss edges]"},
         {"--radius", WS_ARG_DOUBLE, &opt->radius, 0, "initialisation sphere radius [0.8]"},
-        {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02]"},
+        {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02; 0.3 with --loss edges]"},
         {"--overlap", WS_ARG_DOUBLE, &opt->overlap, 0, "Gaussian overlap [0.6]"},
         {"--clip-weight", WS_ARG_DOUBLE, &opt->loss.global_weight, 0, "global term weight [1]"},
         {"--clip-conv-loss", WS_ARG_DOUBLE, &opt->loss.conv_weight, 0, "geometric term weight, 0 = off [1]"},
@@ -140,7 +157,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     if (ws_cli_check_size(opt->size, st) ||
         ws_cli_background(background, opt->background, &opt->background_auto, st) ||
         ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st) ||
-        ws_fit_options_check(opt, st))
+        (loss_defaults(opt, &original), ws_fit_options_check(opt, st)))
         return st->code;
     if (settings) {
         /* the layer weights in effect, also when the defaults are */
