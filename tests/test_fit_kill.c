@@ -91,7 +91,7 @@ static pid_t start_fit(int resume, const char *steps) {
             execl(bin, bin, "fit", "--resume", dir, "--max-steps", steps, (char *)NULL);
         else
             execl(bin, bin, "fit", scene, "--out", dir, "--size", "64", "--loss", "edges", "--length",
-                  "0.3", "--threads", "1", "--quiet", "--checkpoint-minutes", "0.0001",
+                  "0.3", "--epochs", "10", "--threads", "1", "--quiet", "--checkpoint-minutes", "0.0001",
                   "--snapshot-every", "1", "--max-steps", steps, (char *)NULL);
         _exit(127);
     }
