@@ -13,7 +13,12 @@
 #define NN_PARALLEL_H
 #include <stddef.h>
 
-/* Should an op with `work` elementary steps fork a team? */
+/* Read the OpenMP wait policy (once per process: ws_runtime_init calls it;
+ * otherwise the first nn_fork does). */
+void nn_parallel_init(void);
+
+/* Should an op with `work` elementary steps fork a team? nn/'s ops and the
+ * application's per-pixel loops (splat, augmentation, edge maps) all ask. */
 int nn_fork(size_t work);
 
 #endif

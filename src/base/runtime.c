@@ -7,6 +7,7 @@
 #include <strings.h>
 #include <unistd.h>
 #include "base/runtime.h"
+#include "nn/parallel.h"
 
 /* OpenBLAS's DYNAMIC_ARCH entry points (exported by Debian's 0.3.21, in no
  * header): weak, so that another BLAS links too and is left alone. */
@@ -95,6 +96,7 @@ int ws_runtime_init(int threads, ws_status *st) {
     if (ws_runtime_check_threads(threads, st)) return st->code;
     if (!kernels_chosen) {
         choose_kernels();
+        nn_parallel_init();
         kernels_chosen = 1;
     }
     int n = threads ? threads : omp_get_num_procs();

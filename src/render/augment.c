@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "render/augment.h"
+#include "nn/parallel.h"
 
 struct ws_aug_workspace {
     int width, height, channels;
@@ -181,7 +182,7 @@ void ws_aug_workspace_free(ws_aug_workspace *ws) {
 static void build_warp(const ws_aug_params *p, ws_aug_workspace *ws) {
     const double *h = p->homography;
     int W = p->width, H = p->height, cw = p->crop_width;
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)p->crop_height * cw))
     for (int r = 0; r < p->crop_height; r++) {
         double y = p->crop_top + r + 0.5;
         for (int c = 0; c < cw; c++) {
@@ -248,7 +249,7 @@ int ws_aug_forward(const ws_aug_params *p, const float *in, int C, int H, int W,
     if (prepare(p, C, H, W, ws, st)) return st->code;
     int ch = p->crop_height, cw = p->crop_width;
     size_t hw = (size_t)H * W, crop = (size_t)ch * cw;
-#pragma omp parallel for collapse(2)
+#pragma omp parallel for collapse(2) if (nn_fork((size_t)C * crop))
     for (int c = 0; c < C; c++)
         for (int r = 0; r < ch; r++) {
             const float *src = in + c * hw;
@@ -259,7 +260,7 @@ int ws_aug_forward(const ws_aug_params *p, const float *in, int C, int H, int W,
                 dst[j] = wt[0] * src[tap[0]] + wt[1] * src[tap[1]] + wt[2] * src[tap[2]] +
                          wt[3] * src[tap[3]];
         }
-#pragma omp parallel for collapse(2)
+#pragma omp parallel for collapse(2) if (nn_fork((size_t)C * hw))
     for (int c = 0; c < C; c++)
         for (int i = 0; i < H; i++) {
             const float *r0 = ws->warped + c * crop + (size_t)ws->row_tap[2 * i] * cw;
@@ -283,7 +284,7 @@ int ws_aug_backward(const ws_aug_params *p, const float *dout, int C, int H, int
     size_t hw = (size_t)H * W, crop = (size_t)ch * cw;
     /* Each channel is one thread's scatter in pixel order: the same sums in
      * the same order whatever the thread count. */
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)C * crop))
     for (int c = 0; c < C; c++) {
         float *dwarp = ws->warped + c * crop;
         for (size_t k = 0; k < crop; k++) dwarp[k] = 0;

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include "render/edges.h"
 #include "render/pyramid.h"
+#include "nn/parallel.h"
 
 struct ws_edges_workspace {
     int W, H;
@@ -25,7 +26,7 @@ static float luminance(const float *photo, size_t hw, int W, int H, int i, int j
 void ws_edges_target(const float *photo, int W, int H, float *edge) {
     size_t hw = (size_t)W * H;
     float max = 0;
-#pragma omp parallel for reduction(max : max)
+#pragma omp parallel for reduction(max : max) if (nn_fork(hw))
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
             float y[3][3];
@@ -112,7 +113,7 @@ double ws_edges_loss_forward(const double *alpha, const float *edge, int W, int 
     for (int s = 0; s < WS_EDGES_LEVELS; s++) {
         int w = ws->w[s], h = ws->h[s];
         const double *b = ws->blur[s];
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)w * h))
         for (int i = 0; i < h; i++) {
             double sum = 0;
             for (int j = 0; j < w; j++) sum += b[(size_t)i * w + j] * b[(size_t)i * w + j];

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stddef.h>
 #include "render/pyramid.h"
+#include "nn/parallel.h"
 
 int ws_blur_kernel_init(ws_blur_kernel *g, double sigma) {
     if (!(sigma > 0) || ceil(3 * sigma) > WS_BLUR_MAX_RADIUS) return -1;
@@ -18,14 +19,14 @@ int ws_blur_kernel_init(ws_blur_kernel *g, double sigma) {
 void ws_blur_forward(const ws_blur_kernel *g, const double *in, double *out, double *tmp, int w, int h) {
     const int R = g->radius;
     const double *k = g->k + R;
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)w * h))
     for (int i = 0; i < h; i++)
         for (int j = 0; j < w; j++) {
             double s = 0;
             for (int t = j - R < 0 ? -j : -R; t <= R && j + t < w; t++) s += k[t] * in[(size_t)i * w + j + t];
             tmp[(size_t)i * w + j] = s;
         }
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)w * h))
     for (int i = 0; i < h; i++)
         for (int j = 0; j < w; j++) {
             double s = 0;
@@ -41,7 +42,7 @@ static int cell_count(int w, int h, int i, int j) {
 
 void ws_pool2_forward(const double *in, int w, int h, double *out) {
     int wo = (w + 1) / 2, ho = (h + 1) / 2;
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)w * h))
     for (int i = 0; i < ho; i++)
         for (int j = 0; j < wo; j++) {
             double sum = 0;
@@ -53,7 +54,7 @@ void ws_pool2_forward(const double *in, int w, int h, double *out) {
 
 void ws_pool2_backward(const double *dout, int w, int h, double *din) {
     int wo = (w + 1) / 2;
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)w * h))
     for (int a = 0; a < h; a++)
         for (int b = 0; b < w; b++)
             din[(size_t)a * w + b] += dout[(size_t)(a / 2) * wo + b / 2] / cell_count(w, h, a / 2, b / 2);

@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "render/splat.h"
+#include "nn/parallel.h"
 
 #define TILE 16
 #define PARALLEL_GAUSSIANS 16384
@@ -230,7 +231,8 @@ int ws_splat_forward(ws_splat *s, const ws_camera *cam, const double *mu, int n,
     const double half_cutoff2 = s->half_cutoff2;
     /* Gaussian by Gaussian over each tile, so a Gaussian costs the pixels it
      * covers; every pixel still multiplies its factors in index order. */
-    #pragma omp parallel for schedule(dynamic, 1)
+    const size_t visits = s->tile_start[s->ntiles] * TILE * TILE; /* pixel visits at most */
+    #pragma omp parallel for schedule(dynamic, 1) if (nn_fork(visits))
     for (int t = 0; t < s->ntiles; t++) {
         int i0 = (t / s->tiles_x) * TILE, j0 = (t % s->tiles_x) * TILE;
         int i1 = i0 + TILE < H ? i0 + TILE : H, j1 = j0 + TILE < W ? j0 + TILE : W;
@@ -312,7 +314,8 @@ int ws_splat_backward(ws_splat *s, const double *dalpha, double *dmu, ws_status 
     /* The scratch was sized for the team of the forward pass; never more. */
     const int threads = omp_get_max_threads() < s->scratch_threads ? omp_get_max_threads()
                                                                   : s->scratch_threads;
-    #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    const size_t visits = s->tile_start[s->ntiles] * TILE * TILE; /* pixel visits at most */
+    #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (nn_fork(visits))
     for (int t = 0; t < s->ntiles; t++) {
         double *wpre = s->scratch + (size_t)omp_get_thread_num() * s->scratch_len * 2;
         size_t first = s->tile_start[t], last = s->tile_start[t + 1];

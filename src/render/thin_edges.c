@@ -7,6 +7,7 @@
 #include <string.h>
 #include "render/pyramid.h"
 #include "render/thin_edges.h"
+#include "nn/parallel.h"
 
 static int clampi(int x, int n) { return x < 0 ? 0 : x >= n ? n - 1 : x; }
 
@@ -34,14 +35,14 @@ int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st) 
     const int R = g.radius;
     for (size_t k = 0; k < n; k++) y[k] = 0.299 * photo[k] + 0.587 * photo[n + k] + 0.114 * photo[2 * n + k];
     /* smoothing with repeated borders: rows into m, then columns into s */
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork(n))
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
             double sum = 0;
             for (int t = -R; t <= R; t++) sum += g.k[t + R] * y[(size_t)i * W + clampi(j + t, W)];
             m[(size_t)i * W + j] = sum;
         }
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork(n))
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
             double sum = 0;
@@ -49,7 +50,7 @@ int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st) 
             s[(size_t)i * W + j] = sum;
         }
     /* gradient magnitude into m, direction sector (0..3) into y */
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork(n))
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
             double v[3][3];
@@ -66,7 +67,7 @@ int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st) 
     static const int step[4][2] = {{0, 1}, {1, 1}, {1, 0}, {1, -1}};
     double top = 0;
     for (size_t k = 0; k < n; k++) top = fmax(top, m[k]);
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork(n))
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
             size_t at = (size_t)i * W + j;
