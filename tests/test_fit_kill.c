@@ -80,7 +80,9 @@ static int temporaries(void) {
 }
 
 /* Starts a fit of at most `steps` steps that checkpoints after every step
- * (resume: `fit --resume DIR`, which keeps the stored settings). */
+ * (resume: `fit --resume DIR`, which keeps the stored settings). Its
+ * schedule (1000 epochs of 6 views x 30 steps) is longer than any fit here
+ * runs, so a resume always has a next step, however fast the machine. */
 static pid_t start_fit(int resume, const char *steps) {
     char scene[300];
     snprintf(scene, sizeof scene, "%s/scene", tmp);
@@ -91,7 +93,7 @@ static pid_t start_fit(int resume, const char *steps) {
             execl(bin, bin, "fit", "--resume", dir, "--max-steps", steps, (char *)NULL);
         else
             execl(bin, bin, "fit", scene, "--out", dir, "--size", "64", "--loss", "edges", "--length",
-                  "0.3", "--epochs", "10", "--threads", "1", "--quiet", "--checkpoint-minutes", "0.0001",
+                  "0.3", "--epochs", "1000", "--threads", "1", "--quiet", "--checkpoint-minutes", "0.0001",
                   "--snapshot-every", "1", "--max-steps", steps, (char *)NULL);
         _exit(127);
     }
