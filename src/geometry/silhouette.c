@@ -56,30 +56,6 @@ static int distance_map(ws_silhouette *s, ws_status *st) {
     return WS_OK;
 }
 
-static int compare_floats(const void *a, const void *b) {
-    float x = *(const float *)a, y = *(const float *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* The per-channel median of the border pixels; border: scratch of 2 (W + H). */
-static void border_background(const ws_image *photo, float *border, float background[3]) {
-    const int W = photo->width, H = photo->height;
-    for (int c = 0; c < 3; c++) {
-        const float *plane = photo->data + (size_t)c * W * H;
-        int m = 0;
-        for (int j = 0; j < W; j++) {
-            border[m++] = plane[j];
-            if (H > 1) border[m++] = plane[(size_t)(H - 1) * W + j];
-        }
-        for (int i = 1; i + 1 < H; i++) {
-            border[m++] = plane[(size_t)i * W];
-            if (W > 1) border[m++] = plane[(size_t)i * W + W - 1];
-        }
-        qsort(border, m, sizeof *border, compare_floats);
-        background[c] = border[m / 2];
-    }
-}
-
 int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouette *s,
                        ws_status *st) {
     const int W = photo->width, H = photo->height;
@@ -96,7 +72,7 @@ int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouett
         return st->code;
     }
     float background[3];
-    border_background(photo, border, background);
+    ws_image_border_median(photo, background, border);
     free(border);
     for (size_t p = 0; p < hw; p++) {
         int object;

@@ -401,3 +401,21 @@ int ws_image_crop(const ws_image *in, int x0, int y0, int width, int height, ws_
                    sizeof(float) * width);
     return WS_OK;
 }
+
+static int compare_floats(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+void ws_image_border_median(const ws_image *img, float out[3], float *scratch) {
+    const int w = img->width, h = img->height;
+    for (int c = 0; c < 3; c++) {
+        const float *plane = img->data + (size_t)c * w * h;
+        int n = 0;
+        for (int i = 0; i < h; i++)
+            for (int j = 0; j < w; j += (i == 0 || i == h - 1 || j == w - 1) ? 1 : w - 1)
+                scratch[n++] = plane[(size_t)i * w + j];
+        qsort(scratch, n, sizeof *scratch, compare_floats);
+        out[c] = scratch[n / 2];
+    }
+}

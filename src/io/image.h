@@ -38,6 +38,12 @@ int ws_png_write(const char *path, const ws_image *img, ws_status *st);
 int ws_image_crop(const ws_image *in, int x0, int y0, int width, int height, ws_image *out,
                   ws_status *st);
 
+/* The median of each of the first three channels over the image's border
+ * pixels (its outermost rows and columns, each pixel once): the background
+ * colour of a photo of an object in the middle. scratch: 2 (width + height)
+ * floats. */
+void ws_image_border_median(const ws_image *img, float out[3], float *scratch);
+
 /* Resamples `in` to width x height into `out` (allocated here): area
  * averaging when shrinking, bilinear when enlarging, per axis. */
 int ws_image_resample(const ws_image *in, int width, int height, ws_image *out, ws_status *st);

@@ -472,26 +472,6 @@ static void threshold_mask(ws_image *m) {
     for (size_t p = 0; p < (size_t)m->width * m->height; p++) m->data[p] = m->data[p] >= 0.5f;
 }
 
-static int compare_floats(const void *a, const void *b) {
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
-}
-
-/* The median of each colour over the image's border pixels (its outermost
- * rows and columns, each pixel once); scratch holds 2 (width + height). */
-static void border_median(const ws_image *img, float out[3], float *scratch) {
-    const int w = img->width, h = img->height;
-    for (int c = 0; c < 3; c++) {
-        const float *plane = img->data + (size_t)c * w * h;
-        int n = 0;
-        for (int i = 0; i < h; i++)
-            for (int j = 0; j < w; j += (i == 0 || i == h - 1 || j == w - 1) ? 1 : w - 1)
-                scratch[n++] = plane[(size_t)i * w + j];
-        qsort(scratch, n, sizeof *scratch, compare_floats);
-        out[c] = scratch[n / 2];
-    }
-}
-
 /* The view's edge map read like its photo: resampled to the image file's
  * size w x h, its first channel kept, cropped, resampled to the working size. */
 static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, ws_status *st) {
@@ -530,7 +510,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     if (!rc && opt->background_auto) {
         float *scratch = ws_malloc(sizeof *scratch * 2 * (full.width + full.height), "border", st);
         if (!scratch) rc = st->code;
-        if (!rc) border_median(&full, bg, scratch);
+        if (!rc) ws_image_border_median(&full, bg, scratch);
         free(scratch);
         for (size_t p = 0; !rc && alpha.data && p < plane; p++) /* now onto bg, not black */
             for (int c = 0; c < 3; c++) full.data[c * plane + p] += (1 - alpha.data[p]) * bg[c];
