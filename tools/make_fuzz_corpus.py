@@ -193,7 +193,7 @@ def weights_corpus():
         for d in shape:
             n *= d
         values = struct.pack(f"<{n}f", *(rng.uniform(-0.5, 0.5) for _ in range(n)))
-        tower[name] = convert_weights.Tensor("f32", shape, lambda v=values: v)
+        tower[name] = convert_weights.Tensor("f32", shape, lambda v=values: iter((v,)))
     for dtype in ("f32", "f16"):
         path = os.path.join(CORPUS, "weights", f"tiny_{dtype}.bin")
         os.makedirs(os.path.dirname(path), exist_ok=True)

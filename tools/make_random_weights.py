@@ -48,19 +48,19 @@ def scale(name, arch):
 
 
 def random_tensor(name, shape, arch, seed):
-    """A convert_weights.Tensor whose f32 bytes are drawn when read."""
+    """A convert_weights.Tensor whose f32 bytes are drawn when its chunks are read (one chunk)."""
     centre, std = scale(name, arch)
     half = math.sqrt(3) * std  # uniform on [-half, half) has this standard deviation
 
-    def read():
+    def chunks():
         rng = random.Random(seed * 1000003 + zlib.crc32(name.encode()))
         n = math.prod(shape)
         values = array.array("f", (centre + half * (2 * rng.random() - 1) for _ in range(n)))
         if sys.byteorder == "big":
             values.byteswap()
-        return values.tobytes()
+        yield values.tobytes()
 
-    return convert_weights.Tensor("f32", shape, read)
+    return convert_weights.Tensor("f32", shape, chunks)
 
 
 def main(argv):
