@@ -108,8 +108,15 @@ int main(void) {
     rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --vary n_curves=2", bin);
     CHECK(rc == 2 && strstr(out, "wiresketch: --out: required (see --help)\n"), "no --out: %s", out);
     rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/e --vary bogus=1 --loss edges", bin, tmp);
-    CHECK(rc == 2 && strstr(out, "wiresketch: --bogus: unknown option") && strstr(out, "the fit failed (exit 2"),
+    CHECK(rc == 2 && !strcmp(out, "wiresketch: sweep: run 1 of 1 (bogus=1): --bogus: unknown option (see --help)\n"),
           "unknown option: %s", out);
+    /* every run's arguments are checked before the first fit starts */
+    rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/late --vary n_curves=3,abc --loss edges",
+                 bin, tmp);
+    CHECK(rc == 2 && !strcmp(out, "wiresketch: sweep: run 2 of 2 (n_curves=abc): --n-curves: 'abc' is not an integer\n"),
+          "bad value in the last run: %s", out);
+    snprintf(path, sizeof path, "%s/late", tmp);
+    CHECK(access(path, F_OK) != 0, "no run started when a later run's value is bad");
     rc = run_cmd(out, sizeof out, "%s sweep --help", bin);
     CHECK(rc == 0 && !strncmp(out, "usage: wiresketch sweep SCENE --out DIR --vary", 46), "--help: %s", out);
     run_cmd(out, sizeof out, "rm -rf %s", tmp);

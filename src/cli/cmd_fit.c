@@ -192,6 +192,18 @@ static int check_stored_arguments(const char *path, int argc, char **argv, ws_st
     return WS_OK;
 }
 
+/* The arguments of a new fit (those after `fit`), parsed and checked as
+ * the command would, without running it: a sweep checks every run's
+ * arguments before the first starts. */
+int cmd_fit_check_arguments(int argc, char **argv, ws_status *st) {
+    ws_fit_options opt;
+    const char *resume_dir;
+    int help;
+    if (parse_fit(argc, argv, &opt, &resume_dir, &help, NULL, st)) return st->code;
+    if (resume_dir) return ws_fail(st, WS_EUSAGE, "--resume: not an option of a new fit");
+    return WS_OK;
+}
+
 /* Options a resumed run cannot change: the checkpoint's curves, Adam
  * moments (which hold the step size) and generator already embody them, so
  * a new value would be ignored; it is refused instead. */

@@ -175,6 +175,46 @@ static int spawn_fit(char **args, const char *run, ws_status *st) {
     return WS_OK;
 }
 
+/* The arguments after `fit` of run k when it starts anew: SCENE --out
+ * DIR/RUN [fit options] --NAME VALUE ... (the varied values last). args
+ * holds 2 MAX_VARY + nfit + 3 pointers; values and dir are its storage. */
+static int new_run_args(const sweep_plan *p, const int *index, const char *dir, char **args,
+                        char values[][80]) {
+    int n = 0;
+    args[n++] = (char *)p->scene;
+    args[n++] = "--out";
+    args[n++] = (char *)dir;
+    for (int i = 0; i < p->nfit; i++) args[n++] = p->fit_args[i];
+    for (int a = 0; a < p->nvary; a++) {
+        snprintf(values[a], 80, "--%s", p->vary[a].name);
+        args[n++] = values[a];
+        args[n++] = (char *)p->vary[a].value[index[a]];
+    }
+    args[n] = NULL;
+    return n;
+}
+
+/* Every run's arguments checked as `fit` would before the first starts, so
+ * a bad value in the last run of a grid fails now, not hours later. */
+static int check_runs(const sweep_plan *p, int nruns, ws_status *st) {
+    char **args = ws_calloc((size_t)p->nfit + 2 * MAX_VARY + 4, sizeof *args, "arguments", st);
+    if (!args) return st->code;
+    for (int k = 0; k < nruns && !st->code; k++) {
+        int index[MAX_VARY];
+        char name[1024], dir[4200], values[MAX_VARY][80];
+        run_of(p, k, index, name, sizeof name);
+        snprintf(dir, sizeof dir, "%s/%s", p->out, name);
+        int n = new_run_args(p, index, dir, args, values);
+        if (cmd_fit_check_arguments(n, args, st)) {
+            char why[sizeof st->msg];
+            snprintf(why, sizeof why, "%s", st->msg);
+            ws_fail(st, st->code, "sweep: run %d of %d (%s): %s", k + 1, nruns, name, why);
+        }
+    }
+    free(args);
+    return st->code;
+}
+
 /* One run: skipped when done, resumed from its checkpoint, or started. */
 static int do_run(const sweep_plan *p, int k, int nruns, ws_status *st) {
     int index[MAX_VARY];
@@ -186,29 +226,22 @@ static int do_run(const sweep_plan *p, int k, int nruns, ws_status *st) {
         fprintf(stderr, "sweep: run %d of %d (%s): done before, skipped\n", k + 1, nruns, name);
         return WS_OK;
     }
-    char *args[2 * MAX_VARY + MAX_RUNS + 8];
-    int n = 1;
-    args[n++] = "fit";
+    char **args = ws_calloc((size_t)p->nfit + 2 * MAX_VARY + 6, sizeof *args, "arguments", st);
+    if (!args) return st->code;
+    args[1] = "fit";
     snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
     int resume = exists(path);
     if (resume) {
-        args[n++] = "--resume";
-        args[n++] = dir;
+        args[2] = "--resume";
+        args[3] = dir;
+        args[4] = NULL;
     } else {
-        args[n++] = (char *)p->scene;
-        args[n++] = "--out";
-        args[n++] = dir;
-        for (int i = 0; i < p->nfit && n < MAX_RUNS; i++) args[n++] = p->fit_args[i];
-        for (int a = 0; a < p->nvary; a++) {
-            snprintf(values[a], sizeof values[a], "--%s", p->vary[a].name);
-            args[n++] = values[a];
-            args[n++] = (char *)p->vary[a].value[index[a]];
-        }
+        new_run_args(p, index, dir, args + 2, values);
     }
-    args[n] = NULL;
     fprintf(stderr, "sweep: run %d of %d (%s)%s\n", k + 1, nruns, name, resume ? ": resumed" : "");
-    if (spawn_fit(args, dir, st)) return st->code;
-    if (sweep_stop) return WS_OK;
+    int rc = spawn_fit(args, dir, st);
+    free(args);
+    if (rc || sweep_stop) return rc;
     snprintf(path, sizeof path, "%s/sweep.done", dir);
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
@@ -364,7 +397,8 @@ int cmd_sweep(int argc, char **argv) {
     long nruns = 1;
     for (int a = 0; a < p.nvary; a++) nruns *= p.vary[a].n;
     int rc = nruns > MAX_RUNS ? ws_fail(&st, WS_EUSAGE, "--vary: %ld runs; at most %d", nruns, MAX_RUNS)
-                              : ws_mkdir(p.out, &st);
+                              : check_runs(&p, (int)nruns, &st);
+    if (!rc) rc = ws_mkdir(p.out, &st);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;

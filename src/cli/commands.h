@@ -2,6 +2,7 @@
  * takes the arguments after its name and returns the process exit code. */
 #ifndef WS_COMMANDS_H
 #define WS_COMMANDS_H
+#include "nn/base/status.h"
 
 typedef struct {
     const char *name;
@@ -24,5 +25,8 @@ int cmd_bench_clip(int argc, char **argv);
 int cmd_check(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
 int cmd_rank(int argc, char **argv);
+
+/* A new fit's arguments checked as `fit` would, nothing run (cmd_fit.c). */
+int cmd_fit_check_arguments(int argc, char **argv, ws_status *st);
 
 #endif
