@@ -208,22 +208,30 @@ void nn_attention_forward(float *out, float *probs, float *work, const float *qk
 }
 
 /* One (image, head) of the backward. With s_ij = scale q_i.k_j,
- * p = softmax(s), out_i = sum_j p_ij v_j and g_i = dL/dout_i:
- *   dp_ij = g_i.v_j,  ds_ij = scale p_ij (dp_ij - sum_k p_ik dp_ik),
- *   dq_i = sum_j ds_ij k_j,  dk_j = sum_i ds_ij q_i,  dv_j = sum_i p_ij g_i. */
+ * p = softmax(s), out_i = sum_j p_ij v_j, g_i = dL/dout_i and G_ij the
+ * gradient arriving on p_ij itself (dprobs):
+ *   dp_ij = g_i.v_j + G_ij,  ds_ij = scale p_ij (dp_ij - sum_k p_ik dp_ik),
+ *   dq_i = sum_j ds_ij k_j,  dk_j = sum_i ds_ij q_i,  dv_j = sum_i p_ij g_i.
+ * g or G may be NULL (none arrived): g NULL makes dv zero. */
 NN_SIMD_CLONES static void head_backward(float *dq, float *dk, float *dv, int acc, const float *g,
-                                         size_t out_row, const float *probs, float *work,
-                                         const float *q, const float *k, const float *v,
-                                         size_t row, int T, int D) {
+                                         size_t out_row, const float *dprobs, const float *probs,
+                                         float *work, const float *q, const float *k,
+                                         const float *v, size_t row, int T, int D) {
     int Tp = round_lanes(T), Dp = round_lanes(D);
     float *vt = work, *kp = vt + (size_t)D * Tp, *qp = kp + (size_t)T * Dp;
     float *gp = qp + (size_t)T * Dp, *ds = gp + (size_t)T * Dp;
-    gather_transposed(vt, v, row, T, D, Tp);
     gather_rows(kp, k, row, T, D, Dp);
     gather_rows(qp, q, row, T, D, Dp);
-    gather_rows(gp, g, out_row, T, D, Dp);
+    if (g) {
+        gather_transposed(vt, v, row, T, D, Tp);
+        gather_rows(gp, g, out_row, T, D, Dp);
+        combine(ds, (size_t)T, 0, gp, (size_t)Dp, 1, vt, (size_t)Tp, D, T, T); /* g_i.v_j */
+    } else {
+        memset(ds, 0, (size_t)T * T * sizeof *ds);
+    }
+    if (dprobs)
+        for (size_t i = 0; i < (size_t)T * T; i++) ds[i] += dprobs[i];
     float scale = 1.0f / sqrtf((float)D);
-    combine(ds, (size_t)T, 0, gp, (size_t)Dp, 1, vt, (size_t)Tp, D, T, T); /* dp_ij */
     for (int i = 0; i < T; i++) {
         const float *p = probs + (size_t)i * T;
         float *dsi = ds + (size_t)i * T;
@@ -235,11 +243,14 @@ NN_SIMD_CLONES static void head_backward(float *dq, float *dk, float *dv, int ac
     }
     combine(dq, row, acc, ds, (size_t)T, 1, kp, (size_t)Dp, T, T, D);
     combine(dk, row, acc, ds, 1, (size_t)T, qp, (size_t)Dp, T, T, D);
-    combine(dv, row, acc, probs, 1, (size_t)T, gp, (size_t)Dp, T, T, D);
+    if (g)
+        combine(dv, row, acc, probs, 1, (size_t)T, gp, (size_t)Dp, T, T, D);
+    else if (!acc)
+        for (int j = 0; j < T; j++) memset(dv + j * row, 0, (size_t)D * sizeof *dv);
 }
 
-void nn_attention_backward(float *dqkv, const float *dout, const float *qkv, const float *probs,
-                           float *work, int B, int T, int C, int H, int acc) {
+void nn_attention_backward(float *dqkv, const float *dout, const float *dprobs, const float *qkv,
+                           const float *probs, float *work, int B, int T, int C, int H, int acc) {
     int D = C / H;
     size_t row = 3 * (size_t)C;
 #pragma omp parallel for collapse(2) schedule(static) if (nn_fork((size_t)B * T * T * C))
@@ -248,9 +259,10 @@ void nn_attention_backward(float *dqkv, const float *dout, const float *qkv, con
             size_t base = (size_t)b * T * row + (size_t)h * D, bh = (size_t)b * H + h;
             float *dq = dqkv + base;
             const float *q = qkv + base;
-            head_backward(dq, dq + C, dq + 2 * C, acc, dout + (size_t)b * T * C + (size_t)h * D,
-                          (size_t)C, probs + bh * T * T, work + bh * head_backward_work(T, D), q,
-                          q + C, q + 2 * C, row, T, D);
+            head_backward(dq, dq + C, dq + 2 * C, acc,
+                          dout ? dout + (size_t)b * T * C + (size_t)h * D : NULL, (size_t)C,
+                          dprobs ? dprobs + bh * T * T : NULL, probs + bh * T * T,
+                          work + bh * head_backward_work(T, D), q, q + C, q + 2 * C, row, T, D);
         }
 }
 
@@ -260,11 +272,15 @@ static void forward(const nn_op *op) {
                          op->n[0], op->n[1], op->n[2], op->n[3]);
 }
 
+/* Runs when the output's gradient arrived or a gradient on the
+ * probabilities was handed in (op->seed, nn_attention_probs). */
 static void backward(const nn_op *op) {
     nn_tensor *x = op->in[0];
     if (!x->grad) return;
+    const float *dout = op->out->grad && op->out->grad_ready ? op->out->grad : NULL;
+    const float *dprobs = op->seed ? *op->seed : NULL;
     int acc = nn_grad_begin(x);
-    nn_attention_backward(x->grad, op->out->grad, x->data, op->saved->data, op->work[1]->data,
+    nn_attention_backward(x->grad, dout, dprobs, x->data, op->saved->data, op->work[1]->data,
                           op->n[0], op->n[1], op->n[2], op->n[3], acc);
 }
 
@@ -281,4 +297,11 @@ nn_tensor *nn_attention(nn_tape *t, nn_tensor *qkv, int heads) {
     nn_tape_workspace(t, op, nn_attention_backward_work(B, T, C, heads), 1);
     int shape[3] = {B, T, C};
     return nn_tape_output(t, op, 3, shape);
+}
+
+nn_tensor *nn_attention_probs(nn_tape *t, nn_tensor *out, const float *const *dprobs) {
+    nn_op *op = &t->ops[out->producer];
+    nn_tape_keep(t, op->saved);
+    op->seed = dprobs;
+    return op->saved;
 }

@@ -225,20 +225,24 @@ struct clip_run {
     nn_tape tape;
     nn_tensor *images;         /* graph input [B,3,R,R] */
     nn_tensor **hidden;        /* [blocks] */
+    nn_tensor **probs;         /* [blocks] attention probabilities, with need_attention */
     nn_tensor *embedding;      /* [B,output_dim] or NULL */
     const float **seed_hidden; /* [last_block + 1] slots the seed ops read */
+    const float **seed_probs;  /* [last_block + 1] slots the attention ops read */
     const float *seed_embedding;
     int forward_done;
 };
 
 /* x = x + attn(ln_1(x)); x = x + c_proj(quick_gelu(c_fc(ln_2(x)))); the
- * residual additions ride on the output projections' GEMMs. */
-static nn_tensor *record_block(nn_tape *t, const clip_block *b, nn_tensor *x, const wf_arch *a) {
+ * residual additions ride on the output projections' GEMMs. *attn: the
+ * attention's output (nn_attention_probs finds its probabilities). */
+static nn_tensor *record_block(nn_tape *t, const clip_block *b, nn_tensor *x, const wf_arch *a,
+                               nn_tensor **attn) {
     int W = a->width;
     nn_tensor *qkv = nn_matmul(t, nn_layernorm(t, x, b->ln_1_w, b->ln_1_b), b->in_proj_w,
                                b->in_proj_b, 3 * W, 0);
-    nn_tensor *mid = nn_matmul_residual(t, nn_attention(t, qkv, a->heads), b->out_proj_w,
-                                        b->out_proj_b, W, 0, x);
+    *attn = nn_attention(t, qkv, a->heads);
+    nn_tensor *mid = nn_matmul_residual(t, *attn, b->out_proj_w, b->out_proj_b, W, 0, x);
     nn_tensor *z = nn_matmul(t, nn_layernorm(t, mid, b->ln_2_w, b->ln_2_b), b->fc_w, b->fc_b, 4 * W, 0);
     return nn_matmul_residual(t, nn_quick_gelu(t, z), b->cproj_w, b->cproj_b, W, 0, mid);
 }
@@ -257,8 +261,10 @@ int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options 
     r->model_name = m->file ? wf_path(m->file) : "clip (random weights)";
     r->blocks = opt->need_embedding ? a->layers : opt->last_block + 1;
     r->hidden = ws_calloc((size_t)r->blocks, sizeof *r->hidden, "clip run", st);
+    r->probs = ws_calloc((size_t)r->blocks, sizeof *r->probs, "clip run", st);
     r->seed_hidden = ws_calloc((size_t)opt->last_block + 1, sizeof *r->seed_hidden, "clip run", st);
-    if (!r->hidden || !r->seed_hidden || nn_tape_init(&r->tape, 16 + 12 * r->blocks, opt->need_grad, st)) {
+    r->seed_probs = ws_calloc((size_t)opt->last_block + 1, sizeof *r->seed_probs, "clip run", st);
+    if (!r->hidden || !r->probs || !r->seed_hidden || !r->seed_probs || nn_tape_init(&r->tape, 16 + 12 * r->blocks, opt->need_grad, st)) {
         clip_run_free(r);
         return st->code;
     }
@@ -271,9 +277,14 @@ int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options 
     x = nn_tokens(t, x, m->class_embedding, m->positional_embedding);
     x = nn_layernorm(t, x, m->ln_pre_w, m->ln_pre_b);
     for (int l = 0; l < r->blocks; l++) {
-        x = r->hidden[l] = record_block(t, &m->blocks[l], x, a);
+        nn_tensor *attn;
+        x = r->hidden[l] = record_block(t, &m->blocks[l], x, a, &attn);
         nn_tape_keep(t, x);
-        if (opt->need_grad && l <= opt->last_block) nn_tape_seed(t, x, &r->seed_hidden[l]);
+        int seeded = opt->need_grad && l <= opt->last_block;
+        if (seeded) nn_tape_seed(t, x, &r->seed_hidden[l]);
+        /* with need_grad the probabilities are kept for the backward anyway */
+        if (seeded || opt->need_attention)
+            r->probs[l] = nn_attention_probs(t, attn, seeded ? &r->seed_probs[l] : NULL);
     }
     if (opt->need_embedding) {
         x = nn_layernorm(t, nn_class_token(t, x), m->ln_post_w, m->ln_post_b);
@@ -293,7 +304,9 @@ void clip_run_free(clip_run *r) {
     if (!r) return;
     nn_tape_free(&r->tape);
     free(r->hidden);
+    free(r->probs);
     free(r->seed_hidden);
+    free(r->seed_probs);
     free(r);
 }
 
@@ -323,22 +336,29 @@ const float *clip_hidden(const clip_run *r, int layer) {
     return layer >= 0 && layer < r->blocks ? r->hidden[layer]->data : NULL;
 }
 
+const float *clip_attention(const clip_run *r, int layer) {
+    return r->opt.need_attention && layer >= 0 && layer < r->blocks ? r->probs[layer]->data : NULL;
+}
+
 const float *clip_embedding(const clip_run *r) { return r->embedding ? r->embedding->data : NULL; }
 
-int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embedding,
-                  float *d_images, ws_status *st) {
+int clip_backward(clip_run *r, const float *const *d_hidden, const float *const *d_attention,
+                  const float *d_embedding, float *d_images, ws_status *st) {
     if (!r->opt.need_grad)
         return ws_fail(st, WS_EINTERNAL, "clip: backward on a run made without need_grad");
     if (!r->forward_done)
         return ws_fail(st, WS_EINTERNAL, "clip: backward without a successful forward");
     if (d_embedding && !r->embedding)
         return ws_fail(st, WS_EINTERNAL, "clip: embedding gradient on a run without the embedding");
-    for (int l = 0; l <= r->opt.last_block; l++) r->seed_hidden[l] = d_hidden ? d_hidden[l] : NULL;
+    for (int l = 0; l <= r->opt.last_block; l++) {
+        r->seed_hidden[l] = d_hidden ? d_hidden[l] : NULL;
+        r->seed_probs[l] = d_attention ? d_attention[l] : NULL;
+    }
     r->seed_embedding = d_embedding;
     r->images->grad = d_images;
     nn_tape_backward(&r->tape);
     if (!r->images->grad_ready) memset(d_images, 0, r->images->numel * sizeof *d_images);
-    for (int l = 0; l <= r->opt.last_block; l++) r->seed_hidden[l] = NULL;
+    for (int l = 0; l <= r->opt.last_block; l++) r->seed_hidden[l] = r->seed_probs[l] = NULL;
     r->seed_embedding = NULL;
     if (first_nonfinite(d_images, r->images->numel) >= 0)
         return ws_fail(st, WS_ENUMERIC, "clip: the backward pass produced a non-finite gradient");

@@ -26,6 +26,7 @@ typedef struct {
     int last_block;     /* the forward stops after this block (0-based) */
     int need_embedding; /* run ln_post and the projection (needs all blocks) */
     int need_grad;      /* keep what the backward pass needs */
+    int need_attention; /* keep every block's attention probabilities (clip_attention) */
 } clip_run_options;
 
 typedef struct clip_run clip_run;
@@ -39,16 +40,22 @@ int clip_forward(clip_run *r, const float *images, ws_status *st);
 /* h_l, block l's output: batch x tokens x width (tokens = 1 + (R/patch)^2);
  * NULL for a block the run does not compute. Valid until the next forward. */
 const float *clip_hidden(const clip_run *r, int layer);
+/* P_l, block l's attention probabilities (softmax of q.k / sqrt(D)):
+ * batch x heads x tokens (query) x tokens (key); NULL without
+ * need_attention or for a block the run does not compute. Valid until the
+ * next forward. */
+const float *clip_attention(const clip_run *r, int layer);
 /* e: batch x output_dim (NULL without need_embedding). */
 const float *clip_embedding(const clip_run *r);
 
-/* d_hidden[l]: dL/dh_l (batch x tokens x width) or NULL for blocks the loss
- * does not read (array of last_block + 1 entries, or NULL for none);
+/* d_hidden[l]: dL/dh_l (batch x tokens x width) and d_attention[l]: dL/dP_l
+ * (batch x heads x tokens x tokens), each NULL for blocks the loss does
+ * not read (arrays of last_block + 1 entries, or NULL for none);
  * d_embedding: dL/de or NULL. d_images: batch x 3 x R x R, overwritten.
  * Only the blocks below the deepest seed are replayed. Needs a forward
  * first; may run again after the same forward (e.g. other seeds). */
-int clip_backward(clip_run *r, const float *const *d_hidden, const float *d_embedding,
-                  float *d_images, ws_status *st);
+int clip_backward(clip_run *r, const float *const *d_hidden, const float *const *d_attention,
+                  const float *d_embedding, float *d_images, ws_status *st);
 
 /* Bytes of the run's activation arena (values, saved state, gradients). */
 size_t clip_run_bytes(const clip_run *r);

@@ -295,7 +295,8 @@ void nn_tape_backward(nn_tape *t) {
     if (t->op_seconds) memset(t->op_seconds + t->nops, 0, (size_t)t->nops * sizeof *t->op_seconds);
     for (int i = t->nops - 1; i >= 0; i--) {
         const nn_op *op = &t->ops[i];
-        if (op->out && !(op->out->grad && op->out->grad_ready)) continue;
+        int reached = !op->out || (op->out->grad && op->out->grad_ready) || (op->seed && *op->seed);
+        if (!reached) continue;
         run_op(t, op->backward, op, t->nops + i);
     }
 }

@@ -44,7 +44,10 @@ struct nn_op {
     nn_tensor *work[2];        /* scratch while the forward [0] / backward [1] runs */
     const float *w[2];         /* frozen parameters (weight, bias) */
     int n[4];                  /* op-specific sizes, documented by each op */
-    const float *const *seed;  /* seed op: slot holding an external gradient */
+    /* Slot holding an external gradient: a seed op's, or one an op takes
+     * on its saved state (attention's probabilities); an op with a slot
+     * holding a pointer runs its backward even when its output got none. */
+    const float *const *seed;
 };
 
 typedef struct {
@@ -92,8 +95,9 @@ void nn_grad_add(nn_tensor *x, const float *g);
  * the tape can run. Fails on OOM or when max_ops was exceeded. */
 int nn_tape_plan(nn_tape *t, ws_status *st);
 void nn_tape_forward(nn_tape *t);
-/* Replays the tape in reverse from the seeds; ops no gradient reaches are
- * skipped. A graph input whose gradient never arrived keeps grad_ready 0. */
+/* Replays the tape in reverse from the seeds (and the ops' own slots);
+ * ops no gradient reaches are skipped. A graph input whose gradient never
+ * arrived keeps grad_ready 0. */
 void nn_tape_backward(nn_tape *t);
 /* From now on every replay writes the time of op i's forward to
  * seconds[i] and of its backward to seconds[nops + i] (0 when it did not

@@ -731,6 +731,8 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "--threads: 100000 is not in [0, 1024] (0: one per core)"), "grad --threads 100000");
     rc = run("fit %s/scene --out %s " FIT " --overlap 1", tmp, out);
     CHECK(ANSWER(2, rc, "--overlap: 1 is not in [0, 1)"), "--overlap 1");
+    rc = run("fit %s/scene --out %s " FIT " --clip-geometric maps", tmp, out);
+    CHECK(ANSWER(2, rc, "--clip-geometric: 'maps' is not blocks or attention"), "--clip-geometric maps");
     rc = run("fit %s/scene --out %s " FIT " --edges-weight -1", tmp, out);
     CHECK(ANSWER(2, rc, "loss weights (--clip-weight, --clip-conv-loss, --clip-fc-loss-weight, "
                         "--clip-conv-layer-weights, --edges-weight) must be >= 0"),

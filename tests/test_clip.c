@@ -49,7 +49,7 @@ static int make_run(setup *s, const clip_model *m, int batch, int last_block, in
     s->pixels = (size_t)batch * 3 * a->resolution * a->resolution;
     s->hidden = (size_t)batch * s->tokens * a->width;
     s->embedding = (size_t)batch * a->output_dim;
-    clip_run_options opt = {batch, last_block, need_embedding, need_grad};
+    clip_run_options opt = {batch, last_block, need_embedding, need_grad, 0};
     int rc = clip_run_create(&s->run, m, &opt, &st);
     CHECK(rc == WS_OK, "clip_run_create: %s", st.msg);
     return rc;
@@ -83,7 +83,7 @@ static int gradient(setup *s, const float *images, float *d_images) {
     ws_status st;
     ws_status_clear(&st);
     loss(s, images);
-    int rc = clip_backward(s->run, (const float *const *)s->w_hidden, s->w_embedding, d_images, &st);
+    int rc = clip_backward(s->run, (const float *const *)s->w_hidden, NULL, s->w_embedding, d_images, &st);
     CHECK(rc == WS_OK, "clip_backward: %s", st.msg);
     return rc;
 }
@@ -146,7 +146,7 @@ static void test_small_gradients(const clip_model *m) {
     s.w_hidden[0] = NULL;
     ws_status st;
     ws_status_clear(&st);
-    int zero = clip_backward(s.run, NULL, NULL, grad, &st) == WS_OK;
+    int zero = clip_backward(s.run, NULL, NULL, NULL, grad, &st) == WS_OK;
     for (size_t i = 0; i < s.pixels; i++) zero &= grad[i] == 0.0f;
     CHECK(zero, "no seed must give a zero image gradient");
     free_run(&s);
@@ -181,7 +181,7 @@ static void test_small_runs(const clip_model *m) {
           "a run without tape computes other bits than one with");
     ws_status st;
     ws_status_clear(&st);
-    CHECK(clip_backward(plain.run, NULL, NULL, g2, &st) == WS_EINTERNAL &&
+    CHECK(clip_backward(plain.run, NULL, NULL, NULL, g2, &st) == WS_EINTERNAL &&
               !strcmp(st.msg, "clip: backward on a run made without need_grad"),
           "backward without tape: got '%s'", st.msg);
 
@@ -222,11 +222,11 @@ static void test_errors(const clip_model *m) {
     ws_status st;
     ws_status_clear(&st);
     clip_run *r = NULL;
-    clip_run_options opt = {1, 2, 0, 1};
+    clip_run_options opt = {1, 2, 0, 1, 0};
     CHECK(clip_run_create(&r, m, &opt, &st) == WS_EUSAGE &&
               !strcmp(st.msg, "clip: last block 2 out of range (the model has 2 blocks)"),
           "last block: got '%s'", st.msg);
-    opt = (clip_run_options){0, 1, 0, 1};
+    opt = (clip_run_options){0, 1, 0, 1, 0};
     CHECK(clip_run_create(&r, m, &opt, &st) == WS_EUSAGE && !strcmp(st.msg, "clip: batch 0 out of range"),
           "batch: got '%s'", st.msg);
     clip_model *bad = NULL;
@@ -245,7 +245,7 @@ static void test_errors(const clip_model *m) {
     setup s;
     if (make_run(&s, m, 1, 0, 0, 1)) return;
     float *images = randoms(s.pixels, 0, 1), *grad = malloc(s.pixels * sizeof *grad);
-    CHECK(clip_backward(s.run, NULL, NULL, grad, &st) == WS_EINTERNAL &&
+    CHECK(clip_backward(s.run, NULL, NULL, NULL, grad, &st) == WS_EINTERNAL &&
               !strcmp(st.msg, "clip: backward without a successful forward"),
           "backward first: got '%s'", st.msg);
     images[5] = NAN;
@@ -254,7 +254,7 @@ static void test_errors(const clip_model *m) {
           "NaN pixel: got '%s'", st.msg);
     images[5] = 0.5f;
     CHECK(clip_forward(s.run, images, &st) == WS_OK, "%s", st.msg);
-    CHECK(clip_backward(s.run, NULL, images, grad, &st) == WS_EINTERNAL &&
+    CHECK(clip_backward(s.run, NULL, NULL, images, grad, &st) == WS_EINTERNAL &&
               !strcmp(st.msg, "clip: embedding gradient on a run without the embedding"),
           "embedding seed: got '%s'", st.msg);
     free_run(&s);

@@ -6,7 +6,10 @@
  * OpenAI's TorchScript archive, a torch.save state dict and a Hugging Face
  * safetensors file, plus float64 reference values: every block output h_l,
  * the embedding e and the gradient of L = sum_l sum(h_l * C_l) + sum(e * C_e)
- * with respect to the [0, 1] input images.
+ * with respect to the [0, 1] input images (expected.*); every block's
+ * attention probabilities P_l and the input gradient of
+ * L = sum_l sum(P_l * D_l) (attention.*, the geometric loss's attention
+ * variant).
  *
  * The test converts the three files itself (python3 tools/convert_weights.py,
  * standard library only) rather than keeping converted copies: one source of
@@ -42,8 +45,9 @@ static const format formats[FORMATS] = {
     {"safetensors", FIXTURE "/hf/model.safetensors", "", "safetensors.bin"},
 };
 
-/* The reference arrays: expected.json indexes float32 arrays in expected.bin. */
+/* The reference arrays: NAME.json indexes float32 arrays in NAME.bin. */
 typedef struct {
+    const char *name;
     cJSON *json;
     unsigned char *bin;
     size_t bin_len;
@@ -60,7 +64,7 @@ static const float *array(const reference *ref, const char *name, size_t count) 
     cJSON_ArrayForEach(d, shape) n *= (size_t)d->valuedouble;
     int ok = cJSON_IsNumber(offset) && n == count && (size_t)offset->valuedouble % 4 == 0 &&
              (size_t)offset->valuedouble + 4 * n <= ref->bin_len;
-    CHECK(ok, "expected.json: array %s missing or of the wrong size", name);
+    CHECK(ok, "%s.json: array %s missing or of the wrong size", ref->name, name);
     return ok ? (const float *)(ref->bin + (size_t)offset->valuedouble) : NULL;
 }
 
@@ -69,25 +73,28 @@ static int int_field(const cJSON *obj, const char *name) {
     return cJSON_IsNumber(v) ? v->valueint : -1;
 }
 
-static int load_reference(reference *ref) {
+static int load_reference(reference *ref, const char *name) {
     ws_status st;
     ws_status_clear(&st);
     unsigned char *text;
     size_t len;
-    CHECK(ws_read_file(FIXTURE "/expected.json", 1 << 20, &text, &len, &st) == WS_OK, "%s", st.msg);
+    char path[300];
+    ref->name = name;
+    snprintf(path, sizeof path, FIXTURE "/%s.json", name);
+    CHECK(ws_read_file(path, 1 << 20, &text, &len, &st) == WS_OK, "%s", st.msg);
     if (st.code) return 1;
     ref->json = cJSON_ParseWithLength((const char *)text, len);
     free(text);
-    CHECK(ref->json != NULL, "expected.json does not parse");
-    CHECK(ws_read_file(FIXTURE "/expected.bin", 1 << 24, &ref->bin, &ref->bin_len, &st) == WS_OK, "%s",
-          st.msg);
+    CHECK(ref->json != NULL, "%s does not parse", path);
+    snprintf(path, sizeof path, FIXTURE "/%s.bin", name);
+    CHECK(ws_read_file(path, 1 << 24, &ref->bin, &ref->bin_len, &st) == WS_OK, "%s", st.msg);
     if (!ref->json || st.code) return 1;
     const cJSON *a = cJSON_GetObjectItemCaseSensitive(ref->json, "arch");
     ref->arch = (wf_arch){int_field(a, "width"), int_field(a, "layers"), int_field(a, "heads"),
                           int_field(a, "patch"), int_field(a, "resolution"), int_field(a, "output_dim")};
     ref->batch = int_field(ref->json, "batch");
     CHECK(ref->arch.layers >= 1 && ref->arch.layers <= MAX_LAYERS && ref->batch >= 1,
-          "expected.json: bad arch or batch");
+          "%s.json: bad arch or batch", name);
     return ref->arch.layers < 1 || ref->arch.layers > MAX_LAYERS || ref->batch < 1;
 }
 
@@ -155,10 +162,12 @@ static void test_model(const reference *ref, int which, const float *images) {
     clip_run *r = NULL;
     float *d_images = malloc(image_n * sizeof *d_images);
     CHECK(clip_model_load(&m, paths[which], &st) == WS_OK, "%s", st.msg);
-    clip_run_options opt = {B, A->layers - 1, 1, 1};
+    clip_run_options opt = {B, A->layers - 1, 1, 1, 0};
     if (m) CHECK(clip_run_create(&r, m, &opt, &st) == WS_OK, "%s", st.msg);
     if (r) CHECK(clip_forward(r, images, &st) == WS_OK, "%s", st.msg);
     if (!r || st.code) goto done;
+    CHECK(clip_attention(r, 0) == NULL, "%s: attention probabilities of a run without need_attention",
+          formats[which].label);
 
     const float *d_hidden[MAX_LAYERS];
     for (int l = 0; l < A->layers; l++) {
@@ -181,7 +190,7 @@ static void test_model(const reference *ref, int which, const float *images) {
     printf("%-30s e     error %.2e\n", formats[which].label, err);
     CHECK(err <= 1e-5, "%s: e differs from PyTorch by %.3g", formats[which].label, err);
 
-    CHECK(clip_backward(r, d_hidden, d_e, d_images, &st) == WS_OK, "%s", st.msg);
+    CHECK(clip_backward(r, d_hidden, NULL, d_e, d_images, &st) == WS_OK, "%s", st.msg);
     if (st.code) goto done;
     err = scaled_error(d_images, want_grad, image_n);
     printf("%-30s dL/dx error %.2e\n", formats[which].label, err);
@@ -193,9 +202,61 @@ done:
     free(d_images);
 }
 
+/* P_l from a run with a tape and from one without (the photo's side of
+ * the loss), and the input gradient of L = sum_l sum(P_l * D_l), the
+ * probabilities' gradient alone (no h_l or e seeded). */
+static void test_attention(const reference *ref, int which, const float *images) {
+    const wf_arch *A = &ref->arch;
+    const int B = ref->batch, T = 1 + (A->resolution / A->patch) * (A->resolution / A->patch);
+    const size_t probs_n = (size_t)B * A->heads * T * T, image_n = (size_t)B * 3 * A->resolution * A->resolution;
+    ws_status st;
+    ws_status_clear(&st);
+    clip_model *m = NULL;
+    clip_run *r[2] = {NULL, NULL};
+    float *d_images = malloc(image_n * sizeof *d_images);
+    CHECK(clip_model_load(&m, paths[which], &st) == WS_OK, "%s", st.msg);
+    for (int grad = 0; grad < 2 && m && !st.code; grad++) {
+        clip_run_options opt = {B, A->layers - 1, 0, grad, 1};
+        CHECK(clip_run_create(&r[grad], m, &opt, &st) == WS_OK, "%s", st.msg);
+        if (r[grad]) CHECK(clip_forward(r[grad], images, &st) == WS_OK, "%s", st.msg);
+    }
+    if (!r[0] || !r[1] || st.code) goto done;
+    const float *d_probs[MAX_LAYERS];
+    for (int l = 0; l < A->layers; l++) {
+        char name[32];
+        snprintf(name, sizeof name, "attention_%d", l);
+        const float *want = array(ref, name, probs_n);
+        snprintf(name, sizeof name, "d_attention_%d", l);
+        d_probs[l] = array(ref, name, probs_n);
+        if (!want || !d_probs[l]) goto done;
+        for (int grad = 0; grad < 2; grad++) {
+            double err = scaled_error(clip_attention(r[grad], l), want, probs_n);
+            printf("%-30s P_%d   error %.2e (%s tape)\n", formats[which].label, l, err, grad ? "with" : "without");
+            CHECK(err <= 1e-5, "%s: P_%d (%s tape) differs from PyTorch by %.3g (relative to its largest value)",
+                  formats[which].label, l, grad ? "with" : "without", err);
+        }
+    }
+    const float *want_grad = array(ref, "d_images", image_n);
+    if (!want_grad) goto done;
+    CHECK(clip_backward(r[1], NULL, d_probs, NULL, d_images, &st) == WS_OK, "%s", st.msg);
+    if (st.code) goto done;
+    double err = scaled_error(d_images, want_grad, image_n);
+    printf("%-30s dL/dx error %.2e (L from P_l)\n", formats[which].label, err);
+    CHECK(err <= 1e-4, "%s: the input gradient through P_l differs from PyTorch by %.3g (relative to its largest value)",
+          formats[which].label, err);
+done:
+    clip_run_free(r[0]);
+    clip_run_free(r[1]);
+    clip_model_free(m);
+    free(d_images);
+}
+
 int main(void) {
-    reference ref = {0};
-    if (load_reference(&ref) || !mkdtemp(dir)) return check_summary();
+    reference ref = {0}, att = {0};
+    if (load_reference(&ref, "expected") || load_reference(&att, "attention") || !mkdtemp(dir))
+        return check_summary();
+    CHECK(!memcmp(&att.arch, &ref.arch, sizeof att.arch) && att.batch == ref.batch,
+          "attention.json and expected.json describe different models or batches");
     const size_t R = (size_t)ref.arch.resolution, image_n = (size_t)ref.batch * 3 * R * R;
     const float *images = array(&ref, "images", image_n);
 
@@ -211,11 +272,16 @@ int main(void) {
 
     if (images && convert_all()) {
         test_same_weights(&ref);
-        for (int i = 0; i < FORMATS; i++) test_model(&ref, i, images);
+        for (int i = 0; i < FORMATS; i++) {
+            test_model(&ref, i, images);
+            test_attention(&att, i, images);
+        }
     }
     for (int i = 0; i < FORMATS; i++) unlink(paths[i]);
     rmdir(dir);
     cJSON_Delete(ref.json);
     free(ref.bin);
+    cJSON_Delete(att.json);
+    free(att.bin);
     return check_summary();
 }

@@ -4,9 +4,12 @@
  * and back. The gradient with respect to the control points is checked
  * against central finite differences, with augmentation off and on (the same
  * transforms for both sides of a difference: the rng is restored), and with
- * the edge loss added. A view's loss computed in parts (its CLIP passes on
- * separate loss objects, as MPI ranks do, in another order) must be the
- * bits of the whole; the pass size changes only the rounding. */
+ * the edge loss added, and with the geometric term's attention-map variant
+ * (alone, the CLIP backward starts at the attention probabilities: no
+ * block output gets a gradient). A view's loss computed in parts (its CLIP
+ * passes on separate loss objects, as MPI ranks do, in another order) must
+ * be the bits of the whole, in both variants; the pass size changes only
+ * the rounding. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -257,6 +260,22 @@ int main(void) {
     lo.fc_weight = 0;
     if (make_setup(&s, scene, weights, &lo) == WS_OK && c.P) check_gradient(&s, &c, 1, "CLIP geometric + global + edges");
     free_setup(&s);
+    /* The attention-map variant: alone, then with the fc and global terms. */
+    ws_loss_options la = lo;
+    la.geometric = WS_GEOMETRIC_ATTENTION;
+    la.edges_weight = la.fc_weight = la.global_weight = 0;
+    memset(&s, 0, sizeof s);
+    if (make_setup(&s, scene, weights, &la) == WS_OK && c.P) {
+        check_gradient(&s, &c, 0, "CLIP attention maps, item 0 only");
+        check_gradient(&s, &c, 1, "CLIP attention, 1 + 2 augmented items");
+    }
+    free_setup(&s);
+    la.fc_weight = 0.1;
+    la.global_weight = 1;
+    memset(&s, 0, sizeof s);
+    if (make_setup(&s, scene, weights, &la) == WS_OK && c.P) check_gradient(&s, &c, 1, "CLIP attention maps + fc + global");
+    free_setup(&s);
+    test_passes(scene, &la);
     /* The scene's size must be the model's input size. */
     memset(&s, 0, sizeof s);
     ws_scene_options so;
@@ -269,6 +288,11 @@ int main(void) {
               "size mismatch: %s", st.msg);
     }
     ws_loss_free(loss);
+    ws_loss_options bad = lo;
+    bad.geometric = (ws_geometric)7;
+    CHECK(ws_loss_options_check(&bad, &st) == WS_EUSAGE &&
+              !strcmp(st.msg, "--clip-geometric: variant 7 is not blocks (0) or attention (1)"),
+          "unknown geometric variant: '%s'", st.msg);
     ws_scene_free(&s.scene);
     ws_curves_free(&c);
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);

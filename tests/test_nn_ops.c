@@ -200,8 +200,10 @@ static void test_layernorm(int blank) {
 
 typedef struct {
     int B, T, C, H;
+    int probs; /* the output is followed by the probabilities */
 } attention_ctx;
 
+/* out [B,T,C], then (c->probs) P [B,H,T,T]. */
 static void attention_ref(double *out, const double *qkv, const void *vctx) {
     const attention_ctx *c = vctx;
     int D = c->C / c->H, row = 3 * c->C;
@@ -218,6 +220,8 @@ static void attention_ref(double *out, const double *qkv, const void *vctx) {
                     mx = fmax(mx, s[j]);
                 }
                 for (int j = 0; j < c->T; j++) sum += s[j] = exp(s[j] - mx);
+                double *p = out + (size_t)c->B * c->T * c->C + (((size_t)b * c->H + h) * c->T + i) * c->T;
+                for (int j = 0; c->probs && j < c->T; j++) p[j] = s[j] / sum;
                 for (int d = 0; d < D; d++) {
                     double o = 0;
                     for (int j = 0; j < c->T; j++)
@@ -228,34 +232,51 @@ static void attention_ref(double *out, const double *qkv, const void *vctx) {
     free(s);
 }
 
+/* What reaches the attention's backward: the output's gradient, that and
+ * one on the probabilities (dL/dP, the geometric loss's attention
+ * variant), or the latter alone (no gradient on the output). */
+typedef enum { FROM_OUT, FROM_OUT_AND_PROBS, FROM_PROBS } attention_seeds;
+
 /* scale multiplies q and k: 1 gives O(1) logits; large values give logits
- * of order 1e4 (a saturated softmax), which must stay finite and exact. */
-static void test_attention(const char *name, attention_ctx c, double scale, double h, double tol,
-                           size_t checks) {
+ * of order 1e4 (a saturated softmax), which must stay finite and exact.
+ * The probabilities' gradient is checked as part of L = w . (out, P). */
+static void test_attention(const char *name, attention_ctx c, attention_seeds seeds, double scale, double h,
+                           double tol, size_t checks) {
+    c.probs = seeds != FROM_OUT;
     size_t nq = (size_t)c.B * c.T * 3 * c.C, no = (size_t)c.B * c.T * c.C;
+    size_t np = c.probs ? (size_t)c.B * c.H * c.T * c.T : 0;
     /* Inputs of their own, whatever the other tests drew: at logits of
      * 1e4 a draw where two logits tie within float rounding (5e-4) gives
      * a softmax gradient that no float computation matches to 1e-5. */
     ws_rng_seed(&rng, 7);
-    float *qkv = randoms(nq, -1, 1), *g = randoms(no, -1, 1);
+    float *qkv = randoms(nq, -1, 1), *g = randoms(no + np, -1, 1);
     for (size_t r = 0; r < (size_t)c.B * c.T; r++)
         for (int j = 0; j < 2 * c.C; j++) qkv[r * 3 * c.C + j] *= (float)scale;
-    float *out = malloc(no * sizeof *out), *probs = malloc((size_t)c.B * c.H * c.T * c.T * sizeof *probs);
+    if (seeds == FROM_PROBS) memset(g, 0, no * sizeof *g);
+    const float *dout = seeds == FROM_PROBS ? NULL : g, *dprobs = c.probs ? g + no : NULL;
+    /* out, then the probabilities (for the comparison with the reference) */
+    float *out = malloc((no + (size_t)c.B * c.H * c.T * c.T) * sizeof *out), *probs = out + no;
     float *work = malloc(nn_attention_backward_work(c.B, c.T, c.C, c.H) * sizeof *work);
     float *fwork = malloc(nn_attention_forward_work(c.B, c.T, c.C, c.H) * sizeof *fwork);
     float *dx = malloc(nq * sizeof *dx), *dx2 = randoms(nq, -1, 1), *before = malloc(nq * sizeof *before);
     memcpy(before, dx2, nq * sizeof *before);
     nn_attention_forward(out, probs, fwork, qkv, c.B, c.T, c.C, c.H);
-    nn_attention_backward(dx, g, qkv, probs, work, c.B, c.T, c.C, c.H, 0);
-    nn_attention_backward(dx2, g, qkv, probs, work, c.B, c.T, c.C, c.H, 1);
+    nn_attention_backward(dx, dout, dprobs, qkv, probs, work, c.B, c.T, c.C, c.H, 0);
+    nn_attention_backward(dx2, dout, dprobs, qkv, probs, work, c.B, c.T, c.C, c.H, 1);
     int finite = 1;
     for (size_t i = 0; i < nq; i++) finite &= isfinite(dx[i]);
-    for (size_t i = 0; i < no; i++) finite &= isfinite(out[i]);
+    for (size_t i = 0; i < no + np; i++) finite &= isfinite(out[i]);
     CHECK(finite, "%s: non-finite output or gradient", name);
-    op_case oc = {name, attention_ref, &c, nq, no};
+    op_case oc = {name, attention_ref, &c, nq, no + np};
     check_op(&oc, qkv, out, g, dx, h, tol, checks);
     check_accumulates(name, dx, dx2, before, nq);
-    free(qkv), free(g), free(out), free(probs), free(work), free(fwork), free(dx), free(dx2), free(before);
+    if (seeds == FROM_PROBS) { /* no output gradient: v gets none */
+        double dv = 0;
+        for (size_t r = 0; r < (size_t)c.B * c.T; r++)
+            for (int j = 2 * c.C; j < 3 * c.C; j++) dv = fmax(dv, fabs(dx[r * 3 * c.C + j]));
+        CHECK(dv == 0, "%s: dL/dv is %.2e, not 0, without an output gradient", name, dv);
+    }
+    free(qkv), free(g), free(out), free(work), free(fwork), free(dx), free(dx2), free(before);
 }
 
 /* ---- quick_gelu ----------------------------------------------------------- */
@@ -594,11 +615,17 @@ int main(void) {
             for (int res = 0; res < 2; res++) test_matmul(w_kn, bias, res);
     test_layernorm(0);
     test_layernorm(1);
-    test_attention("attention", (attention_ctx){2, 5, 8, 2}, 1.0, 1e-4, 1e-5, 1000);
+    test_attention("attention", (attention_ctx){2, 5, 8, 2, 0}, FROM_OUT, 1.0, 1e-4, 1e-5, 1000);
     /* T and D beyond one vector block (64) */
-    test_attention("attention (T 67, D 72)", (attention_ctx){1, 67, 144, 2}, 1.0, 1e-4, 1e-5, 300);
+    test_attention("attention (T 67, D 72)", (attention_ctx){1, 67, 144, 2, 0}, FROM_OUT, 1.0, 1e-4, 1e-5, 300);
     /* |q| |k| ~ 100 in D = 4: logits ~1e4, a saturated softmax */
-    test_attention("attention (logits 1e4)", (attention_ctx){2, 5, 8, 2}, 100.0, 1e-6, 1e-5, 1000);
+    test_attention("attention (logits 1e4)", (attention_ctx){2, 5, 8, 2, 0}, FROM_OUT, 100.0, 1e-6, 1e-5, 1000);
+    /* a gradient on the probabilities, with the output's and alone */
+    test_attention("attention (dL/dout and dL/dP)", (attention_ctx){2, 5, 8, 2, 0}, FROM_OUT_AND_PROBS, 1.0, 1e-4,
+                   1e-5, 1000);
+    test_attention("attention (dL/dP alone)", (attention_ctx){2, 5, 8, 2, 0}, FROM_PROBS, 1.0, 1e-4, 1e-5, 1000);
+    test_attention("attention (dL/dP, T 67, D 72)", (attention_ctx){1, 67, 144, 2, 0}, FROM_PROBS, 1.0, 1e-4,
+                   1e-5, 300);
     test_quick_gelu();
     test_image_ops();
     test_token_ops();

@@ -3,7 +3,10 @@
 
 Developers only (needs torch; run with the system python that has it):
     /usr/bin/python3 tools/make_fixtures.py
-Rewrites tests/fixtures/clip_tiny/ (deterministic: seeded; about 1.3 MB).
+Rewrites tests/fixtures/clip_tiny/ (deterministic: seeded; about 1.4 MB).
+Every file comes out byte-identical again except the TorchScript archive,
+whose zip records differ from run to run (the script checks that it holds
+exactly the same numbers): keep the committed one unless the model changes.
 
 The model mirrors openai/CLIP's VisionTransformer exactly (conv1 without
 bias, class token, positional embedding, ln_pre, pre-norm residual blocks of
@@ -40,6 +43,14 @@ row-major; expected.json gives "arch", "batch" and "arrays": for each name
   d_images     [B, 3, R, R]  dL/d images for L = sum_l sum(h_l * C_l)
                              + sum(e * C_e), in [0, 1] pixel units (CLIP's
                              normalisation is inside the differentiated map)
+  attention.json, attention.bin  the same layout, for the attention-map
+                            variant of the geometric loss (same model,
+                            same images):
+    attention_l    [B, H, T, T]  P_l, block l's attention probabilities
+                                 (query rows, key columns; torch's
+                                 need_weights=True, average_attn_weights=False)
+    d_attention_l  [B, H, T, T]  D_l, the cotangent of P_l
+    d_images       [B, 3, R, R]  dL/d images for L = sum_l sum(P_l * D_l)
 All expectations are computed in float64 from the f16-rounded weights.
 """
 import copy
@@ -96,6 +107,13 @@ class ResidualAttentionBlock(nn.Module):
         x = x + self.attn(y, y, y, need_weights=False, attn_mask=mask)[0]
         return x + self.mlp(self.ln_2(x))
 
+    def forward_with_probs(self, x):
+        """(forward(x), the attention probabilities [B, H, T, T]); no mask (the image tower's)."""
+        y = self.ln_1(x)
+        a, probs = self.attn(y, y, y, need_weights=True, average_attn_weights=False)
+        x = x + a
+        return x + self.mlp(self.ln_2(x)), probs
+
 
 class Transformer(nn.Module):
     def __init__(self, width, layers, heads, attn_mask=None):
@@ -142,6 +160,15 @@ class VisionTransformer(nn.Module):
             x = block(x)
             hidden.append(x.permute(1, 0, 2))
         return hidden, self.head(x)
+
+    def attention_probs(self, x):
+        """Every block's attention probabilities, [B, H, T, T] each."""
+        x = self.embed(x)
+        probs = []
+        for block in self.transformer.resblocks:
+            x, p = block.forward_with_probs(x)
+            probs.append(p)
+        return probs
 
 
 class CLIP(nn.Module):
@@ -341,6 +368,23 @@ def expectations(model, images):
     return arrays
 
 
+def attention_expectations(model, images):
+    visual = model.visual.double()
+    x = images.double().requires_grad_(True)
+    probs = visual.attention_probs(normalise(x))
+    g = torch.Generator().manual_seed(13)
+    d_probs = [torch.randn(p.shape, generator=g, dtype=torch.float64) for p in probs]
+    sum(((p * c).sum() for p, c in zip(probs, d_probs))).backward()
+    arrays = OrderedDict()
+    for i, (p, c) in enumerate(zip(probs, d_probs)):
+        assert torch.allclose(p.sum(-1), torch.ones((), dtype=p.dtype), rtol=0, atol=1e-12)
+        arrays[f"attention_{i}"] = p.detach()
+        arrays[f"d_attention_{i}"] = c
+    arrays["d_images"] = x.grad
+    model.visual.float()
+    return arrays
+
+
 def save_expected(arrays, json_path, bin_path):
     index, blobs, offset = OrderedDict(), [], 0
     for name, a in arrays.items():
@@ -375,6 +419,8 @@ def main():
     images = torch.cat([image, image.flip(-1)])
     arrays = expectations(model, images)
     save_expected(arrays, os.path.join(OUT_DIR, "expected.json"), os.path.join(OUT_DIR, "expected.bin"))
+    arrays = attention_expectations(model, images)
+    save_expected(arrays, os.path.join(OUT_DIR, "attention.json"), os.path.join(OUT_DIR, "attention.bin"))
     total = sum(os.path.getsize(os.path.join(d, n)) for d, _, names in os.walk(OUT_DIR) for n in names)
     print(f"{OUT_DIR}: {total} bytes")
 

@@ -216,7 +216,7 @@ static int clip_stop_row(const ws_bench_approx_input *in, ws_bench_approx_row *r
     int rc = d_hidden ? WS_OK : st->code;
     for (int k = 0; k < 2 && !rc; k++) {
         int last = k ? blocks[1] : a->layers - 1;
-        clip_run_options ro = {1 + A, last, 0, 1};
+        clip_run_options ro = {1 + A, last, 0, 1, 0};
         rc = clip_run_create(&strokes[k], in->model, &ro, st);
         ro.batch = A;
         ro.need_grad = 0;
@@ -238,7 +238,7 @@ static int clip_stop_row(const ws_bench_approx_input *in, ws_bench_approx_row *r
             for (int k = 0; k < 2 && !rc; k++) {
                 double t0 = ws_seconds();
                 if (clip_forward(strokes[k], images, st) || clip_forward(photos[k], images, st) ||
-                    clip_backward(strokes[k], d_hidden, NULL, d_images + k * (1 + A) * image, st)) {
+                    clip_backward(strokes[k], d_hidden, NULL, NULL, d_images + k * (1 + A) * image, st)) {
                     rc = st->code;
                     break;
                 }

@@ -28,7 +28,7 @@ static int floor_runs_create(floor_runs *f, const clip_model *m, int A, ws_statu
     memset(f, 0, sizeof *f);
     const wf_arch *a = clip_model_arch(m);
     size_t image = (size_t)3 * a->resolution * a->resolution;
-    clip_run_options ro = {1 + A, a->layers - 1, 1, 1};
+    clip_run_options ro = {1 + A, a->layers - 1, 1, 1, 0};
     if (clip_run_create(&f->strokes, m, &ro, st)) return st->code;
     ro.batch = A;
     ro.need_grad = 0;
@@ -41,7 +41,7 @@ static int floor_runs_create(floor_runs *f, const clip_model *m, int A, ws_statu
     if (!d_embedding) return st->code;
     for (int i = 0; i < (1 + A) * a->output_dim; i++) d_embedding[i] = 1e-3f * (float)(i % 7);
     int rc = clip_forward(f->strokes, f->images, st) || clip_forward(f->photos, f->images, st) ||
-             clip_backward(f->strokes, NULL, d_embedding, f->d_images, st);
+             clip_backward(f->strokes, NULL, NULL, d_embedding, f->d_images, st);
     free(d_embedding);
     return rc ? st->code : WS_OK;
 }

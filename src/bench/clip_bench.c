@@ -40,7 +40,7 @@ int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_
     const wf_arch *a = clip_model_arch(m);
     if (rounds < 1) return ws_fail(st, WS_EUSAGE, "clip bench: rounds %d must be at least 1", rounds);
     clip_run *run;
-    clip_run_options opt = {batch, a->layers - 1, 1, 1};
+    clip_run_options opt = {batch, a->layers - 1, 1, 1, 0};
     if (clip_run_create(&run, m, &opt, st)) return st->code;
     int tokens = 1 + (a->resolution / a->patch) * (a->resolution / a->patch);
     size_t pixels = (size_t)batch * 3 * a->resolution * a->resolution;
@@ -75,7 +75,7 @@ int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_
             goto done;
         }
         double t1 = now();
-        if (clip_backward(run, d_hidden, d_embedding, d_images, st)) {
+        if (clip_backward(run, d_hidden, NULL, d_embedding, d_images, st)) {
             rc = st->code;
             goto done;
         }

@@ -4,7 +4,13 @@
 #include "cli/cli_loss.h"
 
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
-                       ws_loss_options *lo, ws_status *st) {
+                       const char *geometric, ws_loss_options *lo, ws_status *st) {
+    if (!strcmp(geometric, "blocks"))
+        lo->geometric = WS_GEOMETRIC_BLOCKS;
+    else if (!strcmp(geometric, "attention"))
+        lo->geometric = WS_GEOMETRIC_ATTENTION;
+    else
+        return ws_fail(st, WS_EUSAGE, "--clip-geometric: '%s' is not blocks or attention", geometric);
     if (layers && layers->n) {
         lo->n_layer_weights = layers->n;
         memset(lo->layer_weights, 0, sizeof lo->layer_weights);

@@ -7,10 +7,12 @@
 /* Sets lo's term weights for --loss NAME: clip (the CLIP terms as lo has
  * them), edges (the edge loss alone, weight edges_weight), clip+edges, or
  * l2 (the pixel loss alone); layers (--clip-conv-layer-weights, or NULL),
- * when given, replaces the default layer weights. Then checks that a CLIP weight file exists when
+ * when given, replaces the default layer weights; geometric
+ * (--clip-geometric) is blocks or attention, what the geometric term
+ * compares. Then checks that a CLIP weight file exists when
  * a CLIP term is on, with a message that says how to get one and how to run
  * without. */
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
-                       ws_loss_options *lo, ws_status *st);
+                       const char *geometric, ws_loss_options *lo, ws_status *st);
 
 #endif

@@ -20,7 +20,7 @@ static int embed_files(const clip_model *m, const char *const *paths, int n, ws_
     size_t image = (size_t)3 * R * R;
     static const float black[3] = {0, 0, 0};
     clip_run *run = NULL;
-    clip_run_options opt = {batch, a->layers - 1, 1, 0};
+    clip_run_options opt = {batch, a->layers - 1, 1, 0, 0};
     float *images = ws_calloc((size_t)batch * image, sizeof *images, "embed images", st);
     if (!images || clip_run_create(&run, m, &opt, st)) {
         free(images);

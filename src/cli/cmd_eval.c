@@ -80,7 +80,7 @@ int cmd_eval(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
     const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
-    const char *edge_maps = NULL;
+    const char *edge_maps = NULL, *geometric = "blocks";
     const char *gt_points = NULL, *gt_curves = NULL;
     double edges_weight = 1.0;
     int size = 224, threads = 0;
@@ -102,6 +102,7 @@ int cmd_eval(int argc, char **argv) {
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
+        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, "what the geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
         {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
@@ -126,7 +127,7 @@ int cmd_eval(int argc, char **argv) {
     sopt.edge_maps_dir = edge_maps;
     if (ws_cli_background(background, sopt.background, &sopt.background_auto, &st) ||
         ws_cli_check_size(size, &st) ||
-        (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, &lo, &st)))
+        (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, &lo, &st)))
         return ws_cli_fail(&st);
     char scene_points[WS_PATH_MAX], scene_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], scene_points, scene_curves);

@@ -94,7 +94,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const ws_fit_options original = *opt;
     opt->learning_rate = opt->thickness = opt->length = NAN; /* unset: loss_defaults */
     opt->epochs = -1;
-    const char *loss_name = "clip", *background = "black";
+    const char *loss_name = "clip", *background = "black", *geometric = "blocks";
     double edges_weight = 1.0;
     int seed = 0;
     ws_arg_list layers = {0};
@@ -120,6 +120,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &opt->loss.fc_weight, 0, "fc term weight [0.1]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
+        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, "what the geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"},
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
@@ -156,7 +157,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     opt->seed = (uint64_t)(unsigned)seed;
     if (ws_cli_check_size(opt->size, st) ||
         ws_cli_background(background, opt->background, &opt->background_auto, st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, &opt->loss, st) ||
+        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, &opt->loss, st) ||
         (loss_defaults(opt, &original), ws_fit_options_check(opt, st)))
         return st->code;
     if (settings) {

@@ -15,6 +15,7 @@ int cmd_rank(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
     const char *split_name = "test", *loss_name = "edges", *gt_path = NULL, *edge_maps = NULL;
+    const char *geometric = "blocks";
     int size = 224, threads = 0;
     ws_arg_list thick = {4, {0.005, 0.01, 0.02, 0.04}};
     ws_loss_options lo;
@@ -22,6 +23,7 @@ int cmd_rank(int argc, char **argv) {
     const ws_arg args[] = {
         {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [edges]"},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
+        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, "what the geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"},
         {"--gt-curves", WS_ARG_STRING, &gt_path, 0, "ground-truth curves [SCENE/gt_curves.json]"},
         {"--thickness", WS_ARG_DOUBLES, &thick, 16, "thicknesses, one column each [0.005 0.01 0.02 0.04]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
@@ -41,7 +43,7 @@ int cmd_rank(int argc, char **argv) {
     if (split < 0) ws_fail(&st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     for (int k = 0; k < thick.n && !st.code; k++)
         if (!(thick.v[k] > 0)) ws_fail(&st, WS_EUSAGE, "--thickness: %g is not positive", thick.v[k]);
-    if (st.code || ws_cli_check_size(size, &st) || ws_cli_choose_loss(loss_name, 1.0, NULL, &lo, &st) ||
+    if (st.code || ws_cli_check_size(size, &st) || ws_cli_choose_loss(loss_name, 1.0, NULL, geometric, &lo, &st) ||
         ws_runtime_init(threads, &st))
         return ws_cli_fail(&st);
     char gt_default[WS_PATH_MAX];

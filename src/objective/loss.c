@@ -1,9 +1,9 @@
 /* loss.c: the loss of one view and its gradient (see loss.h).
  *
  * Data flow of one training view (A augmentations, items a = 0..A):
- *   alpha --(a > 0: augment)--> S_a --(x3 channels)--> CLIP --> h_l(S_a), e(S_a)
- *   photo --(same transforms)--> T_a --> CLIP without tape --> h_l(T_a), e(T_a)
- * and back: dL/dh, dL/de --> CLIP backward --> dL/dS_a (summed over the 3
+ *   alpha --(a > 0: augment)--> S_a --(x3 channels)--> CLIP --> h_l(S_a) or P_l(S_a), e(S_a)
+ *   photo --(same transforms)--> T_a --> CLIP without tape --> h_l(T_a) or P_l(T_a), e(T_a)
+ * and back: dL/dh (or dL/dP), dL/de --> CLIP backward --> dL/dS_a (summed over the 3
  * channels) --(augment backward)--> dL/dalpha, summed over items.
  * With an augmentation bank the photo's side comes from the bank's cache. */
 #include <math.h>
@@ -46,11 +46,13 @@ int ws_loss_uses_clip(const ws_loss_options *opt) {
 typedef struct {
     clip_model *model;
     int owns_model;       /* loaded here (else borrowed from the options) */
-    int res, tokens, width, out_dim;
+    int res, tokens, width, heads, out_dim;
     int last_block;       /* the last block any term reads */
     int need_embedding;
     int nlayers;          /* layers the geometric term reads */
     int layer[WS_LOSS_MAX_LAYERS];
+    int attention;        /* it reads P_l (heads x tokens x tokens), else h_l (tokens x width) */
+    size_t geo_size;      /* floats of one image's features of one such layer */
     size_t feature_size;  /* floats of one image's cached features */
     int pass_items;       /* G: stroke images per CLIP pass */
     /* By batch size b (NULL where no pass needs it): runs of b stroke images
@@ -66,8 +68,8 @@ typedef struct {
     float *photos;        /* max(A, G) x 3 x R x R (zeroed: a bank's last batch may not fill it) */
     float *targets;       /* G x feature_size: features of the augmented photos */
     float *d_images;      /* G x 3 x R x R */
-    float *d_hidden_buf;  /* nlayers x G x tokens x width */
-    const float *d_hidden[WS_LOSS_MAX_LAYERS]; /* per block, NULL if unread */
+    float *d_geo_buf;     /* nlayers x G x geo_size */
+    const float *d_geo[WS_LOSS_MAX_LAYERS]; /* dL/dh_l or dL/dP_l per block, NULL if unread */
     float *d_embedding;   /* G x out_dim */
 } clip_part;
 
@@ -139,6 +141,9 @@ static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_s
     c->width = arch->width;
     c->out_dim = arch->output_dim;
     c->tokens = 1 + (arch->resolution / arch->patch) * (arch->resolution / arch->patch);
+    c->heads = arch->heads;
+    c->attention = opt->geometric == WS_GEOMETRIC_ATTENTION;
+    c->geo_size = c->attention ? (size_t)c->heads * c->tokens * c->tokens : (size_t)c->tokens * c->width;
     if (scene->width != c->res || scene->height != c->res)
         return ws_fail(st, WS_EUSAGE,
                        "%s: the model takes %d x %d images but the scene is loaded at %d x %d",
@@ -156,10 +161,10 @@ static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_s
             }
     c->need_embedding = opt->fc_weight != 0 || opt->global_weight != 0;
     if (c->need_embedding) c->last_block = arch->layers - 1;
-    c->feature_size = (size_t)c->nlayers * c->tokens * c->width + (c->need_embedding ? c->out_dim : 0);
+    c->feature_size = (size_t)c->nlayers * c->geo_size + (c->need_embedding ? c->out_dim : 0);
 
     c->pass_items = opt->pass_items ? opt->pass_items : 1 + A;
-    clip_run_options ro = {1, c->last_block, c->need_embedding, 1};
+    clip_run_options ro = {1, c->last_block, c->need_embedding, 1, c->attention && c->nlayers};
     if (create_pass_runs(c, 1, &ro, st) || create_pass_runs(c, 1 + A, &ro, st)) return st->code;
     ro.batch = A;
     ro.need_grad = 0;
@@ -170,14 +175,14 @@ static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_s
         ws_view_cache_init(&c->bank_cache, scene, (size_t)c->bank * c->feature_size,
                            "augmentation bank features", st))
         return st->code;
-    size_t G = (size_t)c->pass_items, hidden = G * c->tokens * c->width;
+    size_t G = (size_t)c->pass_items, geo = G * c->geo_size;
     size_t photos = A > (int)G ? (size_t)A : G;
     if (!(c->strokes = ws_malloc(G * image * sizeof(float), "stroke images", st)) ||
         !(c->photos = ws_calloc(photos * image, sizeof(float), "photo images", st)) ||
         !(c->targets = ws_malloc(G * c->feature_size * sizeof(float), "photo features", st)) ||
         !(c->d_images = ws_malloc(G * image * sizeof(float), "image gradients", st)) ||
-        !(c->d_hidden_buf = ws_malloc((c->nlayers ? c->nlayers : 1) * hidden * sizeof(float),
-                                      "feature gradients", st)) ||
+        !(c->d_geo_buf = ws_malloc((c->nlayers ? c->nlayers : 1) * geo * sizeof(float),
+                                   "feature gradients", st)) ||
         !(c->d_embedding = ws_malloc(G * c->out_dim * sizeof(float), "embedding gradients", st)))
         return st->code;
     return WS_OK;
@@ -195,7 +200,7 @@ static void clip_part_free(clip_part *c) {
     free(c->photos);
     free(c->targets);
     free(c->d_images);
-    free(c->d_hidden_buf);
+    free(c->d_geo_buf);
     free(c->d_embedding);
 }
 
@@ -213,6 +218,9 @@ int ws_loss_options_check(const ws_loss_options *opt, ws_status *st) {
     /* a negative weight would make its term a reward for looking unlike the photo */
     int negative = opt->conv_weight < 0 || opt->fc_weight < 0 || opt->global_weight < 0 ||
                    opt->edges_weight < 0 || opt->l2_weight < 0 || opt->lines_weight < 0;
+    if (opt->geometric != WS_GEOMETRIC_BLOCKS && opt->geometric != WS_GEOMETRIC_ATTENTION)
+        return ws_fail(st, WS_EUSAGE, "--clip-geometric: variant %d is not blocks (%d) or attention (%d)",
+                       (int)opt->geometric, WS_GEOMETRIC_BLOCKS, WS_GEOMETRIC_ATTENTION);
     for (int l = 0; l < opt->n_layer_weights; l++) negative |= opt->layer_weights[l] < 0;
     if (negative)
         return ws_fail(st, WS_EUSAGE, "loss weights (--clip-weight, --clip-conv-loss, "
@@ -280,13 +288,18 @@ size_t ws_loss_bank_bytes(const ws_loss *L) {
     return L->use_clip ? ws_view_cache_full_bytes(&L->clip.bank_cache, WS_TRAIN) : 0;
 }
 
+/* Layer l's features of a run's images (batch x geo_size): h_l or P_l. */
+static const float *geo_features(const clip_part *c, const clip_run *run, int l) {
+    return c->attention ? clip_attention(run, l) : clip_hidden(run, l);
+}
+
 /* Copies image `item`'s features out of a run into dst (feature_size floats). */
 static void gather_features(const clip_part *c, const clip_run *run, int item, float *dst) {
-    size_t hidden = (size_t)c->tokens * c->width;
+    size_t geo = c->geo_size;
     for (int k = 0; k < c->nlayers; k++)
-        memcpy(dst + k * hidden, clip_hidden(run, c->layer[k]) + item * hidden, hidden * sizeof(float));
+        memcpy(dst + k * geo, geo_features(c, run, c->layer[k]) + item * geo, geo * sizeof(float));
     if (c->need_embedding)
-        memcpy(dst + c->nlayers * hidden, clip_embedding(run) + (size_t)item * c->out_dim,
+        memcpy(dst + c->nlayers * geo, clip_embedding(run) + (size_t)item * c->out_dim,
                c->out_dim * sizeof(float));
 }
 
@@ -308,20 +321,21 @@ static int fill_photo_features(void *ctx, int split, int view, float *slot, ws_s
  * of the view's loss. */
 static void clip_terms(clip_part *c, const ws_loss_options *opt, const clip_run *run, int first, int count,
                        int n, const float *const *targets, const float *t0, double *item_loss) {
-    size_t hidden = (size_t)c->tokens * c->width, off = (size_t)c->nlayers * hidden;
+    size_t geo = c->geo_size, off = (size_t)c->nlayers * geo;
     int D = c->out_dim;
-    for (int l = 0; l < WS_LOSS_MAX_LAYERS; l++) c->d_hidden[l] = NULL;
-    for (int k = 0; k < c->nlayers; k++) c->d_hidden[c->layer[k]] = c->d_hidden_buf + (size_t)k * count * hidden;
+    for (int l = 0; l < WS_LOSS_MAX_LAYERS; l++) c->d_geo[l] = NULL;
+    for (int k = 0; k < c->nlayers; k++) c->d_geo[c->layer[k]] = c->d_geo_buf + (size_t)k * count * geo;
     for (int i = 0; i < count; i++) {
         double loss = 0;
-        /* the mean over items, tokens and channels is the mean of the
-         * per-item means: every item has the same size */
+        /* the mean over items and an item's features (tokens and channels,
+         * or heads, query and key tokens) is the mean of the per-item
+         * means: every item has the same size */
         for (int k = 0; k < c->nlayers; k++) {
             int l = c->layer[k];
             double w = opt->conv_weight * opt->layer_weights[l];
-            const float *h = clip_hidden(run, l) + i * hidden, *t = targets[i] + k * hidden;
-            loss += w / n * nn_mse_forward(h, t, hidden);
-            nn_mse_backward(h, t, hidden, (float)(w / n), (float *)c->d_hidden[l] + i * hidden);
+            const float *h = geo_features(c, run, l) + i * geo, *t = targets[i] + k * geo;
+            loss += w / n * nn_mse_forward(h, t, geo);
+            nn_mse_backward(h, t, geo, (float)(w / n), (float *)c->d_geo[l] + i * geo);
         }
         if (c->need_embedding) {
             const float *e = clip_embedding(run) + (size_t)i * D;
@@ -455,8 +469,9 @@ static int clip_pass(ws_loss *L, const ws_view *v, int split, int view, int firs
     clip_terms(c, &L->opt, run, first, count, n, targets, t0, item_loss);
     if (!item_grad) return WS_OK;
     t = ws_time_start(L->timing);
-    if (clip_backward(run, c->nlayers ? c->d_hidden : NULL, c->need_embedding ? c->d_embedding : NULL,
-                      c->d_images, st))
+    const float *const *d_geo = c->nlayers ? c->d_geo : NULL;
+    if (clip_backward(run, c->attention ? NULL : d_geo, c->attention ? d_geo : NULL,
+                      c->need_embedding ? c->d_embedding : NULL, c->d_images, st))
         return st->code;
     ws_time_add(L->timing, WS_TIME_CLIP_BACKWARD, t);
     for (int i = 0; i < count; i++) {

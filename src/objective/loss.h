@@ -2,7 +2,9 @@
  *
  * Terms, each with its own weight (0 = off):
  * - CLIP geometric: conv_weight * sum_l layer_weights[l] * mean over items,
- *   tokens and channels of (h_l(S_a) - h_l(T_a))^2;
+ *   tokens and channels of (h_l(S_a) - h_l(T_a))^2 (geometric = blocks), or
+ *   mean over items, heads, query and key tokens of (P_l(S_a) - P_l(T_a))^2,
+ *   P_l block l's attention probabilities (geometric = attention);
  * - CLIP fc: fc_weight * mean over items of (1 - cos(e(S_a), e(T_a)));
  * - CLIP global: global_weight * sum over a = 1..A of (1 - cos(e(S_a), e(T_0)));
  * - lines: lines_weight * the line-drawing loss (lines.h) of item 0 against
@@ -49,9 +51,13 @@ struct clip_model;
 #define WS_LOSS_MAX_LAYERS 64
 #define WS_LOSS_MAX_AUG 64 /* augmentations per view and step at the most */
 
+/* What the CLIP geometric term compares (--clip-geometric). */
+typedef enum { WS_GEOMETRIC_BLOCKS, WS_GEOMETRIC_ATTENTION } ws_geometric;
+
 typedef struct {
     const char *weights_path;  /* CLIP weight file; needed when a CLIP term is on */
     double conv_weight;        /* clip_conv_loss */
+    ws_geometric geometric;    /* block outputs h_l (default) or attention probabilities P_l */
     int n_layer_weights;
     double layer_weights[WS_LOSS_MAX_LAYERS]; /* clip_conv_layer_weights, block l */
     double fc_weight;          /* clip_fc_loss_weight */
@@ -76,7 +82,8 @@ typedef struct ws_loss ws_loss;
 /* For the scene's views at its working resolution, which must equal the CLIP
  * model's input resolution when CLIP is used. */
 /* Every option in its range (WS_EUSAGE naming the option otherwise):
- * augmentation counts, and term weights >= 0. ws_loss_create checks too. */
+ * augmentation counts, the geometric variant, and term weights >= 0.
+ * ws_loss_create checks too. */
 int ws_loss_options_check(const ws_loss_options *opt, ws_status *st);
 int ws_loss_create(ws_loss **loss, const ws_loss_options *opt, const ws_scene *scene,
                    ws_status *st);
