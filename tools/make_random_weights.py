@@ -2,6 +2,7 @@
 """A CLIP ViT-B/32 image tower with seeded random weights, as weight files.
 
 usage: python3 tools/make_random_weights.py OUT [--dtype f32|f16] [--seed N] [--layers N]
+       [--width N] [--heads N] [--patch N] [--resolution N] [--output-dim N]
 
 No pretrained weights can be downloaded on the machines wiresketch is
 benchmarked on, so `make bench` and the peak-memory measurement use a model
@@ -12,7 +13,8 @@ with the same seed differ exactly by f16 rounding: what `convert --dtype
 f16` costs in accuracy. Weights are drawn as nn/clip.c's clip_model_random
 scales them (uniform, CLIP's initialisation scales), from Python's own
 generator seeded per tensor, and written by tools/convert_weights.py's
-writer. Standard library only.
+writer. The architecture options (ViT-B/32's by default) make small
+models too, for tests (tests/test_random_weights.c). Standard library only.
 """
 import argparse
 import array
@@ -63,14 +65,31 @@ def random_tensor(name, shape, arch, seed):
     return convert_weights.Tensor("f32", shape, chunks)
 
 
+def architecture_problem(arch):
+    """What makes arch no ViT image tower the C loader takes (None: nothing)."""
+    for key, value in arch.items():
+        if value < 1:
+            return f"--{key.replace('_', '-')} {value}: must be at least 1"
+    if arch["width"] % arch["heads"]:
+        return f"--width {arch['width']} is not a multiple of --heads {arch['heads']}"
+    if arch["resolution"] % arch["patch"]:
+        return f"--resolution {arch['resolution']} is not a multiple of --patch {arch['patch']}"
+    return None
+
+
 def main(argv):
     parser = argparse.ArgumentParser(prog="make_random_weights.py", description=__doc__.split("\n")[0])
     parser.add_argument("output", metavar="OUT")
     parser.add_argument("--dtype", choices=sorted(convert_weights.OUT_DTYPES), default="f32")
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--layers", type=int, default=VIT_B32["layers"])
+    for key in VIT_B32:
+        parser.add_argument("--" + key.replace("_", "-"), type=int, default=VIT_B32[key])
     args = parser.parse_args(argv)
-    arch = dict(VIT_B32, layers=args.layers)
+    arch = {key: getattr(args, key) for key in VIT_B32}
+    problem = architecture_problem(arch)
+    if problem:
+        print(f"make_random_weights.py: {problem}", file=sys.stderr)
+        return 2
     tokens = (arch["resolution"] // arch["patch"]) ** 2 + 1
     expected = convert_weights.expected_tensors(arch["width"], arch["layers"], arch["patch"], tokens,
                                                 arch["output_dim"])
@@ -78,11 +97,12 @@ def main(argv):
     try:
         nbytes = convert_weights.write_weight_file(args.output, arch, tower, expected, args.dtype,
                                                    lambda name: name)
-    except OSError as e:
-        print(f"make_random_weights.py: {e.filename or args.output}: {e.strerror or e}", file=sys.stderr)
+    except convert_weights.ConvertError as e:  # the writer's refusal names the file
+        print(f"make_random_weights.py: {e.path or args.output}: {e}", file=sys.stderr)
         return 1
-    print(f"{args.output}: random ViT-B/32 image tower (seed {args.seed}, {arch['layers']} layers), "
-          f"{args.dtype}, {nbytes} bytes")
+    name = "ViT-B/32" if arch == VIT_B32 else "ViT ({})".format(
+        ", ".join(f"{key} {value}" for key, value in arch.items()))
+    print(f"{args.output}: random {name} image tower (seed {args.seed}), {args.dtype}, {nbytes} bytes")
     return 0
 
 
