@@ -1,52 +1,78 @@
-/* matmul.c: the linear layer (matmul.h). GEMMs are called from the main
- * thread only: OpenBLAS runs its own threads, never nested in OpenMP. */
+/* matmul.c: the linear layer (matmul.h). */
 #include <cblas.h>
 #include <string.h>
 #include "matmul.h"
+#include "parallel.h"
+
+/* Columns of c per cblas_sgemm call. Every product runs as the same calls
+ * on the same blocks of columns whatever the thread count: OpenBLAS's own
+ * threaded driver cuts a product at other places than its single-threaded
+ * one, and some kernels (Haswell's, AVX2) sum K in another order in some
+ * tiles than in others, so its threads change the bits. The threads share
+ * out the blocks; each block is one single-threaded OpenBLAS call on all M
+ * rows, so each element's sum runs the same way on 1 or N threads. 192
+ * columns: a multiple of every kernel's tile (8, 16, 32 columns), 4, 12
+ * and 16 blocks for CLIP's products (768, 2304, 3072 columns: even shares
+ * on 2 and 4 threads), and few enough that repacking A (M x K) for each
+ * call costs 2-5% (README, "Speed and accuracy"). */
+enum { NN_GEMM_COLUMNS = 192 };
+
+/* Columns [j0, j0 + n) of rows of c = bias + res (either may be NULL, not
+ * both): what the block's GEMM then adds onto, while the block is in cache. */
+static void init_block(const nn_gemm *g, int j0, int n) {
+    for (int i = 0; i < g->m; i++) {
+        float *o = g->c + (size_t)i * g->n + j0;
+        const float *r = g->res ? g->res + (size_t)i * g->n + j0 : NULL, *bias = g->bias ? g->bias + j0 : NULL;
+        if (!r) {
+            memcpy(o, bias, (size_t)n * sizeof *o);
+        } else if (!bias) {
+            memcpy(o, r, (size_t)n * sizeof *o);
+        } else {
+#pragma omp simd
+            for (int j = 0; j < n; j++) o[j] = r[j] + bias[j];
+        }
+    }
+}
+
+static void gemm_block(const nn_gemm *g, float beta, int j0) {
+    int n = g->n - j0 < NN_GEMM_COLUMNS ? g->n - j0 : NN_GEMM_COLUMNS;
+    if (g->bias || g->res) {
+        init_block(g, j0, n);
+        beta = 1.0f;
+    }
+    const float *b = g->trans_b ? g->b + (size_t)j0 * g->k : g->b + j0;
+    cblas_sgemm(CblasRowMajor, CblasNoTrans, g->trans_b ? CblasTrans : CblasNoTrans, g->m, n, g->k,
+                1.0f, g->a, g->k, b, g->trans_b ? g->k : g->n, beta, g->c + j0, g->n);
+}
 
 void nn_gemm_run(const nn_gemm *g, float beta) {
-    cblas_sgemm(CblasRowMajor, CblasNoTrans, g->trans_b ? CblasTrans : CblasNoTrans, g->m, g->n,
-                g->k, 1.0f, g->a, g->k, g->b, g->trans_b ? g->k : g->n, beta, g->c, g->n);
+    int blocks = (g->n + NN_GEMM_COLUMNS - 1) / NN_GEMM_COLUMNS;
+    /* OpenBLAS itself threaded (a program that gave it threads): no team
+     * around its calls, whose threads would then nest inside ours */
+    int fork = blocks > 1 && openblas_get_num_threads() == 1 &&
+               nn_fork((size_t)g->m * g->n * g->k);
+#pragma omp parallel for schedule(static) if (fork)
+    for (int j = 0; j < blocks; j++) gemm_block(g, beta, j * NN_GEMM_COLUMNS);
 }
 
 /* The forward product without bias: out = in @ W^T (w_kn: @ W). */
 static nn_gemm forward_gemm(float *out, const float *in, const float *w, int M, int K, int N,
                             int w_kn) {
-    return (nn_gemm){M, N, K, !w_kn, in, w, out};
+    return (nn_gemm){M, N, K, !w_kn, in, w, out, NULL, NULL};
 }
 
 /* The input gradient: d_in = d_out @ W (w_kn: @ W^T). */
 static nn_gemm backward_gemm(float *d_in, const float *d_out, const float *w, int M, int K, int N,
                              int w_kn) {
-    return (nn_gemm){M, K, N, w_kn, d_out, w, d_in};
-}
-
-/* Rows of out [M,N] = bias + res, either may be NULL (not both). */
-static void init_rows(float *out, const float *bias, const float *res, int M, int N) {
-    for (int i = 0; i < M; i++) {
-        float *o = out + (size_t)i * N;
-        const float *r = res ? res + (size_t)i * N : NULL;
-        if (!r) {
-            memcpy(o, bias, (size_t)N * sizeof *o);
-        } else if (!bias) {
-            memcpy(o, r, (size_t)N * sizeof *o);
-        } else {
-#pragma omp simd
-            for (int j = 0; j < N; j++) o[j] = r[j] + bias[j];
-        }
-    }
+    return (nn_gemm){M, K, N, w_kn, d_out, w, d_in, NULL, NULL};
 }
 
 void nn_matmul_forward(float *out, const float *in, const float *w, const float *bias,
                        const float *res, int M, int K, int N, int w_kn) {
-    float beta = 0.0f;
-    if (bias || res) {
-        /* The GEMM adds onto bias + res: no separate pass over out. */
-        init_rows(out, bias, res, M, N);
-        beta = 1.0f;
-    }
     nn_gemm g = forward_gemm(out, in, w, M, K, N, w_kn);
-    nn_gemm_run(&g, beta);
+    g.bias = bias;
+    g.res = res;
+    nn_gemm_run(&g, 0.0f);
 }
 
 void nn_matmul_backward(float *d_in, const float *d_out, const float *w, int M, int K, int N,

@@ -27,12 +27,15 @@ nn_tensor *nn_matmul_residual(nn_tape *t, nn_tensor *x, const float *w, const fl
                               int w_kn, nn_tensor *res);
 
 /* One matrix product, row-major and dense: c [m,n] = a [m,k] @ b + beta c,
- * b [k,n], or b [n,k] read transposed when trans_b. Every GEMM of nn/
- * runs through nn_gemm_run. */
+ * b [k,n], or b [n,k] read transposed when trans_b; when bias [n] or res
+ * [m,n] is given (either may be NULL), c = bias + res + a @ b instead. Every
+ * GEMM of nn/ runs through nn_gemm_run, on fixed blocks of columns shared
+ * out over the OpenMP team: the same bits on any thread count (matmul.c). */
 typedef struct {
     int m, n, k, trans_b;
     const float *a, *b;
     float *c;
+    const float *bias, *res;
 } nn_gemm;
 
 void nn_gemm_run(const nn_gemm *g, float beta);

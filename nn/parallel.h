@@ -7,8 +7,9 @@
  * speed while OpenMP's workers spin, which costs far more than the
  * parallel op saved (measured: forward+backward of ViT-B/32 2.5x slower).
  * So an op forks only when that cannot happen: OpenMP waits passively, or
- * OpenBLAS has no worker threads. And only when the work is big enough to
- * pay for waking a team. */
+ * OpenBLAS has no worker threads (ws_runtime_init holds it at one: the
+ * GEMMs' own blocks run on OpenMP's team, nn/matmul.c). And only when the
+ * work is big enough to pay for waking a team. */
 #ifndef NN_PARALLEL_H
 #define NN_PARALLEL_H
 #include <stddef.h>

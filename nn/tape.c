@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "parallel.h"
 #include "tape.h"
 
 int nn_tape_init(nn_tape *t, int max_ops, int with_grad, ws_status *st) {
@@ -131,12 +132,11 @@ nn_tensor *nn_tape_workspace(nn_tape *t, nn_op *op, size_t numel, int for_backwa
 void nn_grad_add(nn_tensor *x, const float *g) {
     float *dx = x->grad;
     long n = (long)x->numel;
-    if (nn_grad_begin(x)) {
-#pragma omp simd
-        for (long i = 0; i < n; i++) dx[i] += g[i];
-    } else {
-        memcpy(dx, g, (size_t)n * sizeof *dx);
-    }
+    int acc = nn_grad_begin(x);
+    /* a residual's gradient (192k floats a block in CLIP): on the team,
+     * not on one thread while the others wait */
+#pragma omp parallel for simd schedule(static) if (nn_fork((size_t)n))
+    for (long i = 0; i < n; i++) dx[i] = acc ? dx[i] + g[i] : g[i];
 }
 
 static void seed_backward(const nn_op *op) {

@@ -6,14 +6,16 @@
  * independence, determinism, blank images and every error message. Then
  * the full-size ViT-B/32 (width 768, 12 blocks, 12 heads, patch 32, 224 x
  * 224, output 512): forward + backward, finite differences on pixels,
- * identical bits on a second run and for 1 and 2 threads, truncation. (Agreement with PyTorch on
+ * identical bits on a second run, truncation, and identical bits for 1 and
+ * 2 threads with the Haswell and the SkylakeX kernels. (Agreement with PyTorch on
  * trained-model weight files: test_clip_fixture.c.) */
 #include <cblas.h>
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/runtime.h"
 #include "check.h"
+#include "cli_run.h"
 #include "nn/clip.h"
 #include "nn/base/rng.h"
 
@@ -285,18 +287,6 @@ static void test_full_size(void) {
     loss(&cut, images);
     CHECK(same_bits(clip_hidden(s.run, 3), clip_hidden(cut.run, 3), s.hidden),
           "ViT-B/32: the run that stops after block 3 gives another h_3");
-    /* nn's ops give the same bits on 1 and 2 threads (OpenBLAS held at 1,
-     * so that they fork OpenMP teams: nn_fork; whether OpenBLAS's own
-     * threads change its bits depends on its kernels) */
-    int omp = omp_get_max_threads(), blas = openblas_get_num_threads();
-    openblas_set_num_threads(1);
-    for (int k = 1; k <= 2; k++) {
-        omp_set_num_threads(k);
-        gradient(&s, images, k == 1 ? g1 : g2);
-    }
-    CHECK(same_bits(g1, g2, s.pixels), "ViT-B/32: 1 and 2 OpenMP threads give other gradient bits");
-    omp_set_num_threads(omp);
-    openblas_set_num_threads(blas);
     double norm = 0;
     for (size_t i = 0; i < s.embedding; i++) norm += (double)clip_embedding(s.run)[i] * clip_embedding(s.run)[i];
     CHECK(norm > 1e-3 && isfinite(norm), "ViT-B/32: embedding norm^2 %g", norm);
@@ -308,7 +298,60 @@ static void test_full_size(void) {
     free(g2);
 }
 
-int main(void) {
+/* Child of test_threads (OPENBLAS_CORETYPE set): the full-size gradient of
+ * 2 images through ws_runtime_init with 1 and then 2 threads. Exit 0 when
+ * the bits agree. */
+static int threads_child(void) {
+    ws_status st;
+    ws_status_clear(&st);
+    wf_arch a = {768, 12, 12, 32, 224, 512};
+    clip_model *m;
+    setup s;
+    if (ws_runtime_init(1, &st) || clip_model_random(&m, &a, 1234, &st)) {
+        CHECK(0, "%s", st.msg);
+        return 1;
+    }
+    if (make_run(&s, m, 2, 3, 1, 1)) return 1;
+    float *images = randoms(s.pixels, 0, 1);
+    float *g[2] = {malloc(s.pixels * sizeof(float)), malloc(s.pixels * sizeof(float))};
+    s.w_hidden[3] = randoms(s.hidden, -1, 1);
+    s.w_embedding = randoms(s.embedding, -1, 1);
+    for (int k = 0; k < 2; k++) {
+        CHECK(ws_runtime_init(k + 1, &st) == WS_OK, "%s", st.msg);
+        gradient(&s, images, g[k]);
+    }
+    CHECK(same_bits(g[0], g[1], s.pixels), "kernels %s: 1 and 2 threads give other gradient bits",
+          openblas_get_corename());
+    free_run(&s);
+    clip_model_free(m);
+    free(images);
+    free(g[0]);
+    free(g[1]);
+    return check_failed ? 1 : 0;
+}
+
+/* The same bits on 1 and 2 threads with each kernel set the CPU runs:
+ * OpenBLAS's own threads would give other bits with Haswell's (nn/matmul.c).
+ * A child per set, as OpenBLAS reads OPENBLAS_CORETYPE when it loads. */
+static void test_threads(const char *self) {
+    __builtin_cpu_init();
+    const char *kernels[2] = {
+        __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") ? "Haswell" : NULL,
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl")
+            ? "SkylakeX"
+            : NULL};
+    for (int k = 0; k < 2; k++) {
+        if (!kernels[k]) continue;
+        char out[4096];
+        int rc = run_cmd(out, sizeof out, "WS_TEST_CLIP_THREADS=1 OPENBLAS_CORETYPE=%s %s", kernels[k], self);
+        CHECK(rc == 0, "kernels %s, 1 and 2 threads (exit %d): %s", kernels[k], rc, out);
+    }
+}
+
+int main(int argc, char **argv) {
+    (void)argc;
+    if (getenv("WS_TEST_CLIP_THREADS")) return threads_child();
     ws_rng_seed(&rng, 7);
     ws_status st;
     ws_status_clear(&st);
@@ -322,5 +365,6 @@ int main(void) {
     test_errors(m);
     clip_model_free(m);
     test_full_size();
+    test_threads(argv[0]);
     return check_summary();
 }

@@ -102,7 +102,7 @@ int ws_runtime_init(int threads, ws_status *st) {
     int n = threads ? threads : omp_get_num_procs();
     if (n > WS_MAX_THREADS) n = WS_MAX_THREADS;
     omp_set_num_threads(n);
-    openblas_set_num_threads(n);
+    openblas_set_num_threads(1); /* nn/ threads its GEMMs itself (nn/matmul.c) */
     return WS_OK;
 }
 

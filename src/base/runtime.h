@@ -3,8 +3,11 @@
  * program embedding the library (tools/embed_example.c) both call
  * ws_runtime_init before anything else.
  *
- * Threads: one count for OpenMP and OpenBLAS, so that a run is
- * reproducible (the same seed and thread count give the same bits).
+ * Threads: the count is OpenMP's; OpenBLAS is held at one thread, and
+ * nn/ shares out each GEMM's column blocks over the OpenMP team
+ * (nn/matmul.c), so that a run gives the same bits on any thread count
+ * whatever kernels OpenBLAS runs (its own threading rounds differently
+ * from its single-threaded calls with some of them, Haswell's).
  *
  * Kernels: OpenBLAS 0.3.21 picks its kernels from the CPU's vendor and
  * model when it loads, and takes weaker ones than the CPU can run on
@@ -25,8 +28,9 @@
  * otherwise spin after each parallel region and slow the GEMMs that follow.
  * ws_runtime_reexec_if_needed sets OMP_WAIT_POLICY=passive and re-executes
  * the program (`wiresketch` does so first thing; an embedding program may
- * call it too, or set the variable in its environment). Without it nn/
- * forks no OpenMP team next to OpenBLAS's threads (nn/parallel.h). */
+ * call it too, or set the variable in its environment): spinning threads
+ * take cores from the other processes of a shared machine, and from
+ * OpenBLAS's threads where a program gives it some (nn/parallel.h). */
 #ifndef WS_RUNTIME_H
 #define WS_RUNTIME_H
 #include "nn/base/status.h"
