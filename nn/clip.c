@@ -264,7 +264,8 @@ int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options 
     r->probs = ws_calloc((size_t)r->blocks, sizeof *r->probs, "clip run", st);
     r->seed_hidden = ws_calloc((size_t)opt->last_block + 1, sizeof *r->seed_hidden, "clip run", st);
     r->seed_probs = ws_calloc((size_t)opt->last_block + 1, sizeof *r->seed_probs, "clip run", st);
-    if (!r->hidden || !r->probs || !r->seed_hidden || !r->seed_probs || nn_tape_init(&r->tape, 16 + 12 * r->blocks, opt->need_grad, st)) {
+    if (!r->hidden || !r->probs || !r->seed_hidden || !r->seed_probs ||
+        nn_tape_init(&r->tape, 16 + 12 * r->blocks, opt->need_grad, st)) {
         clip_run_free(r);
         return st->code;
     }

@@ -12,6 +12,10 @@
  * compares. Then checks that a CLIP weight file exists when
  * a CLIP term is on, with a message that says how to get one and how to run
  * without. */
+/* --clip-geometric's help, the same in every command that takes it. */
+#define WS_CLI_GEOMETRIC_HELP \
+    "what CLIP's geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"
+
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
                        const char *geometric, ws_loss_options *lo, ws_status *st);
 

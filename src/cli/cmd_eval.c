@@ -102,7 +102,7 @@ int cmd_eval(int argc, char **argv) {
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, "what the geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"},
+        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
         {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},

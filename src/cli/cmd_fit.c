@@ -120,7 +120,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &opt->loss.fc_weight, 0, "fc term weight [0.1]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, "what the geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"},
+        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},

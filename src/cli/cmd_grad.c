@@ -59,7 +59,7 @@ int cmd_grad(int argc, char **argv) {
         {"--clip-conv-loss", WS_ARG_DOUBLE, &lo.conv_weight, 0, "geometric term weight [1]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, "what the geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"},
+        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
         {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &lo.fc_weight, 0, "fc term weight [0.1]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "Gaussian cut-off radius in sigmas [4]"},

@@ -23,7 +23,7 @@ int cmd_rank(int argc, char **argv) {
     const ws_arg args[] = {
         {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [edges]"},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, "what the geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"},
+        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
         {"--gt-curves", WS_ARG_STRING, &gt_path, 0, "ground-truth curves [SCENE/gt_curves.json]"},
         {"--thickness", WS_ARG_DOUBLES, &thick, 16, "thicknesses, one column each [0.005 0.01 0.02 0.04]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
