@@ -3,7 +3,8 @@
  * the empty sketch, a single dot, the truth shrunk to dots, half of its
  * curves, shifted by 1% and 5% of the object's size (1% beating 5%), and
  * the truth plus 10 random strokes, at thicknesses 0.005, 0.01, 0.02 and
- * 0.04. The scenes are 224 px (at 64 px a 1% shift is a quarter pixel,
+ * 0.04. The line loss does so on the tube scenes (trefoil, chair) too, and
+ * there ranks the tubes' axes above their two outlines. The scenes are 224 px (at 64 px a 1% shift is a quarter pixel,
  * below what a one-pixel edge map can tell) with 3 test views. The CLIP
  * loss with the tiny random fixture weights is measured too and printed:
  * random weights see no lines (the ground truth loses even to the empty
@@ -24,10 +25,29 @@ static int remove_entry(const char *path, const struct stat *sb, int flag, struc
     return remove(path);
 }
 
+/* A tube's two outlines, as the thin edges of its photo draw them: two
+ * copies of gt (whose thickness is the tube radius) moved by +-r along
+ * (1, 2, 3) / sqrt 14, drawn at `thickness`. */
+static int outlines(const ws_curves *gt, double thickness, ws_curves *out, ws_status *st) {
+    if (ws_curves_alloc(out, 2 * gt->n, st)) return st->code;
+    out->n = 2 * gt->n;
+    out->thickness = thickness;
+    out->overlap = gt->overlap;
+    const double u[3] = {1 / sqrt(14.0), 2 / sqrt(14.0), 3 / sqrt(14.0)};
+    size_t points = (size_t)gt->n * 4;
+    for (size_t k = 0; k < points; k++)
+        for (int x = 0; x < 3; x++) {
+            out->P[3 * k + x] = gt->P[3 * k + x] + gt->thickness * u[x];
+            out->P[3 * (points + k) + x] = gt->P[3 * k + x] - gt->thickness * u[x];
+        }
+    return WS_OK;
+}
+
 /* The rankings of one loss on one scene; ranks: assert them (else only
- * that the losses are finite). */
+ * that the losses are finite); tubes: also that the truth beats the tubes'
+ * two outlines. */
 static void rank_scene(const char *dir, const char *name, const ws_loss_options *lo, const char *what,
-                       int size, int ranks) {
+                       int size, int ranks, int tubes) {
     ws_status st;
     ws_scene scene = {0};
     ws_scene_options so;
@@ -56,6 +76,16 @@ static void rank_scene(const char *dir, const char *name, const ws_loss_options 
         if (ranks)
             CHECK(l[WS_RANK_SHIFT1] < l[WS_RANK_SHIFT5], "%s %s at %g: 1%% shift (%.5g) does not beat 5%% (%.5g)",
                   name, what, thickness[k], l[WS_RANK_SHIFT1], l[WS_RANK_SHIFT5]);
+        if (tubes) {
+            ws_curves two = {0};
+            double l2 = 0;
+            rc = outlines(&gt, thickness[k], &two, &st) || ws_rank_score(loss, &scene, WS_TEST, &two, &l2, &st);
+            ws_curves_free(&two);
+            CHECK(rc == WS_OK, "%s %s: %s", name, what, st.msg);
+            printf("%-13s %-6s %.3f: two outlines %.4f\n", name, what, thickness[k], l2);
+            CHECK(l[WS_RANK_TRUTH] < l2, "%s %s at %g: the ground truth (%.5g) does not beat the two outlines (%.5g)",
+                  name, what, thickness[k], l[WS_RANK_TRUTH], l2);
+        }
     }
     ws_loss_free(loss);
     ws_scene_free(&scene);
@@ -70,8 +100,8 @@ int main(void) {
              "python3 tools/convert_weights.py tests/fixtures/clip_tiny/clip_tiny_state_dict.pt %s >/dev/null", weights);
     int have_clip = system(cmd) == 0;
     CHECK(have_clip, "converting the tiny model failed");
-    const char *names[] = {"cube", "dodecahedron", "nut"};
-    for (int k = 0; k < 3; k++) {
+    const char *names[] = {"cube", "dodecahedron", "nut", "trefoil", "chair"};
+    for (int k = 0; k < 5; k++) {
         ws_status st;
         ws_synth_options syn;
         ws_synth_options_default(&syn);
@@ -86,14 +116,14 @@ int main(void) {
         ws_loss_options_default(&lo);
         lo.conv_weight = lo.fc_weight = lo.global_weight = 0;
         lo.lines_weight = 1;
-        rank_scene(dir, names[k], &lo, "edges", 224, 1);
-        if (!have_clip) continue;
+        rank_scene(dir, names[k], &lo, "edges", 224, 1, k >= 3);
+        if (!have_clip || k >= 3) continue;
         ws_loss_options_default(&lo);
         lo.weights_path = weights;
         lo.n_layer_weights = 2;
         lo.layer_weights[0] = lo.layer_weights[1] = 1;
         lo.layer_weights[2] = lo.layer_weights[3] = 0;
-        rank_scene(dir, names[k], &lo, "clip", 64, 0); /* the tiny model's size */
+        rank_scene(dir, names[k], &lo, "clip", 64, 0, 0); /* the tiny model's size */
     }
     nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();

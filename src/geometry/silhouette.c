@@ -1,60 +1,8 @@
 /* silhouette.c: silhouettes and their distance maps (see silhouette.h). */
 #include <math.h>
 #include <stdlib.h>
+#include "geometry/distance.h"
 #include "geometry/silhouette.h"
-
-/* Squared Euclidean distance transform of one line (Felzenszwalb and
- * Huttenlocher): d[k] = min_q (k - q)^2 + f[q], with f = INFINITY off the
- * object. v, z: scratch of n and n + 1. */
-static void distance_1d(const float *f, int n, float *d, int *v, float *z) {
-    int k = -1;
-    for (int q = 0; q < n; q++) {
-        if (!isfinite(f[q])) continue;
-        float s = 0;
-        while (k >= 0) {
-            s = ((f[q] + (float)q * q) - (f[v[k]] + (float)v[k] * v[k])) / (2.0f * (q - v[k]));
-            if (s > z[k]) break;
-            k--;
-        }
-        k++;
-        v[k] = q;
-        z[k] = k ? s : -INFINITY;
-        z[k + 1] = INFINITY;
-    }
-    if (k < 0) {
-        for (int q = 0; q < n; q++) d[q] = INFINITY;
-        return;
-    }
-    for (int q = 0, j = 0; q < n; q++) {
-        while (z[j + 1] < q) j++;
-        float dq = (float)(q - v[j]);
-        d[q] = dq * dq + f[v[j]];
-    }
-}
-
-/* distance: squared distances along rows, then along columns, then sqrt. */
-static int distance_map(ws_silhouette *s, ws_status *st) {
-    const int W = s->width, H = s->height, n = W > H ? W : H;
-    float *line = ws_malloc(sizeof(float) * 3 * (n + 1), "distance scratch", st);
-    int *v = line ? ws_malloc(sizeof(int) * n, "distance scratch", st) : NULL;
-    if (!v) {
-        free(line);
-        return st->code;
-    }
-    float *in = line + n + 1, *z = in + n + 1;
-    for (int i = 0; i < H; i++) {
-        for (int j = 0; j < W; j++) in[j] = s->in[(size_t)i * W + j] ? 0.0f : INFINITY;
-        distance_1d(in, W, s->distance + (size_t)i * W, v, z);
-    }
-    for (int j = 0; j < W; j++) {
-        for (int i = 0; i < H; i++) in[i] = s->distance[(size_t)i * W + j];
-        distance_1d(in, H, line, v, z);
-        for (int i = 0; i < H; i++) s->distance[(size_t)i * W + j] = sqrtf(line[i]);
-    }
-    free(line);
-    free(v);
-    return WS_OK;
-}
 
 int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouette *s,
                        ws_status *st) {
@@ -88,7 +36,7 @@ int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouett
         int i = (int)(p / W), j = (int)(p % W);
         s->touches_border |= object && (i == 0 || j == 0 || i == H - 1 || j == W - 1);
     }
-    if (distance_map(s, st)) {
+    if (ws_distance_map(s->in, W, H, s->distance, st)) {
         ws_silhouette_free(s);
         return st->code;
     }

@@ -12,7 +12,7 @@
 #include "render/augment.h"
 #include "nn/clip.h"
 #include "render/edges.h"
-#include "render/thin_edges.h"
+#include "objective/line_target.h"
 #include "objective/lines.h"
 #include "objective/loss.h"
 #include "objective/loss_l2.h"
@@ -499,9 +499,7 @@ static int fill_line_target(void *ctx, int split, int view, float *slot, ws_stat
         memcpy(slot, v->edges.data, (size_t)L->W * L->H * sizeof *slot);
         return WS_OK;
     }
-    if (ws_thin_edges(v->photo.data, L->W, L->H, slot, st)) return st->code;
-    if (v->mask.data) ws_thin_edges_add_outline(v->mask.data, L->W, L->H, slot);
-    return WS_OK;
+    return ws_line_target(&v->photo, v->mask.data ? &v->mask : NULL, slot, st);
 }
 
 void ws_loss_set_progress(ws_loss *L, double progress) { L->progress = progress; }

@@ -77,34 +77,62 @@ int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t se
     return WS_OK;
 }
 
-int ws_rank_losses(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *gt,
-                   double thickness, uint64_t seed, double loss_out[WS_RANK_COUNT], ws_status *st) {
+/* The mean loss over `split` of c drawn at `thickness`, with the caller's
+ * splatting and stroke image. */
+static int mean_loss(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *c, double thickness,
+                     ws_splat *splat, double *alpha, double *out, ws_status *st) {
     const ws_split *sp = &scene->split[split];
-    if (sp->n == 0) return ws_fail(st, WS_EUSAGE, "rank: the %s split has no views", ws_split_names[split]);
-    ws_splat *splat = NULL;
     ws_splat_options so;
     ws_splat_options_default(&so);
     ws_gaussians g = {0};
-    double *alpha = ws_malloc((size_t)scene->width * scene->height * sizeof(double), "stroke image", st);
-    int rc = alpha ? ws_splat_create(&splat, scene->width, scene->height, st) : st->code;
+    int rc = c->n > 0 ? ws_curves_sample(c, &g, st) : WS_OK;
+    double sum = 0;
+    for (int v = 0; v < sp->n && !rc; v++) {
+        double l;
+        if (c->n > 0)
+            rc = ws_splat_forward(splat, &sp->views[v].cam, g.mu, g.n, thickness, &so, alpha, st);
+        else
+            memset(alpha, 0, (size_t)scene->width * scene->height * sizeof(double));
+        if (!rc) rc = ws_loss_view(loss, split, v, alpha, 0, NULL, &l, NULL, st);
+        sum += l;
+    }
+    *out = sum / sp->n;
+    ws_gaussians_free(&g);
+    return rc;
+}
+
+/* The splatting and stroke image of a split's scoring, or the error of an empty split. */
+static int scoring_begin(const ws_scene *scene, int split, ws_splat **splat, double **alpha, ws_status *st) {
+    *splat = NULL;
+    *alpha = NULL;
+    if (scene->split[split].n == 0)
+        return ws_fail(st, WS_EUSAGE, "rank: the %s split has no views", ws_split_names[split]);
+    *alpha = ws_malloc((size_t)scene->width * scene->height * sizeof(double), "stroke image", st);
+    return *alpha ? ws_splat_create(splat, scene->width, scene->height, st) : st->code;
+}
+
+int ws_rank_score(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *c, double *out,
+                  ws_status *st) {
+    ws_splat *splat;
+    double *alpha;
+    int rc = scoring_begin(scene, split, &splat, &alpha, st);
+    if (!rc) rc = mean_loss(loss, scene, split, c, c->thickness, splat, alpha, out, st);
+    ws_splat_free(splat);
+    free(alpha);
+    return rc;
+}
+
+int ws_rank_losses(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *gt,
+                   double thickness, uint64_t seed, double loss_out[WS_RANK_COUNT], ws_status *st) {
+    ws_splat *splat;
+    double *alpha;
+    int rc = scoring_begin(scene, split, &splat, &alpha, st);
     for (int kind = 0; kind < WS_RANK_COUNT && !rc; kind++) {
         ws_curves c = {0};
         rc = ws_rank_variant(gt, kind, thickness, seed, &c, st);
-        if (!rc && c.n > 0) rc = ws_curves_sample(&c, &g, st);
-        double sum = 0;
-        for (int v = 0; v < sp->n && !rc; v++) {
-            double l;
-            if (c.n > 0)
-                rc = ws_splat_forward(splat, &sp->views[v].cam, g.mu, g.n, thickness, &so, alpha, st);
-            else
-                memset(alpha, 0, (size_t)scene->width * scene->height * sizeof(double));
-            if (!rc) rc = ws_loss_view(loss, split, v, alpha, 0, NULL, &l, NULL, st);
-            sum += l;
-        }
-        loss_out[kind] = sum / sp->n;
+        if (!rc) rc = mean_loss(loss, scene, split, &c, thickness, splat, alpha, &loss_out[kind], st);
         ws_curves_free(&c);
     }
-    ws_gaussians_free(&g);
     ws_splat_free(splat);
     free(alpha);
     return rc;

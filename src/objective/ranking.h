@@ -44,4 +44,9 @@ int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t se
 int ws_rank_losses(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *gt,
                    double thickness, uint64_t seed, double loss_out[WS_RANK_COUNT], ws_status *st);
 
+/* *out = the mean loss over `split` of c, drawn at its own thickness (a
+ * sketch of the caller's, e.g. tests/test_rank.c's two outlines of a tube). */
+int ws_rank_score(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *c, double *out,
+                  ws_status *st);
+
 #endif
