@@ -34,8 +34,7 @@ static void init_block(const nn_gemm *g, int j0, int n) {
     }
 }
 
-static void gemm_block(const nn_gemm *g, float beta, int j0) {
-    int n = g->n - j0 < NN_GEMM_COLUMNS ? g->n - j0 : NN_GEMM_COLUMNS;
+void nn_gemm_columns(const nn_gemm *g, float beta, int j0, int n) {
     if (g->bias || g->res) {
         init_block(g, j0, n);
         beta = 1.0f;
@@ -43,6 +42,10 @@ static void gemm_block(const nn_gemm *g, float beta, int j0) {
     const float *b = g->trans_b ? g->b + (size_t)j0 * g->k : g->b + j0;
     cblas_sgemm(CblasRowMajor, CblasNoTrans, g->trans_b ? CblasTrans : CblasNoTrans, g->m, n, g->k,
                 1.0f, g->a, g->k, b, g->trans_b ? g->k : g->n, beta, g->c + j0, g->n);
+}
+
+static void gemm_block(const nn_gemm *g, float beta, int j0) {
+    nn_gemm_columns(g, beta, j0, g->n - j0 < NN_GEMM_COLUMNS ? g->n - j0 : NN_GEMM_COLUMNS);
 }
 
 void nn_gemm_run(const nn_gemm *g, float beta) {

@@ -39,6 +39,10 @@ typedef struct {
 } nn_gemm;
 
 void nn_gemm_run(const nn_gemm *g, float beta);
+/* Columns [j0, j0 + n) of the same product in one cblas_sgemm call, on
+ * OpenBLAS's own threads if it has any (nn_gemm_run's blocks; the whole
+ * product as OpenBLAS alone runs it, for the benchmarks). */
+void nn_gemm_columns(const nn_gemm *g, float beta, int j0, int n);
 
 /* The GEMM an op of the tape runs, for tools that walk a tape (the GEMM
  * floor of the benchmarks): the forward's product (without its bias), or

@@ -215,8 +215,9 @@ static void test_command(void) {
     cJSON *clip = cJSON_GetObjectItem(j, "clip"), *machine = cJSON_GetObjectItem(j, "machine");
     CHECK(cJSON_IsString(cJSON_GetObjectItem(machine, "kernels")), "no machine description");
     static const char *const keys[] = {"forward", "forward_backward", "floor_forward",
-                                       "floor_forward_backward", "ratio_forward_backward"};
-    for (int k = 0; k < 5; k++) {
+                                       "floor_forward_backward", "ratio_forward_backward",
+                                       "floor_forward_backward_openblas"};
+    for (int k = 0; k < 6; k++) {
         cJSON *x = cJSON_GetObjectItem(clip, keys[k]);
         CHECK(cJSON_IsNumber(x) && x->valuedouble > 0, "clip.%s missing", keys[k]);
     }

@@ -6,7 +6,9 @@
  * products can beat. Rounds alternate the real passes and the floor, so
  * that a busy machine slows both alike; each figure is the best round.
  * The rounds also time every op of the tape (nn_tape_profile), to show
- * where the time above the floor goes. */
+ * where the time above the floor goes. The floor runs the GEMMs as nn/
+ * does, in fixed blocks of columns on OpenMP's threads; the same GEMMs run
+ * whole on OpenBLAS's own threads are timed too (floor_openblas). */
 #ifndef WS_CLIP_BENCH_H
 #define WS_CLIP_BENCH_H
 #include <stddef.h>
@@ -16,6 +18,10 @@ typedef struct {
     int batch, rounds, threads;
     double forward, forward_backward;             /* seconds */
     double floor_forward, floor_forward_backward; /* seconds */
+    /* the floor's GEMMs whole, one cblas_sgemm call each on OpenBLAS's own
+     * threads (timed after the rounds): what nn/'s fixed blocks cost, whose
+     * bits do not depend on the thread count */
+    double floor_openblas;
     size_t arena_bytes;                           /* the run's activations */
     long peak_rss_kb;                             /* of the whole process */
     char blas_core[32];                           /* OpenBLAS's kernel set */

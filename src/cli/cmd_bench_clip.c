@@ -35,6 +35,7 @@ int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     cJSON_AddNumberToObject(j, "floor_forward_backward", r.floor_forward_backward);
     cJSON_AddNumberToObject(j, "ratio_forward", r.forward / r.floor_forward);
     cJSON_AddNumberToObject(j, "ratio_forward_backward", r.forward_backward / r.floor_forward_backward);
+    cJSON_AddNumberToObject(j, "floor_forward_backward_openblas", r.floor_openblas);
     cJSON_AddNumberToObject(j, "arena_bytes", (double)r.arena_bytes);
     cJSON *ops = cJSON_AddObjectToObject(j, "ops");
     for (int k = 0; k < NN_OP_KINDS; k++) {
@@ -55,6 +56,9 @@ int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
            r.forward / r.floor_forward);
     printf("| forward+backward | %.1f | %.1f | %.2f |\n", 1e3 * r.forward_backward,
            1e3 * r.floor_forward_backward, r.forward_backward / r.floor_forward_backward);
+    printf("\nthe floor's GEMMs whole, one cblas_sgemm call each on OpenBLAS's own threads (other bits on other "
+           "thread counts with some kernels), after the rounds: %.1f ms; the fixed blocks of nn/ take %.2fx that\n",
+           1e3 * r.floor_openblas, r.floor_forward_backward / r.floor_openblas);
     printf("\nactivation arena %.1f MB\n", r.arena_bytes / 1e6);
     print_ops(&r);
     return WS_OK;
