@@ -16,6 +16,7 @@
 #include "synth/synth.h"
 #include "base/runtime.h"
 #include "wiresketch.h"
+#include "scene_load.h"
 
 static char bin[512], tmp[256];
 
@@ -248,13 +249,10 @@ int main(void) {
     syn.views[WS_VAL] = 0;
     syn.views[WS_TEST] = 1;
     ws_scene scene;
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = 64;
     clip_model *m = NULL;
     ws_curves c = {0};
     int rc = ws_synth_write("trefoil", dir, &syn, &st);
-    if (!rc) rc = ws_scene_load(&scene, dir, &so, &st);
+    if (!rc) rc = load_scene_at(&scene, dir, 64, &st);
     if (!rc) rc = clip_model_random(&m, &small_arch, 2, &st);
     if (!rc) rc = ws_bench_sketch(&c, 8, scene.center, 0.5, 1.0, 1, &st);
     CHECK(rc == WS_OK, "setup: %s", st.msg);

@@ -19,6 +19,7 @@
 #include "geometry/surface.h"
 #include "render/curves.h"
 #include "synth/synth.h"
+#include "scene_load.h"
 
 static char tmp[256];
 
@@ -87,10 +88,7 @@ static int make_scene(const char *name, const char *dir, int size, int train, in
 static void test_hull(const char *dir) {
     ws_status st;
     ws_scene scene = {0};
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = 64;
-    if (ws_scene_load(&scene, dir, &so, &st)) {
+    if (load_scene_at(&scene, dir, 64, &st)) {
         CHECK(0, "load: %s", st.msg);
         return;
     }
@@ -253,11 +251,8 @@ static void check_cause(const char *bin, const char *dir, int size, ws_check_cau
                         const char *label, const char *phrase) {
     ws_status st;
     ws_scene scene = {0};
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = size;
     ws_check_report r;
-    if (ws_scene_load(&scene, dir, &so, &st) || ws_check_scene(&scene, WS_CHECK_RESOLUTION, &r, &st)) {
+    if (load_scene_at(&scene, dir, size, &st) || ws_check_scene(&scene, WS_CHECK_RESOLUTION, &r, &st)) {
         CHECK(0, "%s: %s", label, st.msg);
         ws_scene_free(&scene);
         return;

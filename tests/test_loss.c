@@ -18,6 +18,7 @@
 #include "check.h"
 #include "wiresketch.h"
 #include "synth/synth.h"
+#include "scene_load.h"
 
 typedef struct {
     ws_scene scene;
@@ -92,10 +93,7 @@ static void check_gradient(setup *s, ws_curves *c, int augment, const char *what
 
 static int make_setup(setup *s, const char *dir, const char *weights, const ws_loss_options *lo) {
     ws_status st = {0};
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = 64;
-    int rc = ws_scene_load(&s->scene, dir, &so, &st);
+    int rc = load_scene_at(&s->scene, dir, 64, &st);
     if (!rc) rc = ws_loss_create(&s->loss, lo, &s->scene, &st);
     if (!rc) rc = ws_splat_create(&s->splat, 64, 64, &st);
     CHECK(rc == WS_OK, "setup: %s", st.msg);
@@ -162,10 +160,7 @@ done:
 static void test_passes(const char *scene_dir, const ws_loss_options *lo) {
     ws_status st = {0};
     ws_scene scene = {0};
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = 64;
-    if (ws_scene_load(&scene, scene_dir, &so, &st)) {
+    if (load_scene_at(&scene, scene_dir, 64, &st)) {
         CHECK(0, "%s", st.msg);
         return;
     }
@@ -278,11 +273,8 @@ int main(void) {
     test_passes(scene, &la);
     /* The scene's size must be the model's input size. */
     memset(&s, 0, sizeof s);
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = 48;
     ws_loss *loss = NULL;
-    if (ws_scene_load(&s.scene, scene, &so, &st) == WS_OK) {
+    if (load_scene_at(&s.scene, scene, 48, &st) == WS_OK) {
         int rc = ws_loss_create(&loss, &lo, &s.scene, &st);
         CHECK(rc == WS_EUSAGE && strstr(st.msg, "tiny.bin: the model takes 64 x 64 images but the scene is loaded at 48 x 48"),
               "size mismatch: %s", st.msg);

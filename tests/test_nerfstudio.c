@@ -19,15 +19,9 @@
 #include "check.h"
 #include "cli_run.h"
 #include "io/scene.h"
+#include "scene_load.h"
 
 static char bin[512], tmp[256];
-
-static int load(ws_scene *sc, const char *dir, int size, ws_status *st) {
-    ws_scene_options opt;
-    ws_scene_options_default(&opt);
-    opt.width = opt.height = size;
-    return ws_scene_load(sc, dir, &opt, st);
-}
 
 static double max_diff(const ws_image *a, const ws_image *b) {
     if (a->width != b->width || a->height != b->height || a->channels != b->channels) return INFINITY;
@@ -59,12 +53,12 @@ static void test_twin(void) {
     ws_scene a, b;
     ws_status st;
     /* 48: the crop is resampled too */
-    if (load(&a, ns, 48, &st)) {
+    if (load_scene_at(&a, ns, 48, &st)) {
         CHECK(0, "nerfstudio twin: %s", st.msg);
         return;
     }
     CHECK(a.layout == WS_LAYOUT_NERFSTUDIO, "layout detected");
-    if (load(&b, nf, 48, &st)) {
+    if (load_scene_at(&b, nf, 48, &st)) {
         CHECK(0, "nerf twin: %s", st.msg);
         ws_scene_free(&a);
         return;
@@ -121,7 +115,7 @@ static void write_scene(const char *name, const char *global, int n, const char 
     if (system(cmd)) exit(1);
     ws_status st;
     ws_scene sc;
-    if (load(&sc, twin, 48, &st)) exit(1);
+    if (load_scene_at(&sc, twin, 48, &st)) exit(1);
     int len = sprintf(text, "{%s%s\"frames\": [", global, *global ? ", " : "");
     for (int k = 0; k < n; k++) {
         const ws_camera *cam = &sc.split[WS_TRAIN].views[k % 6].cam;
@@ -149,7 +143,7 @@ static void test_intrinsics(void) {
     snprintf(dir, sizeof dir, "%s/intr", tmp);
     ws_scene sc;
     ws_status st;
-    if (load(&sc, dir, 48, &st)) {
+    if (load_scene_at(&sc, dir, 48, &st)) {
         CHECK(0, "intrinsics scene: %s", st.msg);
         return;
     }
@@ -175,7 +169,7 @@ static void test_intrinsics(void) {
     /* ten frames, no lists: test 0 and 8, val 4 */
     write_scene("ten", "\"fl_x\": 80, \"w\": 96, \"h\": 64", 10, NULL);
     snprintf(dir, sizeof dir, "%s/ten", tmp);
-    if (!load(&sc, dir, 32, &st)) {
+    if (!load_scene_at(&sc, dir, 32, &st)) {
         CHECK(sc.split[WS_TRAIN].n == 7 && sc.split[WS_VAL].n == 1 && sc.split[WS_TEST].n == 2,
               "split rule on 10 frames: %d %d %d", sc.split[0].n, sc.split[1].n, sc.split[2].n);
         ws_scene_free(&sc);
@@ -207,7 +201,7 @@ static void test_refusals(void) {
         snprintf(dir, sizeof dir, "%s/bad", tmp);
         ws_scene sc;
         ws_status st;
-        int rc = load(&sc, dir, 32, &st);
+        int rc = load_scene_at(&sc, dir, 32, &st);
         CHECK(rc == WS_EINPUT && strstr(st.msg, cases[k].msg) && !strncmp(st.msg, dir, strlen(dir)),
               "case %zu: rc %d: %s", k, rc, st.msg);
         if (!rc) ws_scene_free(&sc);

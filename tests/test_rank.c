@@ -18,6 +18,7 @@
 #include "check.h"
 #include "objective/ranking.h"
 #include "synth/synth.h"
+#include "scene_load.h"
 
 static const double thickness[4] = {0.005, 0.01, 0.02, 0.04};
 
@@ -50,15 +51,12 @@ static void rank_scene(const char *dir, const char *name, const ws_loss_options 
                        int size, int ranks, int tubes) {
     ws_status st;
     ws_scene scene = {0};
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = size;
     ws_curves gt = {0};
     ws_loss *loss = NULL;
     char path[600];
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     int rc = ws_curves_load(path, &gt, &st);
-    if (!rc) rc = ws_scene_load(&scene, dir, &so, &st);
+    if (!rc) rc = load_scene_at(&scene, dir, size, &st);
     if (!rc) rc = ws_loss_create(&loss, lo, &scene, &st);
     CHECK(rc == WS_OK, "%s %s: %s", name, what, st.msg);
     for (int k = 0; k < 4 && !rc; k++) {
