@@ -122,9 +122,11 @@ static void matmul_ref(double *out, const double *in, const void *vctx) {
         }
 }
 
-/* out = x W (+ bias) (+ res); the gradient of res is the output's. */
-static void test_matmul(int w_kn, int with_bias, int with_res) {
-    enum { M = 5, K = 7, N = 6 };
+/* out = x W (+ bias) (+ res); the gradient of res is the output's. N
+ * above 192 spans several of nn_gemm_run's column blocks, the last one
+ * partial (each with its own bias and residual columns). */
+static void test_matmul(int w_kn, int with_bias, int with_res, int K, int N) {
+    enum { M = 5 };
     matmul_ctx c = {NULL, NULL, M, K, N, w_kn, with_res};
     size_t n_in = M * K + (with_res ? M * N : 0);
     float *x = randoms(n_in, -1, 1), *w = randoms(K * N, -1, 1), *bias = randoms(N, -1, 1);
@@ -138,8 +140,8 @@ static void test_matmul(int w_kn, int with_bias, int with_res) {
     if (with_res) memcpy(dx + M * K, g, M * N * sizeof *dx);
     nn_matmul_backward(dx2, g, w, M, K, N, w_kn, 1);
     char name[64];
-    snprintf(name, sizeof name, "matmul (W %s%s%s)", w_kn ? "[K,N]" : "[N,K]", with_bias ? ", bias" : "",
-             with_res ? ", residual" : "");
+    snprintf(name, sizeof name, "matmul (W %s%s%s, N %d)", w_kn ? "[K,N]" : "[N,K]", with_bias ? ", bias" : "",
+             with_res ? ", residual" : "", N);
     op_case oc = {name, matmul_ref, &c, n_in, M * N};
     check_op(&oc, x, out, g, dx, 1e-3, 1e-5, 1000);
     check_accumulates(name, dx, dx2, before, M * K);
@@ -612,7 +614,10 @@ int main(void) {
     ws_rng_seed(&rng, 42);
     for (int w_kn = 0; w_kn < 2; w_kn++)
         for (int bias = 0; bias < 2; bias++)
-            for (int res = 0; res < 2; res++) test_matmul(w_kn, bias, res);
+            for (int res = 0; res < 2; res++) {
+                test_matmul(w_kn, bias, res, 7, 6);
+                test_matmul(w_kn, bias, res, 20, 2 * 192 + 5);
+            }
     test_layernorm(0);
     test_layernorm(1);
     test_attention("attention", (attention_ctx){2, 5, 8, 2, 0}, FROM_OUT, 1.0, 1e-4, 1e-5, 1000);

@@ -133,7 +133,7 @@ static void test_models(void) {
     ws_status_clear(&st);
     for (int k = 0; k < 2; k++) {
         snprintf(path[k], sizeof path[k], "%s/%s", dir, k ? "f16.bin" : "a.bin");
-        clip_run_options opt = {1, 1, 1, 0};
+        clip_run_options opt = {1, 1, 1, 0, 0};
         CHECK(clip_model_load(&m[k], path[k], &st) == WS_OK && clip_run_create(&r[k], m[k], &opt, &st) == WS_OK,
               "%s", st.msg);
         if (st.code) goto done;
