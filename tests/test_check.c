@@ -138,7 +138,7 @@ static void test_hull(const char *dir) {
     ws_rng rng, rng2;
     ws_rng_seed(&rng, 5);
     ws_rng_seed(&rng2, 5);
-    CHECK(ws_scene_hull_surface(&scene, WS_TRAIN, 48, &surf, &st) == WS_OK, "surface: %s", st.msg);
+    CHECK(ws_scene_hull_surface(&scene, WS_TRAIN, 48, NULL, &surf, &st) == WS_OK, "surface: %s", st.msg);
     CHECK(ws_curves_init_hull(&c, &surf, 20, 0.02, 0.02, 0.6, &rng, &st) == WS_OK, "init: %s", st.msg);
     ws_curves c2;
     ws_curves_init_hull(&c2, &surf, 20, 0.02, 0.02, 0.6, &rng2, &st);

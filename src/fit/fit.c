@@ -332,6 +332,15 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     return resume ? WS_OK : save_checkpoint(r, argv, argc, st);
 }
 
+/* *retire (curves, allocated): the curves the outputs leave out
+ * (fit/respawn.h); none with --respawn-every 0, which leaves the curves
+ * alone. */
+static int retired_curves(const fit_run *r, int **retire, ws_status *st) {
+    if (!(*retire = ws_calloc(r->s.curves.n ? r->s.curves.n : 1, sizeof(int), "retired curves", st)))
+        return st->code;
+    return r->respawn ? ws_respawn_retire(r->respawn, &r->s.curves, *retire, st) : WS_OK;
+}
+
 /* FNV-1a over bytes, continuing from h. */
 static uint64_t fnv(uint64_t h, const void *data, size_t n) {
     const unsigned char *p = data;
@@ -386,10 +395,13 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
         test_losses = ws_calloc(r.scene.split[WS_TEST].n + 1, sizeof(double), "test losses", st);
         rc = test_losses ? evaluate(&r, WS_TEST, &test_loss, test_losses, st) : st->code;
     }
+    int *retire = NULL;
+    if (!rc && speaks()) rc = retired_curves(&r, &retire, st);
     if (!rc && speaks()) {
         r.s.elapsed = ws_fit_state_elapsed(&r.s, r.start);
-        rc = ws_fit_write_outputs(opt, &r.scene, &r.s, test_losses, test_loss, st);
+        rc = ws_fit_write_outputs(opt, &r.scene, &r.s, retire, test_losses, test_loss, st);
     }
+    free(retire);
     free(test_losses);
     fit_run_free(&r);
     return rc;

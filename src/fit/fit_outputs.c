@@ -87,12 +87,12 @@ static int write_evolution(const char *path, const ws_scene *scene, const ws_fit
 }
 
 /* metrics.json: the numbers of the report, for scripts. */
-static int write_metrics(const char *path, const ws_fit_state *s, double test_loss, const ws_quality *q,
-                         ws_status *st) {
+static int write_metrics(const char *path, const ws_fit_state *s, int retired, double test_loss,
+                         const ws_quality *q, ws_status *st) {
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
-    fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"seconds\": %.3f",
-            s->global_step, s->skipped_steps, s->respawned, s->elapsed);
+    fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
+            "\"seconds\": %.3f", s->global_step, s->skipped_steps, s->respawned, retired, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
     if (q->have_surface)
         fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g, \"surface_precision\": %.9g, "
@@ -111,8 +111,8 @@ static int write_metrics(const char *path, const ws_fit_state *s, double test_lo
 }
 
 static int write_report(const char *path, const ws_fit_options *opt, const ws_scene *scene,
-                        const ws_fit_state *s, const ws_report_view *views, double test_loss,
-                        const ws_quality *q, ws_status *st) {
+                        const ws_fit_state *s, const ws_curves *sketch, int retired,
+                        const ws_report_view *views, double test_loss, const ws_quality *q, ws_status *st) {
     int nval = 0;
     long *steps = ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(long), "report", st);
     double *losses = steps ? ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(double), "report", st) : NULL;
@@ -131,8 +131,8 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
         }
     }
     char text[19][64];
-    snprintf(text[1], 64, "%ld (%ld skipped; %ld idle curves respawned)", s->global_step,
-             s->skipped_steps, s->respawned);
+    snprintf(text[1], 64, "%ld (%ld skipped; %ld respawned, %d retired)", s->global_step,
+             s->skipped_steps, s->respawned, retired);
     snprintf(text[2], 64, "%.6g", test_loss);
     ws_report_item metrics[13] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
     int nmetrics = 2;
@@ -181,19 +181,42 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
     rep.images = images;
     rep.n_images = 2;
     rep.wall_seconds = s->elapsed;
-    rep.curves = &s->curves;
+    rep.curves = sketch;
     int rc = ws_report_write(path, &rep, st);
     free(steps);
     free(losses);
     return rc;
 }
 
+/* The sketch the outputs show: c less the curves marked in retire, unless
+ * that would leave none; *retired: how many were left out. */
+static int final_sketch(const ws_curves *c, const int *retire, ws_curves *sketch, int *retired,
+                        ws_status *st) {
+    *retired = 0;
+    for (int ci = 0; ci < c->n; ci++) *retired += retire[ci] != 0;
+    if (*retired == c->n) *retired = 0;
+    if (ws_curves_alloc(sketch, c->n - *retired, st)) return st->code;
+    sketch->thickness = c->thickness;
+    sketch->overlap = c->overlap;
+    for (int ci = 0, k = 0; ci < c->n; ci++)
+        if (!*retired || !retire[ci])
+            memcpy(sketch->P + (size_t)k++ * WS_CURVE_FLOATS, c->P + (size_t)ci * WS_CURVE_FLOATS,
+                   sizeof(double) * WS_CURVE_FLOATS);
+    return WS_OK;
+}
+
 int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
-                         const double *test_losses, double test_loss, ws_status *st) {
+                         const int *retire, const double *test_losses, double test_loss, ws_status *st) {
     const char *out = opt->out_dir;
     char path[PATH_BYTES];
     ws_sketch_renderer r;
-    if (ws_sketch_renderer_init(&r, scene->width, scene->height, st)) return st->code;
+    ws_curves c = {0};
+    int retired;
+    if (final_sketch(&s->curves, retire, &c, &retired, st)) return st->code;
+    if (ws_sketch_renderer_init(&r, scene->width, scene->height, st)) {
+        ws_curves_free(&c);
+        return st->code;
+    }
     int ntest = scene->split[WS_TEST].n;
     ws_report_view *views = ws_calloc(ntest ? ntest : 1, sizeof *views, "report", st);
     char(*paths)[2][300] = views ? ws_malloc((size_t)(ntest ? ntest : 1) * sizeof *paths, "report", st) : NULL;
@@ -202,22 +225,23 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
     ws_quality q;
-    if (!rc) rc = ws_quality_measure(&s->curves, gt_points, gt_curves, &q, st);
-    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, test_loss, &q, st);
-    if (!rc) rc = ws_curves_save(join(path, out, "curves.json"), &s->curves, st);
-    if (!rc) rc = ws_export_obj(join(path, out, "curves.obj"), &s->curves, st);
-    if (!rc) rc = ws_export_ply(join(path, out, "curves.ply"), &s->curves, st);
+    if (!rc) rc = ws_quality_measure(&c, gt_points, gt_curves, &q, st);
+    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, retired, test_loss, &q, st);
+    if (!rc) rc = ws_curves_save(join(path, out, "curves.json"), &c, st);
+    if (!rc) rc = ws_export_obj(join(path, out, "curves.obj"), &c, st);
+    if (!rc) rc = ws_export_ply(join(path, out, "curves.ply"), &c, st);
     if (!rc) rc = write_log(join(path, out, "log.csv"), s, st);
-    if (!rc) rc = write_tests(out, scene, &s->curves, &r, test_losses, views, paths, st);
+    if (!rc) rc = write_tests(out, scene, &c, &r, test_losses, views, paths, st);
     if (!rc) rc = write_evolution(join(path, out, "evolution.gif"), scene, s, &r, st);
     if (!rc)
-        rc = ws_turntable_gif(join(path, out, "turntable.gif"), &s->curves, scene->center, distance,
+        rc = ws_turntable_gif(join(path, out, "turntable.gif"), &c, scene->center, distance,
                               scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
     if (!rc)
-        rc = write_report(join(path, out, "report.html"), opt, scene, s, ntest ? views : NULL, test_loss,
-                          &q, st);
+        rc = write_report(join(path, out, "report.html"), opt, scene, s, &c, retired, ntest ? views : NULL,
+                          test_loss, &q, st);
     free(views);
     free(paths);
     ws_sketch_renderer_free(&r);
+    ws_curves_free(&c);
     return rc;
 }

@@ -8,9 +8,12 @@
 #include "fit/fit_state.h"
 #include "io/scene.h"
 
-/* test_losses: one per test view (NULL: not evaluated, e.g. after an
- * interruption); test_loss: their mean (NaN: not evaluated). */
+/* The outputs show the fit's curves less those marked in retire (s->curves.n;
+ * fit/respawn.h), unless that would leave none; metrics.json and the
+ * report say how many were retired. test_losses: one per test view of the
+ * fit's curves (NULL: not evaluated, e.g. after an interruption);
+ * test_loss: their mean (NaN: not evaluated). */
 int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
-                         const double *test_losses, double test_loss, ws_status *st);
+                         const int *retire, const double *test_losses, double test_loss, ws_status *st);
 
 #endif

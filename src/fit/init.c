@@ -11,7 +11,7 @@ int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_rng *r
                                      o->thickness, o->overlap, rng, st);
     if (!strcmp(o->init_curves, "hull")) {
         ws_hull_surface s;
-        if (ws_scene_hull_surface(scene, WS_TRAIN, WS_HULL_INIT_RESOLUTION, &s, st)) return st->code;
+        if (ws_scene_hull_surface(scene, WS_TRAIN, WS_HULL_INIT_RESOLUTION, NULL, &s, st)) return st->code;
         int rc = ws_curves_init_hull(c, &s, o->n_curves, o->length, o->thickness, o->overlap, rng, st);
         ws_hull_surface_free(&s);
         return rc;

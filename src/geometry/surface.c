@@ -55,8 +55,8 @@ void ws_hull_surface_free(ws_hull_surface *s) {
     *s = (ws_hull_surface){0};
 }
 
-int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_hull_surface *s,
-                          ws_status *st) {
+int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_hull *hull,
+                          ws_hull_surface *s, ws_status *st) {
     const ws_split *sp = &scene->split[split];
     *s = (ws_hull_surface){0};
     ws_silhouette *sil = NULL;
@@ -71,7 +71,10 @@ int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_h
         rc = ws_fail(st, WS_EINPUT, "%s: the %s views' silhouettes have no common volume (try "
                                     "`wiresketch check %s`)", scene->dir, ws_split_names[split], scene->dir);
     if (rc) ws_hull_surface_free(s);
-    ws_hull_free(&h);
+    if (!rc && hull)
+        *hull = h;
+    else
+        ws_hull_free(&h);
     ws_silhouettes_free(sil, sp->n);
     free(hv);
     return rc;

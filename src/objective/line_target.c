@@ -3,6 +3,7 @@
  * call. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "geometry/distance.h"
 #include "geometry/silhouette.h"
 #include "objective/line_target.h"
@@ -94,4 +95,12 @@ int ws_line_target(const ws_image *photo, const ws_image *mask, float *edge, ws_
     free(near);
     free(stack);
     return rc;
+}
+
+int ws_view_line_target(const ws_view *v, float *edge, ws_status *st) {
+    if (v->edges.data) {
+        memcpy(edge, v->edges.data, (size_t)v->photo.width * v->photo.height * sizeof *edge);
+        return WS_OK;
+    }
+    return ws_line_target(&v->photo, v->mask.data ? &v->mask : NULL, edge, st);
 }

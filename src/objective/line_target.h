@@ -35,6 +35,7 @@
 #ifndef WS_LINE_TARGET_H
 #define WS_LINE_TARGET_H
 #include "io/image.h"
+#include "io/scene.h"
 #include "nn/base/status.h"
 
 #define WS_THIN_PART_WIDTH 0.05 /* of the larger image side */
@@ -44,5 +45,10 @@
 /* edge: H x W, overwritten with E. mask: NULL when the view has none.
  * Fails when out of memory, or with a mask of another size than the photo. */
 int ws_line_target(const ws_image *photo, const ws_image *mask, float *edge, ws_status *st);
+
+/* A view's target: the user's own edge map where the view has one
+ * (scene.h: edge_path, --edge-maps), else ws_line_target of its photo and
+ * mask. The loss and the respawn of idle curves (fit/respawn.h) read it. */
+int ws_view_line_target(const ws_view *v, float *edge, ws_status *st);
 
 #endif

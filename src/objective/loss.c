@@ -491,15 +491,10 @@ static int fill_edge_map(void *ctx, int split, int view, float *slot, ws_status 
     return WS_OK;
 }
 
-/* Fills a slot of the line cache: the thin edges of the view's photo. */
+/* Fills a slot of the line cache: the view's line target. */
 static int fill_line_target(void *ctx, int split, int view, float *slot, ws_status *st) {
     ws_loss *L = ctx;
-    const ws_view *v = &L->scene->split[split].views[view];
-    if (v->edges.data) { /* the user's own edge map (scene.h: edge_path, --edge-maps) */
-        memcpy(slot, v->edges.data, (size_t)L->W * L->H * sizeof *slot);
-        return WS_OK;
-    }
-    return ws_line_target(&v->photo, v->mask.data ? &v->mask : NULL, slot, st);
+    return ws_view_line_target(&L->scene->split[split].views[view], slot, st);
 }
 
 void ws_loss_set_progress(ws_loss *L, double progress) { L->progress = progress; }
