@@ -352,7 +352,7 @@ static void place_on_edge(ws_respawn *r, ws_curves *c, int ci, double *points, i
             /* each end triangulated on its own ray, near the middle's depth */
             double ue = u + reach[side] * du, ve = v + reach[side] * dv;
             double window = END_SLOPE * fabs(reach[side]) * t / cam->focal;
-            double te = reach[side] != 0 ? edge_depth(r, k, ue, ve, t - window, t + window) : t;
+            double te = reach[side] != 0 ? edge_depth(r, k, ue, ve, fmax(0, t - window), t + window) : t;
             ray_point(cam, ue, ve, te > 0 ? te : t, end[side]);
         }
         for (int x = 0; x < 3; x++) {
