@@ -16,6 +16,7 @@
 #include <string.h>
 #include "check.h"
 #include "fit/respawn.h"
+#include "scene_load.h"
 #include "synth/synth.h"
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
@@ -82,10 +83,7 @@ int main(void) {
     snprintf(dir, sizeof dir, "%s/cube", tmp);
     CHECK(ws_synth_write("cube", dir, &syn, &st) == WS_OK, "scene: %s", st.msg);
     ws_scene scene;
-    ws_scene_options so;
-    ws_scene_options_default(&so);
-    so.width = so.height = 128;
-    CHECK(ws_scene_load(&scene, dir, &so, &st) == WS_OK, "load: %s", st.msg);
+    CHECK(load_scene_at(&scene, dir, 128, &st) == WS_OK, "load: %s", st.msg);
     ws_curves gt, sk, again;
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     CHECK(ws_curves_load(path, &gt, &st) == WS_OK && gt.n == 12, "ground truth: %s", st.msg);
