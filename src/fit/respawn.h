@@ -39,9 +39,10 @@
  *   within WS_ON_EDGE_PX of an edge pixel, at most the pixel's distance to
  *   the sketch (beyond it the edge may be drawn) and half of the stroke
  *   length below;
- * - the stroke: the two ends back-projected to that depth (a segment
- *   parallel to the image plane), straight, at least 2 x WS_COLLAPSED_EXTENT
- *   thicknesses long.
+ * - the stroke: straight between its two ends, each found like the
+ *   middle on its own ray, among the depths within 3 x its image offset
+ *   (back-projected) of the middle's (the middle's depth where none is in
+ *   the hull), at least 2 x WS_COLLAPSED_EXTENT thicknesses long.
  * When no edge pixel is that far from the sketch (every edge is drawn) the
  * curve goes, as before, to the point of the visual hull's surface
  * farthest from every Gaussian of the curves that stay (and of those
