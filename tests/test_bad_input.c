@@ -737,6 +737,8 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "loss weights (--clip-weight, --clip-conv-loss, --clip-fc-loss-weight, "
                         "--clip-conv-layer-weights, --edges-weight) must be >= 0"),
           "negative loss weight");
+    rc = run("fit %s/scene --out %s " FIT " --silhouette-weight -0.5", tmp, out);
+    CHECK(ANSWER(2, rc, "--silhouette-weight: -0.5 is not a finite number >= 0"), "negative --silhouette-weight");
     CHECK(access(out, F_OK) != 0, "a fit with options out of range created its output directory");
     snprintf(path, sizeof path, "%s/empty.json", tmp);
     write_text(path, "{\"thickness\": 0.5, \"overlap\": 0, \"curves\": []}");

@@ -106,6 +106,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [clip]"},
         {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
+        {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
+         "weight of the silhouette term over the training views [0]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
         {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10; 4 with --loss edges]"},
         {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30]"},

@@ -226,6 +226,10 @@ int ws_loss_options_check(const ws_loss_options *opt, ws_status *st) {
         return ws_fail(st, WS_EUSAGE, "loss weights (--clip-weight, --clip-conv-loss, "
                                       "--clip-fc-loss-weight, --clip-conv-layer-weights, "
                                       "--edges-weight) must be >= 0");
+    /* not finite or negative: a reward for leaving the silhouettes */
+    if (!(opt->silhouette_weight >= 0 && opt->silhouette_weight < INFINITY))
+        return ws_fail(st, WS_EUSAGE, "--silhouette-weight: %g is not a finite number >= 0",
+                       opt->silhouette_weight);
     return WS_OK;
 }
 

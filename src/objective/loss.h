@@ -65,6 +65,7 @@ typedef struct {
     double lines_weight;
     double edges_weight;
     double l2_weight;
+    double silhouette_weight;  /* the training batch's silhouette term (objective.h) */
     int num_aug;               /* A */
     int aug_bank;              /* N fixed transforms per training view (0: fresh every step) */
     int pass_items;            /* G: stroke images per CLIP pass, 1..1+A (0: 1 + A) */

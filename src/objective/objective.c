@@ -19,10 +19,13 @@
 #include <string.h>
 #include "base/distributed.h"
 #include "objective/objective.h"
+#include "objective/silhouette_loss.h"
 
 struct ws_objective {
     const ws_scene *scene;
     ws_loss *loss;
+    ws_silhouette_loss *silhouettes; /* the training views' term; NULL when its weight is 0 */
+    double silhouette_weight;
     ws_splat *splat;
     ws_splat_options splat_opt;
     ws_gaussians gaussians;   /* of the last sampling */
@@ -50,6 +53,10 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
     if (ws_loss_create(&o->loss, lo, scene, st) ||
         ws_splat_create(&o->splat, scene->width, scene->height, st))
         return st->code;
+    o->silhouette_weight = lo->silhouette_weight;
+    if (o->silhouette_weight != 0 &&
+        ws_silhouette_loss_create(&o->silhouettes, &scene->split[WS_TRAIN], st))
+        return st->code;
     if (!(o->alpha = ws_malloc(pixels * sizeof(double), "stroke image", st)) ||
         !(o->dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||
         !(o->dP = ws_calloc((size_t)n_curves * WS_CURVE_FLOATS, sizeof(double), "control point gradient", st)))
@@ -70,6 +77,7 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
 void ws_objective_free(ws_objective *o) {
     if (!o) return;
     ws_loss_free(o->loss);
+    ws_silhouette_loss_free(o->silhouettes);
     ws_splat_free(o->splat);
     ws_gaussians_free(&o->gaussians);
     free(o->alpha);
@@ -230,6 +238,23 @@ static void share_records(ws_objective *o, int nviews, long P, size_t record) {
     ws_dist_allgather(o->records, bytes);
 }
 
+/* Adds the silhouette term (silhouette_loss.h) of the last sampling over
+ * the part of the batch's first view, its weight times, to a batch's loss
+ * and gradient. Every rank computes it whole (it is cheap beside a view's
+ * loss), with the same bits. */
+static int add_silhouette_term(ws_objective *o, const ws_curves *c, int part, double *loss, double *grad,
+                               ws_status *st) {
+    const ws_gaussians *g = &o->gaussians;
+    double term;
+    if (ws_silhouette_loss_forward(o->silhouettes, g->mu, g->n, part, &term, st) || grow_dmu(o, st))
+        return ws_dist_fail_alone(st);
+    *loss += o->silhouette_weight * term;
+    ws_silhouette_loss_backward(o->silhouettes, o->silhouette_weight, o->dmu);
+    ws_curves_backward(c, g, o->dmu, o->dP);
+    for (int i = 0; i < c->n * WS_CURVE_FLOATS; i++) grad[i] += o->dP[i];
+    return WS_OK;
+}
+
 int ws_objective_batch(ws_objective *o, const ws_curves *c, const int *views, int nviews, ws_rng *rng,
                        double *loss, double *grad, ws_status *st) {
     int np = c->n * WS_CURVE_FLOATS, N = ws_dist_size(), me = ws_dist_rank(), n = o->items;
@@ -278,7 +303,7 @@ int ws_objective_batch(ws_objective *o, const ws_curves *c, const int *views, in
         *loss += r[0] / nviews;
         for (int i = 0; i < np; i++) grad[i] += (1.0 / nviews) * r[1 + i];
     }
-    return WS_OK;
+    return o->silhouettes && nviews > 0 ? add_silhouette_term(o, c, views[0], loss, grad, st) : WS_OK;
 }
 
 int ws_objective_split_mean(ws_objective *o, const ws_curves *c, int split, double *per_view, double *mean,

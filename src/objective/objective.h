@@ -31,8 +31,10 @@ int ws_objective_view(ws_objective *obj, const ws_curves *c, int split, int view
                       ws_rng *rng, double scale, double *loss, double *grad, ws_status *st);
 
 /* The training batch: the mean loss of training views views[0..nviews)
- * with augmentation drawn from rng, and its gradient (grad: curves x WS_CURVE_FLOATS,
- * overwritten). On WS_ENUMERIC (a non-finite value) loss and grad are
+ * with augmentation drawn from rng, plus the silhouette term over the
+ * part of training views that views[0] falls in (silhouette_loss.h) times
+ * its weight when that is not 0,
+ * and its gradient (grad: curves x WS_CURVE_FLOATS, overwritten). On WS_ENUMERIC (a non-finite value) loss and grad are
  * partial; the caller decides. */
 int ws_objective_batch(ws_objective *obj, const ws_curves *c, const int *views, int nviews, ws_rng *rng,
                        double *loss, double *grad, ws_status *st);
