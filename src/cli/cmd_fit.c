@@ -74,15 +74,19 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
 }
 
 /* The defaults of the options a loss wants otherwise, where the command
- * line left them unset (NAN, -1): the original's for CLIP; for the line
- * loss alone (`--loss edges`) those measured on the solid scenes (README,
- * "Fits on the synthetic scenes"): thin strokes, long initial strokes, a
- * small step and 4 epochs. */
+ * line left them unset (NAN, -1): the original's for CLIP (no silhouette
+ * term); for the line loss alone (`--loss edges`) those measured on the
+ * solid scenes (README, "Fits on the synthetic scenes"): thin strokes, long
+ * initial strokes, a small step and 4 epochs; and the silhouette term at
+ * weight 3, measured on the shared rose and duck and the synthetic scenes
+ * (README, "Silhouettes, the visual hull and `check`"). */
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
     if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;
     if (isnan(opt->thickness)) opt->thickness = lines ? 0.01 : original->thickness;
     if (isnan(opt->length)) opt->length = lines ? 0.3 : original->length;
+    if (isnan(opt->loss.silhouette_weight))
+        opt->loss.silhouette_weight = lines ? 3 : original->loss.silhouette_weight;
     if (opt->epochs == -1) opt->epochs = lines ? 4 : original->epochs;
 }
 
@@ -92,7 +96,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
                      fit_settings *settings, ws_status *st) {
     ws_fit_options_default(opt);
     const ws_fit_options original = *opt;
-    opt->learning_rate = opt->thickness = opt->length = NAN; /* unset: loss_defaults */
+    /* unset: loss_defaults */
+    opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
     opt->epochs = -1;
     const char *loss_name = "clip", *background = "black", *geometric = "blocks";
     double edges_weight = 1.0;
@@ -107,7 +112,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
-         "weight of the silhouette term over the training views [0]"},
+         "weight of the silhouette term over the training views [0; 3 with --loss edges]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
         {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10; 4 with --loss edges]"},
         {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30]"},
