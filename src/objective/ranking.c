@@ -94,7 +94,7 @@ static int mean_loss(ws_loss *loss, const ws_scene *scene, int split, const ws_c
         else
             memset(alpha, 0, (size_t)scene->width * scene->height * sizeof(double));
         if (!rc) rc = ws_loss_view(loss, split, v, alpha, 0, NULL, &l, NULL, st);
-        sum += l;
+        if (!rc) sum += l;
     }
     *out = sum / sp->n;
     ws_gaussians_free(&g);
