@@ -17,6 +17,7 @@
 #include "geometry/hull.h"
 #include "geometry/silhouette.h"
 #include "geometry/surface.h"
+#include "objective/view_targets.h"
 #include "render/curves.h"
 #include "synth/synth.h"
 #include "scene_load.h"
@@ -138,7 +139,7 @@ static void test_hull(const char *dir) {
     ws_rng rng, rng2;
     ws_rng_seed(&rng, 5);
     ws_rng_seed(&rng2, 5);
-    CHECK(ws_scene_hull_surface(&scene, WS_TRAIN, 48, NULL, &surf, &st) == WS_OK, "surface: %s", st.msg);
+    CHECK(ws_scene_hull_surface(&scene, WS_TRAIN, sil, 48, NULL, &surf, &st) == WS_OK, "surface: %s", st.msg);
     CHECK(ws_curves_init_hull(&c, &surf, 20, 0.02, 0.02, 0.6, &rng, &st) == WS_OK, "init: %s", st.msg);
     ws_curves c2;
     ws_curves_init_hull(&c2, &surf, 20, 0.02, 0.02, 0.6, &rng2, &st);
@@ -252,8 +253,13 @@ static void check_cause(const char *bin, const char *dir, int size, ws_check_cau
     ws_status st;
     ws_scene scene = {0};
     ws_check_report r;
-    if (load_scene_at(&scene, dir, size, &st) || ws_check_scene(&scene, WS_CHECK_RESOLUTION, &r, &st)) {
+    ws_view_targets *targets = NULL;
+    const ws_silhouette *sil[WS_NSPLITS];
+    int failed = load_scene_at(&scene, dir, size, &st) || ws_view_targets_create(&targets, &scene, &st);
+    for (int s = 0; s < WS_NSPLITS && !failed; s++) failed = ws_view_targets_silhouettes(targets, s, &sil[s], &st);
+    if (failed || ws_check_scene(&scene, sil, WS_CHECK_RESOLUTION, &r, &st)) {
         CHECK(0, "%s: %s", label, st.msg);
+        ws_view_targets_free(targets);
         ws_scene_free(&scene);
         return;
     }
@@ -262,6 +268,7 @@ static void check_cause(const char *bin, const char *dir, int size, ws_check_cau
     CHECK(got == want && r.consistent == (want == WS_CAUSE_NONE), "%s: cause %d, want %d (%s)", label,
           got, want, r.line);
     ws_check_report_free(&r);
+    ws_view_targets_free(targets);
     ws_scene_free(&scene);
     static char out[1 << 16];
     int rc = run(out, sizeof out, "%s check %s --size %d", bin, dir, size);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "geometry/silhouette.h"
 #include "io/image.h"
 #include "objective/line_target.h"
 #include "render/thin_edges.h"
@@ -25,13 +26,22 @@ static void draw(ws_image *photo, float back, float object, int with_bar) {
                 photo->data[(c * H + i) * W + j] = (with_bar && bar(i, j)) || square(i, j) ? object : back;
 }
 
+/* ws_line_target of the photo and mask with their silhouette. */
+static int target(const ws_image *photo, const ws_image *mask, float *e, ws_status *st) {
+    ws_silhouette sil;
+    if (ws_silhouette_make(photo, mask, &sil, st)) return st->code;
+    int rc = ws_line_target(photo, mask, &sil, e, st);
+    ws_silhouette_free(&sil);
+    return rc;
+}
+
 /* The target of a photo of the bar and the square: the bar's axis, column
  * 22 from row 10 to row 53 and nothing else beside the bar; the square's
  * thin edges (and the mask's outline where there is a mask). */
 static void check_target(const ws_image *photo, const ws_image *mask, const char *what) {
     ws_status st;
     float *e = malloc(W * H * sizeof *e), *thin = malloc(W * H * sizeof *thin);
-    CHECK(ws_line_target(photo, mask, e, &st) == WS_OK && ws_thin_edges(photo->data, W, H, thin, &st) == WS_OK,
+    CHECK(target(photo, mask, e, &st) == WS_OK && ws_thin_edges(photo->data, W, H, thin, &st) == WS_OK,
           "%s: %s", what, st.msg);
     if (mask) ws_thin_edges_add_outline(mask->data, W, H, thin);
     int axis = 0, off_axis = 0, outline = 0, square_same = 1, square_edges = 0;
@@ -75,7 +85,7 @@ int main(void) {
     /* no thin part: the thin edges as they are */
     float *e = malloc(W * H * sizeof *e), *thin = malloc(W * H * sizeof *thin);
     draw(&photo, 0, 0.8f, 0);
-    CHECK(ws_line_target(&photo, NULL, e, &st) == WS_OK && ws_thin_edges(photo.data, W, H, thin, &st) == WS_OK &&
+    CHECK(target(&photo, NULL, e, &st) == WS_OK && ws_thin_edges(photo.data, W, H, thin, &st) == WS_OK &&
               !memcmp(e, thin, W * H * sizeof *e),
           "a square alone: the target is not its thin edges");
     free(e);

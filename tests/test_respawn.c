@@ -90,7 +90,10 @@ int main(void) {
     make_sketch(&gt, &sk, &st);
     make_sketch(&gt, &again, &st);
     ws_respawn *r;
-    CHECK(ws_respawn_create(&r, &scene, sk.n, 0.3, &st) == WS_OK, "respawn: %s", st.msg);
+    ws_view_targets *targets;
+    CHECK(ws_view_targets_create(&targets, &scene, &st) == WS_OK &&
+              ws_respawn_create(&r, &scene, targets, sk.n, 0.3, &st) == WS_OK,
+          "respawn: %s", st.msg);
     int retire[14];
     CHECK(ws_respawn_retire(r, &sk, retire, &st) == WS_OK, "retire: %s", st.msg);
     int marked = 0;
@@ -126,6 +129,7 @@ int main(void) {
               !memcmp(sk.P, again.P, sizeof(double) * WS_CURVE_FLOATS * sk.n),
           "the same step on the same input differs");
     ws_respawn_free(r);
+    ws_view_targets_free(targets);
     ws_adam_free(&adam);
     ws_adam_free(&adam2);
     ws_curves_free(&sk);

@@ -15,6 +15,7 @@
 #include "check.h"
 #include "wiresketch.h"
 #include "objective/silhouette_loss.h"
+#include "objective/view_targets.h"
 #include "synth/synth.h"
 
 #define N_OFF 24
@@ -130,12 +131,16 @@ int main(void) {
     ws_curves gt = {0};
     ws_gaussians on = {0};
     ws_silhouette_loss *term = NULL;
+    ws_view_targets *targets = NULL;
+    const ws_silhouette *sil;
     char path[400];
     snprintf(path, sizeof path, "%s/gt_curves.json", scene_dir);
     int rc = ws_runtime_init(1, &st);
     if (!rc) rc = ws_synth_write("trefoil", scene_dir, &syn, &st);
     if (!rc) rc = ws_scene_load(&scene, scene_dir, &so, &st);
-    if (!rc) rc = ws_silhouette_loss_create(&term, &scene.split[WS_TRAIN], &st);
+    if (!rc) rc = ws_view_targets_create(&targets, &scene, &st);
+    if (!rc) rc = ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, &st);
+    if (!rc) rc = ws_silhouette_loss_create(&term, &scene.split[WS_TRAIN], sil, &st);
     if (!rc) rc = ws_curves_load(path, &gt, &st);
     if (!rc) rc = ws_curves_sample(&gt, &on, &st);
     CHECK(rc == WS_OK, "setup: %s", st.msg);
@@ -170,6 +175,7 @@ int main(void) {
     test_objective(&scene, term);
 
     ws_silhouette_loss_free(term);
+    ws_view_targets_free(targets);
     ws_gaussians_free(&on);
     ws_curves_free(&gt);
     ws_scene_free(&scene);

@@ -6,6 +6,7 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "geometry/check.h"
+#include "objective/view_targets.h"
 
 static void print_table(const ws_scene *scene, const ws_check_report *r) {
     printf("%-6s %5s %6s %6s  %s\n", "split", "views", "mean", "worst", "views that disagree (agreement)");
@@ -48,8 +49,13 @@ int cmd_check(int argc, char **argv) {
     ws_scene_options opt;
     ws_scene_options_default(&opt);
     opt.width = opt.height = size;
+    ws_view_targets *targets = NULL;
+    const ws_silhouette *sil[WS_NSPLITS];
+    int rc = ws_scene_load(&scene, pos[0], &opt, &st) || ws_view_targets_create(&targets, &scene, &st);
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = ws_view_targets_silhouettes(targets, s, &sil[s], &st);
     ws_check_report r;
-    if (ws_scene_load(&scene, pos[0], &opt, &st) || ws_check_scene(&scene, resolution, &r, &st)) {
+    if (rc || ws_check_scene(&scene, sil, resolution, &r, &st)) {
+        ws_view_targets_free(targets);
         ws_scene_free(&scene);
         return ws_cli_fail(&st);
     }
@@ -68,6 +74,7 @@ int cmd_check(int argc, char **argv) {
             printf("wrote a corrected copy to %s\n", fixed_dir);
     }
     ws_check_report_free(&r);
+    ws_view_targets_free(targets);
     ws_scene_free(&scene);
     return code;
 }

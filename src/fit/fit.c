@@ -28,6 +28,7 @@
 #include "base/timing.h"
 #include "io/scene.h"
 #include "objective/objective.h"
+#include "objective/view_targets.h"
 
 volatile sig_atomic_t ws_fit_stop_requested = 0;
 
@@ -35,6 +36,7 @@ volatile sig_atomic_t ws_fit_stop_requested = 0;
 typedef struct {
     const ws_fit_options *opt;
     ws_scene scene;
+    ws_view_targets *targets; /* each view's silhouette and line target, made once for every user */
     ws_objective *objective;  /* sampling, splatting, the loss and their buffers */
     double *grad;             /* curves x WS_CURVE_FLOATS */
     double *backup;           /* 3 x curves x WS_CURVE_FLOATS: P, Adam m and v before an update */
@@ -162,7 +164,7 @@ static int init_state(fit_run *r, ws_status *st) {
     const ws_fit_options *o = r->opt;
     ws_fit_state *s = &r->s;
     ws_rng_seed(&s->rng, o->seed);
-    if (ws_fit_init_curves(o, &r->scene, &s->rng, &s->curves, st)) return st->code;
+    if (ws_fit_init_curves(o, &r->scene, r->targets, &s->rng, &s->curves, st)) return st->code;
     /* Both sample: a loaded file's curves were measured by the loader, and
      * random ones lie within the bounded --radius and --length. */
     s->n_train = r->scene.split[WS_TRAIN].n;
@@ -279,6 +281,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
 static void fit_run_free(fit_run *r) {
     ws_respawn_free(r->respawn);
     ws_objective_free(r->objective);
+    ws_view_targets_free(r->targets);
     free(r->grad);
     free(r->backup);
     ws_fit_state_free(&r->s);
@@ -294,7 +297,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     memcpy(so.background, o->background, sizeof so.background);
     so.background_auto = o->background_auto;
     so.edge_maps_dir = o->edge_maps;
-    if (ws_scene_load(&r->scene, o->scene_dir, &so, st)) return st->code;
+    if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || ws_view_targets_create(&r->targets, &r->scene, st))
+        return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
     if (resume) {
         char path[WS_PATH_MAX];
@@ -312,16 +316,18 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
                            "%s: stopped at batch %d, step %d of its epoch, which --batch-size %d and "
                            "--inner-steps %d do not have; resume with the run's own values",
                            path, r->s.batch_in_epoch, r->s.step_in_batch, o->batch_size, o->inner_steps);
-    } else if ((!o->no_check && ws_fit_check_scene(&r->scene, st)) || init_state(r, st)) {
+    } else if ((!o->no_check && ws_fit_check_scene(&r->scene, r->targets, st)) || init_state(r, st)) {
         return st->code;
     }
-    if (o->respawn_every > 0 && ws_respawn_create(&r->respawn, &r->scene, o->n_curves, o->length, st))
+    if (o->respawn_every > 0 &&
+        ws_respawn_create(&r->respawn, &r->scene, r->targets, o->n_curves, o->length, st))
         return st->code;
     ws_splat_options splat_opt;
     ws_splat_options_default(&splat_opt);
     splat_opt.cutoff = o->cutoff;
     ws_loss_options lo = o->loss;
     lo.aug_seed = o->seed; /* an augmentation bank follows the run's seed */
+    lo.targets = r->targets;
     size_t np = (size_t)r->s.curves.n * WS_CURVE_FLOATS;
     if (ws_objective_create(&r->objective, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
     if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||

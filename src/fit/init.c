@@ -4,14 +4,17 @@
 #include "geometry/check.h"
 #include "geometry/surface.h"
 
-int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_rng *rng, ws_curves *c,
-                       ws_status *st) {
+int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets, ws_rng *rng,
+                       ws_curves *c, ws_status *st) {
     if (!strcmp(o->init_curves, "random"))
         return ws_curves_init_random(c, o->n_curves, scene->center, o->radius, o->length,
                                      o->thickness, o->overlap, rng, st);
     if (!strcmp(o->init_curves, "hull")) {
         ws_hull_surface s;
-        if (ws_scene_hull_surface(scene, WS_TRAIN, WS_HULL_INIT_RESOLUTION, NULL, &s, st)) return st->code;
+        const ws_silhouette *sil;
+        if (ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, st) ||
+            ws_scene_hull_surface(scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, NULL, &s, st))
+            return st->code;
         int rc = ws_curves_init_hull(c, &s, o->n_curves, o->length, o->thickness, o->overlap, rng, st);
         ws_hull_surface_free(&s);
         return rc;
@@ -22,9 +25,12 @@ int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_rng *r
     return WS_OK;
 }
 
-int ws_fit_check_scene(const ws_scene *scene, ws_status *st) {
+int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, ws_status *st) {
+    const ws_silhouette *sil[WS_NSPLITS];
+    for (int s = 0; s < WS_NSPLITS; s++)
+        if (ws_view_targets_silhouettes(targets, s, &sil[s], st)) return st->code;
     ws_check_report r;
-    if (ws_check_scene(scene, WS_CHECK_RESOLUTION, &r, st)) return st->code;
+    if (ws_check_scene(scene, sil, WS_CHECK_RESOLUTION, &r, st)) return st->code;
     int rc = r.consistent ? WS_OK
                           : ws_fail(st, WS_EINPUT, "%.900s (or go on anyway with --no-check)", r.line);
     ws_check_report_free(&r);

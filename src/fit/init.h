@@ -11,13 +11,17 @@
 #include "fit/fit_options.h"
 #include "io/scene.h"
 #include "nn/base/rng.h"
+#include "objective/view_targets.h"
 #include "render/curves.h"
 
-int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_rng *rng, ws_curves *c,
-                       ws_status *st);
+/* targets: the scene's (view_targets.h), whose training silhouettes carve
+ * the hull. */
+int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets, ws_rng *rng,
+                       ws_curves *c, ws_status *st);
 
 /* Fails with WS_EINPUT and the check's one line (geometry/check.h), which
- * ends naming --no-check, when the scene is not consistent. */
-int ws_fit_check_scene(const ws_scene *scene, ws_status *st);
+ * ends naming --no-check, when the scene is not consistent. It reads the
+ * silhouettes of every split from targets. */
+int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, ws_status *st);
 
 #endif

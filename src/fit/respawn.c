@@ -6,7 +6,7 @@
 #include "geometry/distance.h"
 #include "geometry/silhouette.h"
 #include "geometry/surface.h"
-#include "objective/line_target.h"
+#include "objective/view_targets.h"
 
 #define PIXEL_SLACK 1.42
 #define DIRECTION_RADIUS 3 /* px: the edge pixels that give an edge's direction */
@@ -15,7 +15,7 @@
 struct ws_respawn {
     const ws_split *train;
     int W, H;
-    ws_silhouette *sil;       /* one per training view */
+    const ws_silhouette *sil; /* one per training view, borrowed */
     ws_hull hull;
     ws_hull_surface surface;
     double length;            /* of a stroke on the hull, the longest on an edge */
@@ -28,16 +28,16 @@ struct ws_respawn {
 };
 
 /* The edge pixels and edge distance maps of every training view. */
-static int edge_maps(ws_respawn *r, ws_status *st) {
+static int edge_maps(ws_respawn *r, ws_view_targets *targets, ws_status *st) {
     const int n = r->train->n;
     const size_t hw = (size_t)r->W * r->H;
-    float *target = ws_malloc(hw * sizeof(float), "an edge target", st);
-    r->edge_distance = target ? ws_malloc((size_t)n * hw * sizeof(float), "edge distance maps", st) : NULL;
+    r->edge_distance = ws_malloc((size_t)n * hw * sizeof(float), "edge distance maps", st);
     r->edge_start = r->edge_distance ? ws_calloc((size_t)n + 1, sizeof(int), "edge pixels", st) : NULL;
     int rc = r->edge_start ? WS_OK : st->code;
     size_t cap = 0, count = 0;
     for (int k = 0; k < n && !rc; k++) {
-        rc = ws_view_line_target(&r->train->views[k], target, st);
+        const float *target;
+        rc = ws_view_targets_line(targets, WS_TRAIN, k, &target, st);
         for (size_t p = 0; p < hw && !rc; p++) {
             r->mark[p] = target[p] >= 0.5f;
             if (!r->mark[p]) continue;
@@ -55,14 +55,13 @@ static int edge_maps(ws_respawn *r, ws_status *st) {
         if (!rc) rc = ws_distance_map(r->mark, r->W, r->H, r->edge_distance + k * hw, st);
         r->edge_start[k + 1] = (int)count;
     }
-    free(target);
     if (!rc && !(r->uncovered = ws_malloc((count ? count : 1) * sizeof(float), "edge coverage", st)))
         rc = st->code;
     return rc;
 }
 
-int ws_respawn_create(ws_respawn **out, const ws_scene *scene, int n_curves, double length,
-                      ws_status *st) {
+int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *targets, int n_curves,
+                      double length, ws_status *st) {
     *out = NULL;
     ws_respawn *r = ws_calloc(1, sizeof *r, "respawn", st);
     if (!r) return st->code;
@@ -70,13 +69,13 @@ int ws_respawn_create(ws_respawn **out, const ws_scene *scene, int n_curves, dou
     r->W = scene->width;
     r->H = scene->height;
     size_t hw = (size_t)r->W * r->H;
-    int rc = ws_split_silhouettes(r->train, &r->sil, st);
+    int rc = ws_view_targets_silhouettes(targets, WS_TRAIN, &r->sil, st);
     if (!rc)
-        rc = ws_scene_hull_surface(scene, WS_TRAIN, WS_HULL_INIT_RESOLUTION, &r->hull, &r->surface, st);
+        rc = ws_scene_hull_surface(scene, WS_TRAIN, r->sil, WS_HULL_INIT_RESOLUTION, &r->hull, &r->surface, st);
     if (!rc && (!(r->mark = ws_malloc(hw, "sketch marks", st)) ||
                 !(r->sketch_distance = ws_malloc(hw * sizeof(float), "sketch distances", st))))
         rc = st->code;
-    if (!rc) rc = edge_maps(r, st);
+    if (!rc) rc = edge_maps(r, targets, st);
     /* The stroke length of the initial spread (surface.h), without its rng. */
     int k = n_curves < r->surface.n ? n_curves : r->surface.n, *picked = NULL;
     double spacing = 0;
@@ -96,7 +95,6 @@ int ws_respawn_create(ws_respawn **out, const ws_scene *scene, int n_curves, dou
 
 void ws_respawn_free(ws_respawn *r) {
     if (!r) return;
-    ws_silhouettes_free(r->sil, r->train->n);
     ws_hull_free(&r->hull);
     ws_hull_surface_free(&r->surface);
     free(r->edge_distance);

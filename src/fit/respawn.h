@@ -57,6 +57,7 @@
 #define WS_RESPAWN_H
 #include "fit/adam.h"
 #include "io/scene.h"
+#include "objective/view_targets.h"
 #include "render/curves.h"
 
 #define WS_COLLAPSED_EXTENT 3.0 /* thicknesses */
@@ -67,10 +68,11 @@
 
 typedef struct ws_respawn ws_respawn;
 
-/* From the training views of a loaded scene (silhouettes, hull, edge
- * targets). */
-int ws_respawn_create(ws_respawn **out, const ws_scene *scene, int n_curves, double length,
-                      ws_status *st);
+/* From the training views of a loaded scene: their silhouettes and line
+ * targets, read from (and made by) `targets`, which must outlive it, and
+ * the hull. */
+int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *targets, int n_curves,
+                      double length, ws_status *st);
 void ws_respawn_free(ws_respawn *r);
 
 /* Moves the idle curves of c (see above), resets their moments in adam;

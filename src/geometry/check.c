@@ -63,13 +63,11 @@ static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const d
     return rc;
 }
 
-static int check_split(const ws_scene *scene, int s, int resolution, ws_check_split *r,
-                       ws_status *st) {
+static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, int resolution,
+                       ws_check_split *r, ws_status *st) {
     const ws_split *sp = &scene->split[s];
     *r = (ws_check_split){.n = sp->n, .focal_scale = 1};
     if (sp->n == 0) return WS_OK;
-    ws_silhouette *sil = NULL;
-    if (ws_split_silhouettes(sp, &sil, st)) return st->code;
     double *trial = ws_malloc(sizeof *trial * sp->n, "check agreement", st);
     r->agreement = trial ? ws_malloc(sizeof *r->agreement * sp->n, "check agreement", st) : NULL;
     r->disagree = r->agreement ? ws_malloc(sizeof *r->disagree * sp->n, "check agreement", st) : NULL;
@@ -120,7 +118,6 @@ static int check_split(const ws_scene *scene, int s, int resolution, ws_check_sp
         r->cause = WS_CAUSE_UNKNOWN;
         r->fixed_mean = r->mean;
     }
-    ws_silhouettes_free(sil, sp->n);
     free(trial);
     return rc;
 }
@@ -188,7 +185,8 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
  * cameras form a regular orbit or spiral cannot show it (shifting such
  * cameras by a frame turns them all alike, which keeps them consistent):
  * the fix re-pairs every split that agrees as well re-paired. */
-static int shift_elsewhere(const ws_scene *scene, int resolution, ws_check_report *r, ws_status *st) {
+static int shift_elsewhere(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
+                           ws_check_report *r, ws_status *st) {
     int shift = 0;
     for (int s = 0; s < WS_NSPLITS && !shift; s++)
         if (r->split[s].cause == WS_CAUSE_SHIFT) shift = r->split[s].shift;
@@ -197,26 +195,24 @@ static int shift_elsewhere(const ws_scene *scene, int resolution, ws_check_repor
         ws_check_split *c = &r->split[s];
         if (c->n == 0 || c->cause != WS_CAUSE_NONE) continue;
         const ws_split *sp = &scene->split[s];
-        ws_silhouette *sil = NULL;
-        if (ws_split_silhouettes(sp, &sil, st)) return st->code;
         double *trial = ws_malloc(sizeof *trial * sp->n, "check agreement", st);
         int rc = trial ? WS_OK : st->code;
         const hypothesis h = {shift, 0, 1.0};
         double mean = 0;
-        if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &h, trial, &mean, st);
+        if (!rc) rc = agreement_under(sp, sil[s], scene->center, resolution, &h, trial, &mean, st);
         if (!rc && mean >= WS_CHECK_MEAN_OK) c->repair_shift = shift;
-        ws_silhouettes_free(sil, sp->n);
         free(trial);
         if (rc) return rc;
     }
     return WS_OK;
 }
 
-int ws_check_scene(const ws_scene *scene, int resolution, ws_check_report *r, ws_status *st) {
+int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
+                   ws_check_report *r, ws_status *st) {
     memset(r, 0, sizeof *r);
     r->consistent = 1;
     for (int s = 0; s < WS_NSPLITS; s++) {
-        if (check_split(scene, s, resolution, &r->split[s], st)) {
+        if (check_split(scene, s, sil[s], resolution, &r->split[s], st)) {
             ws_check_report_free(r);
             return st->code;
         }
@@ -226,7 +222,7 @@ int ws_check_scene(const ws_scene *scene, int resolution, ws_check_report *r, ws
             explain(scene, s, &r->split[s], r->line, sizeof r->line);
         }
     }
-    if (shift_elsewhere(scene, resolution, r, st)) {
+    if (shift_elsewhere(scene, sil, resolution, r, st)) {
         ws_check_report_free(r);
         return st->code;
     }

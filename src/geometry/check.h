@@ -21,6 +21,7 @@
  * inconsistency of unknown cause. */
 #ifndef WS_GEOMETRY_CHECK_H
 #define WS_GEOMETRY_CHECK_H
+#include "geometry/silhouette.h"
 #include "io/scene.h"
 #include "nn/base/status.h"
 
@@ -58,9 +59,11 @@ typedef struct {
     char line[1024];      /* what is wrong and how to fix it; "" when consistent */
 } ws_check_report;
 
-/* scene: loaded with its images. resolution: voxels along the hull's
- * longest side (WS_CHECK_RESOLUTION). */
-int ws_check_scene(const ws_scene *scene, int resolution, ws_check_report *r, ws_status *st);
+/* scene: loaded with its images; sil[s]: the silhouettes of split s's
+ * views (silhouette.h, one per view in view order). resolution: voxels
+ * along the hull's longest side (WS_CHECK_RESOLUTION). */
+int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
+                   ws_check_report *r, ws_status *st);
 void ws_check_report_free(ws_check_report *r);
 
 /* Writes a corrected copy of the scene into `out` (created if missing,

@@ -53,20 +53,3 @@ void ws_silhouette_free(ws_silhouette *s) {
     s->in = NULL;
     s->distance = NULL;
 }
-
-int ws_split_silhouettes(const ws_split *sp, ws_silhouette **out, ws_status *st) {
-    *out = ws_calloc(sp->n ? sp->n : 1, sizeof **out, "silhouettes", st);
-    if (!*out) return st->code;
-    for (int k = 0; k < sp->n; k++)
-        if (ws_view_silhouette(&sp->views[k], &(*out)[k], st)) {
-            ws_silhouettes_free(*out, sp->n);
-            *out = NULL;
-            return st->code;
-        }
-    return WS_OK;
-}
-
-void ws_silhouettes_free(ws_silhouette *s, int n) {
-    for (int k = 0; s && k < n; k++) ws_silhouette_free(&s[k]);
-    free(s);
-}

@@ -40,9 +40,4 @@ int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouett
 int ws_view_silhouette(const ws_view *v, ws_silhouette *s, ws_status *st);
 void ws_silhouette_free(ws_silhouette *s);
 
-/* The silhouettes of every view of a split: *out gets sp->n (at least one
- * slot), freed with ws_silhouettes_free. */
-int ws_split_silhouettes(const ws_split *sp, ws_silhouette **out, ws_status *st);
-void ws_silhouettes_free(ws_silhouette *s, int n);
-
 #endif

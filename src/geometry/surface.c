@@ -55,12 +55,10 @@ void ws_hull_surface_free(ws_hull_surface *s) {
     *s = (ws_hull_surface){0};
 }
 
-int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_hull *hull,
-                          ws_hull_surface *s, ws_status *st) {
+int ws_scene_hull_surface(const ws_scene *scene, int split, const ws_silhouette *sil, int resolution,
+                          ws_hull *hull, ws_hull_surface *s, ws_status *st) {
     const ws_split *sp = &scene->split[split];
     *s = (ws_hull_surface){0};
-    ws_silhouette *sil = NULL;
-    if (ws_split_silhouettes(sp, &sil, st)) return st->code;
     ws_hull_view *hv = ws_malloc(sizeof *hv * (sp->n ? sp->n : 1), "hull views", st);
     ws_hull h = {0};
     int rc = hv ? WS_OK : st->code;
@@ -75,7 +73,6 @@ int ws_scene_hull_surface(const ws_scene *scene, int split, int resolution, ws_h
         *hull = h;
     else
         ws_hull_free(&h);
-    ws_silhouettes_free(sil, sp->n);
     free(hv);
     return rc;
 }

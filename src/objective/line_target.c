@@ -3,9 +3,7 @@
  * call. */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 #include "geometry/distance.h"
-#include "geometry/silhouette.h"
 #include "objective/line_target.h"
 #include "render/thin_edges.h"
 
@@ -51,13 +49,15 @@ static void keep_large(uint8_t *set, int W, int H, double min_area, int *stack) 
     for (size_t p = 0; p < n; p++) set[p] = set[p] == 3;
 }
 
-int ws_line_target(const ws_image *photo, const ws_image *mask, float *edge, ws_status *st) {
+int ws_line_target(const ws_image *photo, const ws_image *mask, const ws_silhouette *sil, float *edge,
+                   ws_status *st) {
     const int W = photo->width, H = photo->height;
     const size_t n = (size_t)W * H;
+    if ((mask && (mask->width != W || mask->height != H)) || sil->width != W || sil->height != H)
+        return ws_fail(st, WS_EINTERNAL, "line target: a mask or silhouette of another size than the %d x %d photo",
+                       W, H);
     if (ws_thin_edges(photo->data, W, H, edge, st)) return st->code;
     if (mask) ws_thin_edges_add_outline(mask->data, W, H, edge);
-    ws_silhouette sil;
-    if (ws_silhouette_make(photo, mask, &sil, st)) return st->code;
     uint8_t *set = ws_malloc(n, "line target", st);
     float *inner = set ? ws_malloc(n * sizeof *inner, "line target", st) : NULL;
     float *opened = inner ? ws_malloc(n * sizeof *opened, "line target", st) : NULL;
@@ -67,7 +67,7 @@ int ws_line_target(const ws_image *photo, const ws_image *mask, float *edge, ws_
     const double r = WS_THIN_PART_WIDTH / 2 * (W > H ? W : H);
     /* inner = D, the distance to the background */
     if (!rc) {
-        for (size_t p = 0; p < n; p++) set[p] = !sil.in[p];
+        for (size_t p = 0; p < n; p++) set[p] = !sil->in[p];
         rc = ws_distance_map(set, W, H, inner, st);
     }
     /* opened: the distance to the eroded object (D > r); O is where it is <= r */
@@ -77,7 +77,7 @@ int ws_line_target(const ws_image *photo, const ws_image *mask, float *edge, ws_
     }
     /* set = T; near: the distance to it */
     if (!rc) {
-        for (size_t p = 0; p < n; p++) set[p] = sil.in[p] && !(opened[p] <= r);
+        for (size_t p = 0; p < n; p++) set[p] = sil->in[p] && !(opened[p] <= r);
         keep_large(set, W, H, r * r, stack);
         rc = ws_distance_map(set, W, H, near, st);
     }
@@ -85,22 +85,13 @@ int ws_line_target(const ws_image *photo, const ws_image *mask, float *edge, ws_
         for (int i = 0; i < H; i++)
             for (int j = 0; j < W; j++) {
                 size_t p = (size_t)i * W + j;
-                if (near[p] <= WS_THIN_PART_MARGIN && (set[p] || !sil.in[p])) edge[p] = 0;
+                if (near[p] <= WS_THIN_PART_MARGIN && (set[p] || !sil->in[p])) edge[p] = 0;
                 if (set[p] && is_axis(inner, W, H, i, j)) edge[p] = 1;
             }
-    ws_silhouette_free(&sil);
     free(set);
     free(inner);
     free(opened);
     free(near);
     free(stack);
     return rc;
-}
-
-int ws_view_line_target(const ws_view *v, float *edge, ws_status *st) {
-    if (v->edges.data) {
-        memcpy(edge, v->edges.data, (size_t)v->photo.width * v->photo.height * sizeof *edge);
-        return WS_OK;
-    }
-    return ws_line_target(&v->photo, v->mask.data ? &v->mask : NULL, edge, st);
 }

@@ -9,7 +9,8 @@
  *   E0 = the photo's thin edges (render/thin_edges.h), plus the mask's
  *        outline where there is a mask (ws_thin_edges_add_outline);
  *   F  = the view's silhouette (geometry/silhouette.h: mask >= 1/2, else
- *        max_c |photo_c - background_c| > 0.02 against the border median);
+ *        max_c |photo_c - background_c| > 0.02 against the border median),
+ *        given: a fit makes it once and shares it (view_targets.h);
  *   D(p) = the Euclidean distance from pixel p to the nearest pixel outside
  *        F (geometry/distance.h; 0 outside F, INFINITY everywhere when F is
  *        the whole image);
@@ -35,20 +36,19 @@
 #ifndef WS_LINE_TARGET_H
 #define WS_LINE_TARGET_H
 #include "io/image.h"
-#include "io/scene.h"
+#include "geometry/silhouette.h"
 #include "nn/base/status.h"
 
 #define WS_THIN_PART_WIDTH 0.05 /* of the larger image side */
 #define WS_THIN_PART_MARGIN 2.0 /* pixels */
 #define WS_THIN_AXIS_SLACK 0.75 /* pixels */
 
-/* edge: H x W, overwritten with E. mask: NULL when the view has none.
- * Fails when out of memory, or with a mask of another size than the photo. */
-int ws_line_target(const ws_image *photo, const ws_image *mask, float *edge, ws_status *st);
-
-/* A view's target: the user's own edge map where the view has one
- * (scene.h: edge_path, --edge-maps), else ws_line_target of its photo and
- * mask. The loss and the respawn of idle curves (fit/respawn.h) read it. */
-int ws_view_line_target(const ws_view *v, float *edge, ws_status *st);
+/* edge: H x W, overwritten with E. mask: NULL when the view has none;
+ * sil: F, made from the same photo and mask (ws_silhouette_make). Fails
+ * when out of memory, or with a mask or silhouette of another size than
+ * the photo. A view's target, or the user's own edge map in its place, is
+ * view_targets.h's. */
+int ws_line_target(const ws_image *photo, const ws_image *mask, const ws_silhouette *sil, float *edge,
+                   ws_status *st);
 
 #endif

@@ -12,11 +12,11 @@
 #include "render/augment.h"
 #include "nn/clip.h"
 #include "render/edges.h"
-#include "objective/line_target.h"
 #include "objective/lines.h"
 #include "objective/loss.h"
 #include "objective/loss_l2.h"
 #include "objective/view_cache.h"
+#include "objective/view_targets.h"
 #include "nn/similarity.h"
 
 void ws_loss_options_default(ws_loss_options *opt) {
@@ -89,7 +89,8 @@ struct ws_loss {
     clip_part clip;
     ws_view_cache edge_cache;        /* per view: the photo's edge map */
     ws_edges_workspace *edges_ws;
-    ws_view_cache line_cache;        /* per view: the photo's thin edges */
+    ws_view_targets *view_targets;   /* per view: the line target (and silhouette) */
+    int owns_view_targets;           /* made here (else borrowed from the options) */
     ws_lines_workspace *lines_ws;
     double progress;                 /* of the fit, for the line loss's levels */
     loss_item items[1 + WS_LOSS_MAX_AUG]; /* this step's items, 0 the identity */
@@ -251,9 +252,10 @@ int ws_loss_create(ws_loss **out, const ws_loss_options *opt, const ws_scene *sc
     if (opt->edges_weight != 0 && (ws_edges_workspace_create(&L->edges_ws, L->W, L->H, st) ||
                                    ws_view_cache_init(&L->edge_cache, scene, pixels, "edge maps", st)))
         return st->code;
-    if (opt->lines_weight != 0 && (ws_lines_workspace_create(&L->lines_ws, L->W, L->H, st) ||
-                                   ws_view_cache_init(&L->line_cache, scene, pixels, "edge maps", st)))
-        return st->code;
+    if (opt->lines_weight != 0 && ws_lines_workspace_create(&L->lines_ws, L->W, L->H, st)) return st->code;
+    L->view_targets = opt->targets;
+    L->owns_view_targets = !opt->targets;
+    if (L->owns_view_targets && ws_view_targets_create(&L->view_targets, scene, st)) return st->code;
     L->progress = 1;
     L->items[0].identity = 1;
     if (!(L->bank_order = ws_calloc(opt->aug_bank ? opt->aug_bank : 1, sizeof *L->bank_order,
@@ -273,7 +275,7 @@ void ws_loss_free(ws_loss *L) {
     if (L->use_clip) clip_part_free(&L->clip);
     ws_view_cache_free(&L->edge_cache);
     ws_edges_workspace_free(L->edges_ws);
-    ws_view_cache_free(&L->line_cache);
+    if (L->owns_view_targets) ws_view_targets_free(L->view_targets);
     ws_lines_workspace_free(L->lines_ws);
     ws_aug_workspace_free(L->aug_ws);
     free(L->bank_order);
@@ -287,6 +289,8 @@ void ws_loss_free(ws_loss *L) {
 }
 
 void ws_loss_set_timing(ws_loss *L, ws_step_timing *t) { L->timing = t; }
+
+ws_view_targets *ws_loss_targets(const ws_loss *L) { return L->view_targets; }
 
 size_t ws_loss_bank_bytes(const ws_loss *L) {
     return L->use_clip ? ws_view_cache_full_bytes(&L->clip.bank_cache, WS_TRAIN) : 0;
@@ -495,12 +499,6 @@ static int fill_edge_map(void *ctx, int split, int view, float *slot, ws_status 
     return WS_OK;
 }
 
-/* Fills a slot of the line cache: the view's line target. */
-static int fill_line_target(void *ctx, int split, int view, float *slot, ws_status *st) {
-    ws_loss *L = ctx;
-    return ws_view_line_target(&L->scene->split[split].views[view], slot, st);
-}
-
 void ws_loss_set_progress(ws_loss *L, double progress) { L->progress = progress; }
 
 /* This step's items 1..A: fresh transforms from rng, or (a training view
@@ -585,7 +583,7 @@ int ws_loss_combine(ws_loss *L, int split, int view, const double *alpha, int au
     if (L->opt.lines_weight != 0) {
         double w = L->opt.lines_weight, levels[WS_LINES_LEVELS];
         const float *target;
-        if (ws_view_cache_get(&L->line_cache, split, view, fill_line_target, L, &target, st)) return st->code;
+        if (ws_view_targets_line(L->view_targets, split, view, &target, st)) return st->code;
         ws_lines_weights(augment ? L->progress : 1, levels);
         loss += w * ws_lines_loss(alpha, target, levels, L->lines_ws, dalpha ? L->edge_dalpha : NULL);
         if (dalpha)

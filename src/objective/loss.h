@@ -47,6 +47,7 @@
 #include "base/timing.h"
 
 struct clip_model;
+struct ws_view_targets;
 
 #define WS_LOSS_MAX_LAYERS 64
 #define WS_LOSS_MAX_AUG 64 /* augmentations per view and step at the most */
@@ -71,6 +72,9 @@ typedef struct {
     int pass_items;            /* G: stroke images per CLIP pass, 1..1+A (0: 1 + A) */
     uint64_t aug_seed;         /* derives the banked transforms */
     const struct clip_model *model; /* borrowed; NULL: load weights_path */
+    struct ws_view_targets *targets; /* the scene's silhouettes and line targets (view_targets.h),
+                                        borrowed (a fit shares its own, made for the same scene);
+                                        NULL: the loss makes its own */
 } ws_loss_options;
 
 /* The original's defaults: CLIP terms on, edges and l2 off, A = 4, no bank. */
@@ -90,6 +94,10 @@ int ws_loss_create(ws_loss **loss, const ws_loss_options *opt, const ws_scene *s
                    ws_status *st);
 void ws_loss_free(ws_loss *loss);
 
+/* The view targets it reads (its own or the borrowed ones): the objective's
+ * silhouette term reads the same silhouettes. */
+struct ws_view_targets *ws_loss_targets(const ws_loss *loss);
+
 /* The fit's progress in [0, 1] (steps done / steps planned): sets the line
  * loss's coarse-to-fine level weights of training steps (lines.h). */
 void ws_loss_set_progress(ws_loss *loss, double progress);
@@ -98,7 +106,7 @@ void ws_loss_set_progress(ws_loss *loss, double progress);
 void ws_loss_set_timing(ws_loss *loss, ws_step_timing *t);
 /* Bytes of the augmentation bank's photo features once every training view
  * has been used (0 without a bank): a view's are allocated when it is first
- * used, as are its cached photo features and edge map. */
+ * used, as are its cached photo features, edge map and line target. */
 size_t ws_loss_bank_bytes(const ws_loss *loss);
 
 /* A view's loss in parts (the items and passes above). items: 1 + A

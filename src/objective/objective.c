@@ -20,6 +20,7 @@
 #include "base/distributed.h"
 #include "objective/objective.h"
 #include "objective/silhouette_loss.h"
+#include "objective/view_targets.h"
 
 struct ws_objective {
     const ws_scene *scene;
@@ -54,8 +55,10 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
         ws_splat_create(&o->splat, scene->width, scene->height, st))
         return st->code;
     o->silhouette_weight = lo->silhouette_weight;
+    const ws_silhouette *sil;
     if (o->silhouette_weight != 0 &&
-        ws_silhouette_loss_create(&o->silhouettes, &scene->split[WS_TRAIN], st))
+        (ws_view_targets_silhouettes(ws_loss_targets(o->loss), WS_TRAIN, &sil, st) ||
+         ws_silhouette_loss_create(&o->silhouettes, &scene->split[WS_TRAIN], sil, st)))
         return st->code;
     if (!(o->alpha = ws_malloc(pixels * sizeof(double), "stroke image", st)) ||
         !(o->dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||

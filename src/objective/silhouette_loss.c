@@ -10,22 +10,23 @@
 
 struct ws_silhouette_loss {
     const ws_split *split;
-    ws_silhouette *sil;   /* one per view */
+    const ws_silhouette *sil; /* one per view, borrowed */
     double *value;        /* cap x 4: each Gaussian's sum over the views, then (from
                              value + cap) its gradient, of the last forward */
     int cap, n, views;    /* Gaussians and views of the last forward */
 };
 
-int ws_silhouette_loss_create(ws_silhouette_loss **out, const ws_split *split, ws_status *st) {
+int ws_silhouette_loss_create(ws_silhouette_loss **out, const ws_split *split, const ws_silhouette *sil,
+                              ws_status *st) {
     ws_silhouette_loss *s = *out = ws_calloc(1, sizeof *s, "silhouette term", st);
     if (!s) return st->code;
     s->split = split;
-    return ws_split_silhouettes(split, &s->sil, st);
+    s->sil = sil;
+    return WS_OK;
 }
 
 void ws_silhouette_loss_free(ws_silhouette_loss *s) {
     if (!s) return;
-    ws_silhouettes_free(s->sil, s->split->n);
     free(s->value);
     free(s);
 }

@@ -41,8 +41,10 @@
 
 typedef struct ws_silhouette_loss ws_silhouette_loss;
 
-/* For the views of a split of a loaded scene (which must outlive it). */
-int ws_silhouette_loss_create(ws_silhouette_loss **out, const ws_split *split, ws_status *st);
+/* For the views of a split of a loaded scene and their silhouettes (one per
+ * view, in view order: view_targets.h's), which must outlive it. */
+int ws_silhouette_loss_create(ws_silhouette_loss **out, const ws_split *split, const ws_silhouette *sil,
+                              ws_status *st);
 void ws_silhouette_loss_free(ws_silhouette_loss *s);
 
 #define WS_SILHOUETTE_VIEWS 12
