@@ -733,6 +733,10 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "--overlap: 1 is not in [0, 1)"), "--overlap 1");
     rc = run("fit %s/scene --out %s " FIT " --clip-geometric maps", tmp, out);
     CHECK(ANSWER(2, rc, "--clip-geometric: 'maps' is not blocks or attention"), "--clip-geometric maps");
+    rc = run("fit %s/scene --out %s " FIT " --hidden-lines hidden", tmp, out);
+    CHECK(ANSWER(2, rc, "--hidden-lines: 'hidden' is not hull or none"), "fit --hidden-lines hidden");
+    rc = run("rank %s/scene --size 32 --hidden-lines Hull", tmp);
+    CHECK(ANSWER(2, rc, "--hidden-lines: 'Hull' is not hull or none"), "rank --hidden-lines Hull");
     rc = run("fit %s/scene --out %s " FIT " --edges-weight -1", tmp, out);
     CHECK(ANSWER(2, rc, "loss weights (--clip-weight, --clip-conv-loss, --clip-fc-loss-weight, "
                         "--clip-conv-layer-weights, --edges-weight) must be >= 0"),

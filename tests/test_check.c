@@ -134,15 +134,16 @@ static void test_hull(const char *dir) {
         free(far);
         free(none);
     }
-    ws_hull_surface surf;
+    ws_scene_hull sh;
     ws_curves c;
     ws_rng rng, rng2;
     ws_rng_seed(&rng, 5);
     ws_rng_seed(&rng2, 5);
-    CHECK(ws_scene_hull_surface(&scene, WS_TRAIN, sil, 48, NULL, &surf, &st) == WS_OK, "surface: %s", st.msg);
-    CHECK(ws_curves_init_hull(&c, &surf, 20, 0.02, 0.02, 0.6, &rng, &st) == WS_OK, "init: %s", st.msg);
+    CHECK(ws_scene_hull_make(&scene, WS_TRAIN, sil, 48, &sh, &st) == WS_OK, "surface: %s", st.msg);
+    const ws_hull_surface *surf = &sh.surface;
+    CHECK(ws_curves_init_hull(&c, surf, 20, 0.02, 0.02, 0.6, &rng, &st) == WS_OK, "init: %s", st.msg);
     ws_curves c2;
-    ws_curves_init_hull(&c2, &surf, 20, 0.02, 0.02, 0.6, &rng2, &st);
+    ws_curves_init_hull(&c2, surf, 20, 0.02, 0.02, 0.6, &rng2, &st);
     CHECK(!memcmp(c.P, c2.P, sizeof(double) * WS_CURVE_FLOATS * c.n), "hull init depends on the seed alone");
     /* every curve's middle lies on the surface, within a few voxels of the wire */
     double dist[20], diag = 0;
@@ -172,7 +173,7 @@ static void test_hull(const char *dir) {
     CHECK(near >= 15, "hull init: %d of 20 curves start within 10%% of the diagonal of the wire", near);
     ws_curves_free(&c);
     ws_curves_free(&c2);
-    ws_hull_surface_free(&surf);
+    ws_scene_hull_free(&sh);
     ws_curves_free(&gt);
     for (int k = 0; k < sp->n; k++) ws_silhouette_free(&sil[k]);
     ws_scene_free(&scene);

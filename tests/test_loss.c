@@ -25,6 +25,8 @@ typedef struct {
     ws_loss *loss;
     ws_splat *splat;
     ws_splat_options so;
+    ws_hidden_lines *hidden; /* NULL: every Gaussian drawn */
+    int n_hidden;            /* Gaussians the last fresh sampling hid */
     ws_gaussians g;
     double *alpha, *dalpha, *dmu;
 } setup;
@@ -33,13 +35,19 @@ typedef struct {
  * gradient. rng0: the augmentation stream, restored for every evaluation.
  * With dP the curves are sampled anew; without, the Gaussians keep the
  * parameters t_k of the last sampling (METHOD.md section 2: the t_k are constants of the
- * backward pass, so the finite differences must hold them too). */
+ * backward pass, so the finite differences must hold them too), as they
+ * hold the hidden-line mask of the last sampling (a constant of the step). */
 static double loss_of(setup *s, const ws_curves *c, int augment, const ws_rng *rng0, double *dP) {
     ws_status st = {0};
     ws_rng rng = *rng0;
     double value = NAN;
     if (dP && ws_curves_sample(c, &s->g, &st)) return NAN;
     for (int k = 0; !dP && k < s->g.n; k++) ws_curve_point(c, s->g.curve[k], s->g.t[k], s->g.mu + 3 * k);
+    if (dP && s->hidden) {
+        if (ws_hidden_lines_mask(s->hidden, WS_TRAIN, 0, s->g.mu, s->g.n, &s->so.hidden, &st)) return NAN;
+        s->n_hidden = 0;
+        for (int k = 0; k < s->g.n; k++) s->n_hidden += s->so.hidden[k];
+    }
     if (ws_splat_forward(s->splat, &s->scene.split[WS_TRAIN].views[0].cam, s->g.mu, s->g.n, c->thickness,
                          &s->so, s->alpha, &st) ||
         ws_loss_view(s->loss, WS_TRAIN, 0, s->alpha, augment, &rng, &value, dP ? s->dalpha : NULL, &st)) {
@@ -108,6 +116,7 @@ static int make_setup(setup *s, const char *dir, const char *weights, const ws_l
 
 static void free_setup(setup *s) {
     ws_loss_free(s->loss);
+    ws_hidden_lines_free(s->hidden);
     ws_splat_free(s->splat);
     ws_gaussians_free(&s->g);
     ws_scene_free(&s->scene);
@@ -218,6 +227,32 @@ int main(void) {
             check_gradient(&s, &c, 1, "lines, training at progress 0.3");
             check_gradient(&s, &c, 0, "lines, evaluation");
         }
+        ws_curves_free(&c);
+        free_setup(&s);
+    }
+    /* The same with hidden lines removed by the hull of a cube's 8 training
+     * views: the mask hides some Gaussians (those inside the cube) and is
+     * held constant, so the gradient is that of the masked loss. */
+    {
+        setup s = {0};
+        ws_curves c = {0};
+        ws_rng rng;
+        ws_rng_seed(&rng, 8);
+        char cube[320];
+        snprintf(cube, sizeof cube, "%s/cube", dir);
+        syn.views[WS_TRAIN] = 8;
+        CHECK(ws_synth_write("cube", cube, &syn, &st) == WS_OK, "cube: %s", st.msg);
+        if (make_setup(&s, cube, NULL, &lo) == WS_OK && ws_curves_alloc(&c, 3, &st) == WS_OK &&
+            ws_hidden_lines_create(&s.hidden, &s.scene, NULL, ws_loss_targets(s.loss), &st) == WS_OK) {
+            c.thickness = 0.03;
+            c.overlap = 0.6;
+            make_curves(&c, s.scene.center, &rng);
+            check_gradient(&s, &c, 0, "lines, hidden lines removed");
+            CHECK(s.n_hidden > 0 && s.n_hidden < s.g.n, "hidden lines: %d of %d Gaussians hidden", s.n_hidden,
+                  s.g.n);
+            printf("hidden lines: %d of %d Gaussians hidden\n", s.n_hidden, s.g.n);
+        }
+        CHECK(s.hidden, "hidden lines: %s", st.msg);
         ws_curves_free(&c);
         free_setup(&s);
     }

@@ -91,8 +91,12 @@ int main(void) {
     make_sketch(&gt, &again, &st);
     ws_respawn *r;
     ws_view_targets *targets;
+    ws_scene_hull hull;
+    const ws_silhouette *sil;
     CHECK(ws_view_targets_create(&targets, &scene, &st) == WS_OK &&
-              ws_respawn_create(&r, &scene, targets, sk.n, 0.3, &st) == WS_OK,
+              ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, &st) == WS_OK &&
+              ws_scene_hull_make(&scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, &hull, &st) == WS_OK &&
+              ws_respawn_create(&r, &scene, targets, &hull, sk.n, 0.3, &st) == WS_OK,
           "respawn: %s", st.msg);
     int retire[14];
     CHECK(ws_respawn_retire(r, &sk, retire, &st) == WS_OK, "retire: %s", st.msg);
@@ -130,6 +134,7 @@ int main(void) {
           "the same step on the same input differs");
     ws_respawn_free(r);
     ws_view_targets_free(targets);
+    ws_scene_hull_free(&hull);
     ws_adam_free(&adam);
     ws_adam_free(&adam2);
     ws_curves_free(&sk);

@@ -4,7 +4,7 @@
 #include "cli/cli_loss.h"
 
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
-                       const char *geometric, ws_loss_options *lo, ws_status *st) {
+                       const char *geometric, const char *hidden, ws_loss_options *lo, ws_status *st) {
     if (!strcmp(geometric, "blocks"))
         lo->geometric = WS_GEOMETRIC_BLOCKS;
     else if (!strcmp(geometric, "attention"))
@@ -26,6 +26,12 @@ int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list 
         lo->l2_weight = 1.0;
     else if (!clip)
         return ws_fail(st, WS_EUSAGE, "--loss: '%s' is not clip, edges, clip+edges, sobel or l2", name);
+    if (!hidden)
+        lo->hidden_lines = lo->lines_weight != 0 && !ws_loss_uses_clip(lo) ? WS_HIDDEN_HULL : WS_HIDDEN_NONE;
+    else if (!strcmp(hidden, "hull") || !strcmp(hidden, "none"))
+        lo->hidden_lines = !strcmp(hidden, "hull") ? WS_HIDDEN_HULL : WS_HIDDEN_NONE;
+    else
+        return ws_fail(st, WS_EUSAGE, "--hidden-lines: '%s' is not hull or none", hidden);
     if (ws_loss_uses_clip(lo) && access(lo->weights_path, R_OK) != 0)
         return ws_fail(st, WS_EINPUT,
                        "%s: no CLIP weight file; convert OpenAI's ViT-B-32.pt once with "

@@ -9,14 +9,21 @@
  * l2 (the pixel loss alone); layers (--clip-conv-layer-weights, or NULL),
  * when given, replaces the default layer weights; geometric
  * (--clip-geometric) is blocks or attention, what the geometric term
- * compares. Then checks that a CLIP weight file exists when
- * a CLIP term is on, with a message that says how to get one and how to run
- * without. */
+ * compares; hidden (--hidden-lines) is hull or none, or NULL for the
+ * loss's default: hull for the line loss alone (`--loss edges`), none
+ * otherwise (CLIP's sketch is see-through, SPEC sections 3 and 6). Then
+ * checks that a CLIP weight file exists when a CLIP term is on, with a
+ * message that says how to get one and how to run without. */
 /* --clip-geometric's help, the same in every command that takes it. */
 #define WS_CLI_GEOMETRIC_HELP \
     "what CLIP's geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"
 
+/* --hidden-lines's help, the same in every command that takes it. */
+#define WS_CLI_HIDDEN_HELP \
+    "hidden-line removal of the stroke images: hull (drawn only where the visual hull does not hide them) " \
+    "or none [hull with --loss edges, none otherwise]"
+
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
-                       const char *geometric, ws_loss_options *lo, ws_status *st);
+                       const char *geometric, const char *hidden, ws_loss_options *lo, ws_status *st);
 
 #endif

@@ -80,7 +80,7 @@ int cmd_eval(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
     const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
-    const char *edge_maps = NULL, *geometric = "blocks";
+    const char *edge_maps = NULL, *geometric = "blocks", *hidden = NULL;
     const char *gt_points = NULL, *gt_curves = NULL;
     double edges_weight = 1.0;
     int size = 224, threads = 0;
@@ -103,6 +103,7 @@ int cmd_eval(int argc, char **argv) {
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
         {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
+        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
         {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
@@ -127,7 +128,7 @@ int cmd_eval(int argc, char **argv) {
     sopt.edge_maps_dir = edge_maps;
     if (ws_cli_background(background, sopt.background, &sopt.background_auto, &st) ||
         ws_cli_check_size(size, &st) ||
-        (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, &lo, &st)))
+        (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &lo, &st)))
         return ws_cli_fail(&st);
     char scene_points[WS_PATH_MAX], scene_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], scene_points, scene_curves);

@@ -99,7 +99,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     /* unset: loss_defaults */
     opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
     opt->epochs = -1;
-    const char *loss_name = "clip", *background = "black", *geometric = "blocks";
+    const char *loss_name = "clip", *background = "black", *geometric = "blocks", *hidden = NULL;
     double edges_weight = 1.0;
     int seed = 0;
     ws_arg_list layers = {0};
@@ -128,6 +128,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
         {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
+        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
@@ -164,12 +165,13 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     opt->seed = (uint64_t)(unsigned)seed;
     if (ws_cli_check_size(opt->size, st) ||
         ws_cli_background(background, opt->background, &opt->background_auto, st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, &opt->loss, st) ||
+        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &opt->loss, st) ||
         (loss_defaults(opt, &original), ws_fit_options_check(opt, st)))
         return st->code;
     if (settings) {
         /* the layer weights in effect, also when the defaults are */
         layers.n = opt->loss.n_layer_weights;
+        hidden = ws_hidden_mode_names[opt->loss.hidden_lines];
         memcpy(layers.v, opt->loss.layer_weights, sizeof(double) * layers.n);
         fill_settings(args, (int)(sizeof args / sizeof args[0]), settings);
         opt->settings = settings->items;

@@ -41,7 +41,7 @@ static void print_gradient(double value, const double *dP, int n) {
 
 int cmd_grad(int argc, char **argv) {
     const char *curves_path = NULL, *split_name = "test", *loss_name = "l2", *background = "black";
-    const char *geometric = "blocks";
+    const char *geometric = "blocks", *hidden = NULL;
     int view = 0, size = 224, threads = 0;
     double edges_weight = 1.0;
     ws_arg_list layers = {0};
@@ -60,6 +60,7 @@ int cmd_grad(int argc, char **argv) {
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
         {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
+        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
         {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &lo.fc_weight, 0, "fc term weight [0.1]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "Gaussian cut-off radius in sigmas [4]"},
@@ -79,7 +80,8 @@ int cmd_grad(int argc, char **argv) {
     if (help) return 0;
     lo.global_weight = 0; /* it compares augmented items only */
     if (ws_cli_require(curves_path, "--curves", &st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, &lo, &st) || ws_runtime_init(threads, &st))
+        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &lo, &st) ||
+        ws_runtime_init(threads, &st))
         return ws_cli_fail(&st);
     ws_curves curves = {0};
     ws_scene scene = {0};

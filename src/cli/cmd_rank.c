@@ -15,7 +15,7 @@ int cmd_rank(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
     const char *split_name = "test", *loss_name = "edges", *gt_path = NULL, *edge_maps = NULL;
-    const char *geometric = "blocks";
+    const char *geometric = "blocks", *hidden_name = NULL;
     int size = 224, threads = 0;
     ws_arg_list thick = {4, {0.005, 0.01, 0.02, 0.04}};
     ws_loss_options lo;
@@ -24,6 +24,7 @@ int cmd_rank(int argc, char **argv) {
         {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [edges]"},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
+        {"--hidden-lines", WS_ARG_STRING, &hidden_name, 0, WS_CLI_HIDDEN_HELP},
         {"--gt-curves", WS_ARG_STRING, &gt_path, 0, "ground-truth curves [SCENE/gt_curves.json]"},
         {"--thickness", WS_ARG_DOUBLES, &thick, 16, "thicknesses, one column each [0.005 0.01 0.02 0.04]"},
         {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
@@ -43,7 +44,8 @@ int cmd_rank(int argc, char **argv) {
     if (split < 0) ws_fail(&st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     for (int k = 0; k < thick.n && !st.code; k++)
         if (!(thick.v[k] > 0)) ws_fail(&st, WS_EUSAGE, "--thickness: %g is not positive", thick.v[k]);
-    if (st.code || ws_cli_check_size(size, &st) || ws_cli_choose_loss(loss_name, 1.0, NULL, geometric, &lo, &st) ||
+    if (st.code || ws_cli_check_size(size, &st) ||
+        ws_cli_choose_loss(loss_name, 1.0, NULL, geometric, hidden_name, &lo, &st) ||
         ws_runtime_init(threads, &st))
         return ws_cli_fail(&st);
     char gt_default[WS_PATH_MAX];
@@ -55,12 +57,14 @@ int cmd_rank(int argc, char **argv) {
     so.edge_maps_dir = edge_maps;
     ws_curves gt = {0};
     ws_loss *loss = NULL;
+    ws_hidden_lines *hidden = NULL;
     double table[16][WS_RANK_COUNT];
     int rc = ws_curves_load(gt_path ? gt_path : gt_default, &gt, &st);
     if (!rc) rc = ws_scene_load(&scene, pos[0], &so, &st);
     if (!rc) rc = ws_loss_create(&loss, &lo, &scene, &st);
+    if (!rc && lo.hidden_lines == WS_HIDDEN_HULL) rc = ws_hidden_lines_create(&hidden, &scene, NULL, ws_loss_targets(loss), &st);
     for (int k = 0; k < thick.n && !rc; k++)
-        rc = ws_rank_losses(loss, &scene, split, &gt, thick.v[k], 0, table[k], &st);
+        rc = ws_rank_losses(loss, hidden, &scene, split, &gt, thick.v[k], 0, table[k], &st);
     if (!rc) {
         printf("| %s loss, %s (%d views, %d px) |", loss_name, pos[0], scene.split[split].n, size);
         for (int k = 0; k < thick.n; k++) printf(" %g |", thick.v[k]);
@@ -77,6 +81,7 @@ int cmd_rank(int argc, char **argv) {
         }
     }
     ws_loss_free(loss);
+    ws_hidden_lines_free(hidden);
     ws_scene_free(&scene);
     ws_curves_free(&gt);
     return rc ? ws_cli_fail(&st) : 0;

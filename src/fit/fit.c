@@ -42,6 +42,8 @@ typedef struct {
     double *backup;           /* 3 x curves x WS_CURVE_FLOATS: P, Adam m and v before an update */
     ws_fit_state s;
     ws_respawn *respawn;      /* NULL when --respawn-every is 0 */
+    ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
+                               * the respawn and hidden-line removal (empty when none of them is on) */
     double start;             /* ws_seconds() when this process began fitting */
 } fit_run;
 
@@ -164,7 +166,7 @@ static int init_state(fit_run *r, ws_status *st) {
     const ws_fit_options *o = r->opt;
     ws_fit_state *s = &r->s;
     ws_rng_seed(&s->rng, o->seed);
-    if (ws_fit_init_curves(o, &r->scene, r->targets, &s->rng, &s->curves, st)) return st->code;
+    if (ws_fit_init_curves(o, &r->scene, &r->hull, &s->rng, &s->curves, st)) return st->code;
     /* Both sample: a loaded file's curves were measured by the loader, and
      * random ones lie within the bounded --radius and --length. */
     s->n_train = r->scene.split[WS_TRAIN].n;
@@ -282,6 +284,7 @@ static void fit_run_free(fit_run *r) {
     ws_respawn_free(r->respawn);
     ws_objective_free(r->objective);
     ws_view_targets_free(r->targets);
+    ws_scene_hull_free(&r->hull);
     free(r->grad);
     free(r->backup);
     ws_fit_state_free(&r->s);
@@ -316,11 +319,18 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
                            "%s: stopped at batch %d, step %d of its epoch, which --batch-size %d and "
                            "--inner-steps %d do not have; resume with the run's own values",
                            path, r->s.batch_in_epoch, r->s.step_in_batch, o->batch_size, o->inner_steps);
-    } else if ((!o->no_check && ws_fit_check_scene(&r->scene, r->targets, st)) || init_state(r, st)) {
+    } else if (!o->no_check && ws_fit_check_scene(&r->scene, r->targets, st)) {
         return st->code;
     }
-    if (o->respawn_every > 0 &&
-        ws_respawn_create(&r->respawn, &r->scene, r->targets, o->n_curves, o->length, st))
+    int hull_init = !resume && !strcmp(o->init_curves, "hull");
+    const ws_silhouette *sil;
+    if ((hull_init || o->respawn_every > 0 || o->loss.hidden_lines == WS_HIDDEN_HULL) &&
+        (ws_view_targets_silhouettes(r->targets, WS_TRAIN, &sil, st) ||
+         ws_scene_hull_make(&r->scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, &r->hull, st)))
+        return st->code;
+    if ((!resume && init_state(r, st)) ||
+        (o->respawn_every > 0 &&
+         ws_respawn_create(&r->respawn, &r->scene, r->targets, &r->hull, o->n_curves, o->length, st)))
         return st->code;
     ws_splat_options splat_opt;
     ws_splat_options_default(&splat_opt);
@@ -328,6 +338,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     ws_loss_options lo = o->loss;
     lo.aug_seed = o->seed; /* an augmentation bank follows the run's seed */
     lo.targets = r->targets;
+    lo.hull = &r->hull;
     size_t np = (size_t)r->s.curves.n * WS_CURVE_FLOATS;
     if (ws_objective_create(&r->objective, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
     if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||

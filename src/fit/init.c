@@ -2,23 +2,14 @@
 #include <string.h>
 #include "fit/init.h"
 #include "geometry/check.h"
-#include "geometry/surface.h"
 
-int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets, ws_rng *rng,
+int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_scene_hull *hull, ws_rng *rng,
                        ws_curves *c, ws_status *st) {
     if (!strcmp(o->init_curves, "random"))
         return ws_curves_init_random(c, o->n_curves, scene->center, o->radius, o->length,
                                      o->thickness, o->overlap, rng, st);
-    if (!strcmp(o->init_curves, "hull")) {
-        ws_hull_surface s;
-        const ws_silhouette *sil;
-        if (ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, st) ||
-            ws_scene_hull_surface(scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, NULL, &s, st))
-            return st->code;
-        int rc = ws_curves_init_hull(c, &s, o->n_curves, o->length, o->thickness, o->overlap, rng, st);
-        ws_hull_surface_free(&s);
-        return rc;
-    }
+    if (!strcmp(o->init_curves, "hull"))
+        return ws_curves_init_hull(c, &hull->surface, o->n_curves, o->length, o->thickness, o->overlap, rng, st);
     if (ws_curves_load(o->init_curves, c, st)) return st->code;
     if (c->n == 0)
         return ws_fail(st, WS_EINPUT, "%s: no curves (a fit starts from at least one)", o->init_curves);

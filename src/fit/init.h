@@ -4,19 +4,20 @@
  * --init hull (the default): the curves start on the surface of the visual
  * hull of the training views (geometry/surface.h, WS_HULL_INIT_RESOLUTION
  * voxels along its longest side), spread by farthest-point sampling, as
- * short strokes tangent to it. --init random: the original's sphere
+ * short strokes tangent to it (hull: the fit's, carved once). --init random: the original's sphere
  * (METHOD.md section 2). Anything else names a curve file. */
 #ifndef WS_FIT_INIT_H
 #define WS_FIT_INIT_H
 #include "fit/fit_options.h"
+#include "geometry/surface.h"
 #include "io/scene.h"
 #include "nn/base/rng.h"
 #include "objective/view_targets.h"
 #include "render/curves.h"
 
-/* targets: the scene's (view_targets.h), whose training silhouettes carve
- * the hull. */
-int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets, ws_rng *rng,
+/* hull: the training views' (geometry/surface.h), carved once by the fit;
+ * read with --init hull. */
+int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_scene_hull *hull, ws_rng *rng,
                        ws_curves *c, ws_status *st);
 
 /* Fails with WS_EINPUT and the check's one line (geometry/check.h), which

@@ -16,8 +16,7 @@ struct ws_respawn {
     const ws_split *train;
     int W, H;
     const ws_silhouette *sil; /* one per training view, borrowed */
-    ws_hull hull;
-    ws_hull_surface surface;
+    const ws_scene_hull *hull; /* borrowed */
     double length;            /* of a stroke on the hull, the longest on an edge */
     float *edge_distance;     /* views x H x W: pixels to the nearest edge pixel */
     int *edge_start;          /* views + 1: view k's edge pixels are [edge_start[k], edge_start[k + 1]) */
@@ -60,29 +59,29 @@ static int edge_maps(ws_respawn *r, ws_view_targets *targets, ws_status *st) {
     return rc;
 }
 
-int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *targets, int n_curves,
+int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *targets,
+                      const ws_scene_hull *hull, int n_curves,
                       double length, ws_status *st) {
     *out = NULL;
     ws_respawn *r = ws_calloc(1, sizeof *r, "respawn", st);
     if (!r) return st->code;
     r->train = &scene->split[WS_TRAIN];
+    r->hull = hull;
     r->W = scene->width;
     r->H = scene->height;
     size_t hw = (size_t)r->W * r->H;
     int rc = ws_view_targets_silhouettes(targets, WS_TRAIN, &r->sil, st);
-    if (!rc)
-        rc = ws_scene_hull_surface(scene, WS_TRAIN, r->sil, WS_HULL_INIT_RESOLUTION, &r->hull, &r->surface, st);
     if (!rc && (!(r->mark = ws_malloc(hw, "sketch marks", st)) ||
                 !(r->sketch_distance = ws_malloc(hw * sizeof(float), "sketch distances", st))))
         rc = st->code;
     if (!rc) rc = edge_maps(r, targets, st);
     /* The stroke length of the initial spread (surface.h), without its rng. */
-    int k = n_curves < r->surface.n ? n_curves : r->surface.n, *picked = NULL;
+    int k = n_curves < r->hull->surface.n ? n_curves : r->hull->surface.n, *picked = NULL;
     double spacing = 0;
     ws_rng none;
     ws_rng_seed(&none, 0);
     if (!rc && !(picked = ws_malloc(sizeof(int) * (k ? k : 1), "spread", st))) rc = st->code;
-    if (!rc && k > 0) rc = ws_hull_surface_spread(&r->surface, NULL, 0, k, &none, picked, &spacing, st);
+    if (!rc && k > 0) rc = ws_hull_surface_spread(&r->hull->surface, NULL, 0, k, &none, picked, &spacing, st);
     free(picked);
     r->length = fmax(length, 0.5 * spacing);
     if (rc) {
@@ -95,8 +94,6 @@ int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *
 
 void ws_respawn_free(ws_respawn *r) {
     if (!r) return;
-    ws_hull_free(&r->hull);
-    ws_hull_surface_free(&r->surface);
     free(r->edge_distance);
     free(r->edge_start);
     free(r->edge_pixel);
@@ -244,7 +241,7 @@ static int in_hull(const ws_hull *h, const double p[3]) {
  * in [lo, hi]; 0 when the ray meets no hull voxel there. */
 static double edge_depth(const ws_respawn *r, int k, double u, double v, double lo_depth, double hi_depth) {
     const ws_camera *cam = &r->train->views[k].cam;
-    const ws_hull *h = &r->hull;
+    const ws_hull *h = &r->hull->hull;
     const size_t hw = (size_t)r->W * r->H;
     /* the depths where the ray is inside the grid's box (slabs) */
     double o[3], far_point[3], t0 = lo_depth, t1 = hi_depth;
@@ -406,10 +403,10 @@ static int place_on_hull(ws_respawn *r, ws_curves *c, int ci, double *keep, int 
     double spacing, dir[3];
     ws_rng unused; /* the spread draws only when nothing is kept */
     ws_rng_seed(&unused, (uint64_t)ci);
-    if (ws_hull_surface_spread(&r->surface, keep, *nkeep, 1, &unused, &at, &spacing, st)) return st->code;
-    tangent(r->surface.normal + 3 * at, dir);
-    ws_curve_set_segment(c, ci, r->surface.p + 3 * at, dir, r->length);
-    memcpy(keep + 3 * (*nkeep)++, r->surface.p + 3 * at, sizeof(double) * 3);
+    if (ws_hull_surface_spread(&r->hull->surface, keep, *nkeep, 1, &unused, &at, &spacing, st)) return st->code;
+    tangent(r->hull->surface.normal + 3 * at, dir);
+    ws_curve_set_segment(c, ci, r->hull->surface.p + 3 * at, dir, r->length);
+    memcpy(keep + 3 * (*nkeep)++, r->hull->surface.p + 3 * at, sizeof(double) * 3);
     return WS_OK;
 }
 

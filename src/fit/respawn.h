@@ -56,6 +56,7 @@
 #ifndef WS_RESPAWN_H
 #define WS_RESPAWN_H
 #include "fit/adam.h"
+#include "geometry/surface.h"
 #include "io/scene.h"
 #include "objective/view_targets.h"
 #include "render/curves.h"
@@ -69,9 +70,10 @@
 typedef struct ws_respawn ws_respawn;
 
 /* From the training views of a loaded scene: their silhouettes and line
- * targets, read from (and made by) `targets`, which must outlive it, and
- * the hull. */
-int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *targets, int n_curves,
+ * targets, read from (and made by) `targets`, and their hull; both
+ * borrowed: they must outlive it. */
+int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *targets,
+                      const ws_scene_hull *hull, int n_curves,
                       double length, ws_status *st);
 void ws_respawn_free(ws_respawn *r);
 

@@ -55,26 +55,27 @@ void ws_hull_surface_free(ws_hull_surface *s) {
     *s = (ws_hull_surface){0};
 }
 
-int ws_scene_hull_surface(const ws_scene *scene, int split, const ws_silhouette *sil, int resolution,
-                          ws_hull *hull, ws_hull_surface *s, ws_status *st) {
+int ws_scene_hull_make(const ws_scene *scene, int split, const ws_silhouette *sil, int resolution,
+                       ws_scene_hull *out, ws_status *st) {
     const ws_split *sp = &scene->split[split];
-    *s = (ws_hull_surface){0};
+    *out = (ws_scene_hull){0};
     ws_hull_view *hv = ws_malloc(sizeof *hv * (sp->n ? sp->n : 1), "hull views", st);
-    ws_hull h = {0};
     int rc = hv ? WS_OK : st->code;
     for (int k = 0; k < sp->n && !rc; k++) hv[k] = (ws_hull_view){.cam = &sp->views[k].cam, .sil = &sil[k]};
-    if (!rc) rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), &h, st);
-    if (!rc) rc = ws_hull_surface_make(&h, s, st);
-    if (!rc && s->n == 0)
+    if (!rc)
+        rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), &out->hull, st);
+    if (!rc) rc = ws_hull_surface_make(&out->hull, &out->surface, st);
+    if (!rc && out->surface.n == 0)
         rc = ws_fail(st, WS_EINPUT, "%s: the %s views' silhouettes have no common volume (try "
                                     "`wiresketch check %s`)", scene->dir, ws_split_names[split], scene->dir);
-    if (rc) ws_hull_surface_free(s);
-    if (!rc && hull)
-        *hull = h;
-    else
-        ws_hull_free(&h);
+    if (rc) ws_scene_hull_free(out);
     free(hv);
     return rc;
+}
+
+void ws_scene_hull_free(ws_scene_hull *h) {
+    ws_hull_free(&h->hull);
+    ws_hull_surface_free(&h->surface);
 }
 
 static double dist2(const double *a, const double *b) {

@@ -26,12 +26,21 @@ typedef struct {
 int ws_hull_surface_make(const ws_hull *h, ws_hull_surface *s, ws_status *st);
 void ws_hull_surface_free(ws_hull_surface *s);
 
-/* The surface of the hull of split `split` of a loaded scene, carved from
- * its views' silhouettes sil (one per view, silhouette.h) with the default
- * tolerance at `resolution`; the hull itself into *hull (NULL: not kept;
- * freed with ws_hull_free). Fails with WS_EINPUT when the hull is empty. */
-int ws_scene_hull_surface(const ws_scene *scene, int split, const ws_silhouette *sil, int resolution,
-                          ws_hull *hull, ws_hull_surface *s, ws_status *st);
+/* The visual hull of a loaded scene's split and its surface, carved once
+ * and shared by whatever needs them (a fit's initial curves, its respawn
+ * and its hidden-line removal). */
+typedef struct ws_scene_hull {
+    ws_hull hull;
+    ws_hull_surface surface;
+} ws_scene_hull;
+
+/* The hull of split `split` of a loaded scene, carved from its views'
+ * silhouettes sil (one per view, silhouette.h) with the default tolerance
+ * at `resolution`, and its surface. Fails with WS_EINPUT when the hull is
+ * empty. */
+int ws_scene_hull_make(const ws_scene *scene, int split, const ws_silhouette *sil, int resolution,
+                       ws_scene_hull *out, ws_status *st);
+void ws_scene_hull_free(ws_scene_hull *h);
 
 /* picked[0..k): k <= s->n surface points by farthest-point sampling (see
  * above); *spacing: the distance of the last one picked to the others. */

@@ -219,6 +219,9 @@ int ws_loss_options_check(const ws_loss_options *opt, ws_status *st) {
     /* a negative weight would make its term a reward for looking unlike the photo */
     int negative = opt->conv_weight < 0 || opt->fc_weight < 0 || opt->global_weight < 0 ||
                    opt->edges_weight < 0 || opt->l2_weight < 0 || opt->lines_weight < 0;
+    if (opt->hidden_lines != WS_HIDDEN_NONE && opt->hidden_lines != WS_HIDDEN_HULL)
+        return ws_fail(st, WS_EUSAGE, "--hidden-lines: mode %d is not none (%d) or hull (%d)",
+                       (int)opt->hidden_lines, WS_HIDDEN_NONE, WS_HIDDEN_HULL);
     if (opt->geometric != WS_GEOMETRIC_BLOCKS && opt->geometric != WS_GEOMETRIC_ATTENTION)
         return ws_fail(st, WS_EUSAGE, "--clip-geometric: variant %d is not blocks (%d) or attention (%d)",
                        (int)opt->geometric, WS_GEOMETRIC_BLOCKS, WS_GEOMETRIC_ATTENTION);

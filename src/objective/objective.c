@@ -26,6 +26,7 @@ struct ws_objective {
     const ws_scene *scene;
     ws_loss *loss;
     ws_silhouette_loss *silhouettes; /* the training views' term; NULL when its weight is 0 */
+    ws_hidden_lines *hidden;  /* hidden-line removal; NULL: none */
     double silhouette_weight;
     ws_splat *splat;
     ws_splat_options splat_opt;
@@ -60,6 +61,8 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
         (ws_view_targets_silhouettes(ws_loss_targets(o->loss), WS_TRAIN, &sil, st) ||
          ws_silhouette_loss_create(&o->silhouettes, &scene->split[WS_TRAIN], sil, st)))
         return st->code;
+    if (lo->hidden_lines == WS_HIDDEN_HULL && ws_hidden_lines_create(&o->hidden, scene, lo->hull, ws_loss_targets(o->loss), st))
+        return st->code;
     if (!(o->alpha = ws_malloc(pixels * sizeof(double), "stroke image", st)) ||
         !(o->dalpha = ws_malloc(pixels * sizeof(double), "stroke gradient", st)) ||
         !(o->dP = ws_calloc((size_t)n_curves * WS_CURVE_FLOATS, sizeof(double), "control point gradient", st)))
@@ -81,6 +84,7 @@ void ws_objective_free(ws_objective *o) {
     if (!o) return;
     ws_loss_free(o->loss);
     ws_silhouette_loss_free(o->silhouettes);
+    ws_hidden_lines_free(o->hidden);
     ws_splat_free(o->splat);
     ws_gaussians_free(&o->gaussians);
     free(o->alpha);
@@ -123,6 +127,9 @@ static int grow_dmu(ws_objective *o, ws_status *st) {
 
 static int splat_view(ws_objective *o, const ws_curves *c, int split, int view, ws_status *st) {
     double t0 = ws_time_start(o->timing);
+    if (o->hidden && ws_hidden_lines_mask(o->hidden, split, view, o->gaussians.mu, o->gaussians.n,
+                                          &o->splat_opt.hidden, st))
+        return st->code;
     if (ws_splat_forward(o->splat, &o->scene->split[split].views[view].cam, o->gaussians.mu, o->gaussians.n,
                          c->thickness, &o->splat_opt, o->alpha, st))
         return st->code;

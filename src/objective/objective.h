@@ -3,8 +3,10 @@
  * sample -> splat -> loss -> backward: the curves are sampled into
  * Gaussians, splatted into each view, compared with the photo (loss.h),
  * and dL/dalpha is carried back through the splatting and the Bernstein
- * weights. `fit` (a training batch, the validation and test losses),
- * `grad`, `eval` and the benchmarks all call it. */
+ * weights; with lo->hidden_lines hull, each view draws only the Gaussians
+ * the visual hull does not hide (hidden_lines.h). `fit` (a training batch,
+ * the validation and test losses), `grad`, `eval` and the benchmarks all
+ * call it. */
 #ifndef WS_OBJECTIVE_H
 #define WS_OBJECTIVE_H
 #include <stddef.h>

@@ -78,9 +78,10 @@ int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t se
 }
 
 /* The mean loss over `split` of c drawn at `thickness`, with the caller's
- * splatting and stroke image. */
-static int mean_loss(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *c, double thickness,
-                     ws_splat *splat, double *alpha, double *out, ws_status *st) {
+ * splatting and stroke image, hidden lines removed by `hidden` (or NULL). */
+static int mean_loss(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
+                     const ws_curves *c, double thickness, ws_splat *splat, double *alpha, double *out,
+                     ws_status *st) {
     const ws_split *sp = &scene->split[split];
     ws_splat_options so;
     ws_splat_options_default(&so);
@@ -89,10 +90,12 @@ static int mean_loss(ws_loss *loss, const ws_scene *scene, int split, const ws_c
     double sum = 0;
     for (int v = 0; v < sp->n && !rc; v++) {
         double l;
-        if (c->n > 0)
-            rc = ws_splat_forward(splat, &sp->views[v].cam, g.mu, g.n, thickness, &so, alpha, st);
-        else
+        if (c->n > 0) {
+            if (hidden) rc = ws_hidden_lines_mask(hidden, split, v, g.mu, g.n, &so.hidden, st);
+            if (!rc) rc = ws_splat_forward(splat, &sp->views[v].cam, g.mu, g.n, thickness, &so, alpha, st);
+        } else {
             memset(alpha, 0, (size_t)scene->width * scene->height * sizeof(double));
+        }
         if (!rc) rc = ws_loss_view(loss, split, v, alpha, 0, NULL, &l, NULL, st);
         if (!rc) sum += l;
     }
@@ -111,18 +114,19 @@ static int scoring_begin(const ws_scene *scene, int split, ws_splat **splat, dou
     return *alpha ? ws_splat_create(splat, scene->width, scene->height, st) : st->code;
 }
 
-int ws_rank_score(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *c, double *out,
-                  ws_status *st) {
+int ws_rank_score(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
+                  const ws_curves *c, double *out, ws_status *st) {
     ws_splat *splat;
     double *alpha;
     int rc = scoring_begin(scene, split, &splat, &alpha, st);
-    if (!rc) rc = mean_loss(loss, scene, split, c, c->thickness, splat, alpha, out, st);
+    if (!rc) rc = mean_loss(loss, hidden, scene, split, c, c->thickness, splat, alpha, out, st);
     ws_splat_free(splat);
     free(alpha);
     return rc;
 }
 
-int ws_rank_losses(ws_loss *loss, const ws_scene *scene, int split, const ws_curves *gt,
+int ws_rank_losses(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
+                   const ws_curves *gt,
                    double thickness, uint64_t seed, double loss_out[WS_RANK_COUNT], ws_status *st) {
     ws_splat *splat;
     double *alpha;
@@ -130,7 +134,7 @@ int ws_rank_losses(ws_loss *loss, const ws_scene *scene, int split, const ws_cur
     for (int kind = 0; kind < WS_RANK_COUNT && !rc; kind++) {
         ws_curves c = {0};
         rc = ws_rank_variant(gt, kind, thickness, seed, &c, st);
-        if (!rc) rc = mean_loss(loss, scene, split, &c, thickness, splat, alpha, &loss_out[kind], st);
+        if (!rc) rc = mean_loss(loss, hidden, scene, split, &c, thickness, splat, alpha, &loss_out[kind], st);
         ws_curves_free(&c);
     }
     ws_splat_free(splat);

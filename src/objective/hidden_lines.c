@@ -1,0 +1,121 @@
+/* hidden_lines.c: hidden-line removal by the visual hull (see hidden_lines.h). */
+#include <math.h>
+#include <stdlib.h>
+#include "objective/hidden_lines.h"
+#include "objective/view_cache.h"
+
+const char *const ws_hidden_mode_names[2] = {"none", "hull"};
+
+struct ws_hidden_lines {
+    const ws_scene *scene;
+    ws_scene_hull own;         /* carved here when none was lent */
+    const ws_scene_hull *hull;
+    ws_view_cache zmax;        /* per view: Zmax, H x W */
+    float *z;                  /* H x W scratch: Z, then its row pass */
+    uint8_t *hidden;           /* the last mask, grown with it */
+    int hidden_cap;
+};
+
+int ws_hidden_lines_create(ws_hidden_lines **out, const ws_scene *scene, const ws_scene_hull *hull,
+                           ws_view_targets *targets, ws_status *st) {
+    ws_hidden_lines *hl = *out = ws_calloc(1, sizeof *hl, "hidden lines", st);
+    if (!hl) return st->code;
+    hl->scene = scene;
+    size_t hw = (size_t)scene->width * scene->height;
+    const ws_silhouette *sil;
+    if (!hull && (ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, st) ||
+                  ws_scene_hull_make(scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, &hl->own, st)))
+        return st->code;
+    hl->hull = hull ? hull : &hl->own;
+    if (ws_view_cache_init(&hl->zmax, scene, hw, "hull depth maps", st) ||
+        !(hl->z = ws_malloc(hw * sizeof(float), "a hull depth map", st)))
+        return st->code;
+    return WS_OK;
+}
+
+void ws_hidden_lines_free(ws_hidden_lines *hl) {
+    if (!hl) return;
+    ws_scene_hull_free(&hl->own);
+    ws_view_cache_free(&hl->zmax);
+    free(hl->z);
+    free(hl->hidden);
+    free(hl);
+}
+
+/* Z of a view into z (H x W): the surface voxels z-buffered as discs. */
+static void depth_map(const ws_scene_hull *h, const ws_camera *cam, float *z) {
+    const int W = cam->width, H = cam->height;
+    const double rho = h->hull.voxel * sqrt(3.0) / 2;
+    for (size_t k = 0; k < (size_t)W * H; k++) z[k] = INFINITY;
+    for (int k = 0; k < h->surface.n; k++) {
+        double c[3], u, v;
+        ws_camera_to_cam(cam, h->surface.p + 3 * k, c);
+        double d = ws_camera_project(cam, c, &u, &v);
+        if (!(d > rho)) continue;
+        double r = fmax(0.5, cam->focal * rho / d);
+        /* pixel (i, j) when its centre (j + 1/2, i + 1/2) lies within r of (u, v) */
+        int j0 = (int)fmax(0, ceil(u - r - WS_PIXEL_CENTER)), j1 = (int)fmin(W - 1, floor(u + r - WS_PIXEL_CENTER));
+        int i0 = (int)fmax(0, ceil(v - r - WS_PIXEL_CENTER)), i1 = (int)fmin(H - 1, floor(v + r - WS_PIXEL_CENTER));
+        for (int i = i0; i <= i1; i++)
+            for (int j = j0; j <= j1; j++) {
+                double dx = j + WS_PIXEL_CENTER - u, dy = i + WS_PIXEL_CENTER - v;
+                float *at = &z[(size_t)i * W + j];
+                if (dx * dx + dy * dy <= r * r && d < *at) *at = (float)d;
+            }
+    }
+}
+
+/* out = the largest of in over the (2 WINDOW + 1) pixels along each row,
+ * then (in place, through tmp) along each column. */
+static void window_max(const float *in, float *tmp, float *out, int W, int H) {
+    const int w = WS_HIDDEN_WINDOW;
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            float m = -INFINITY;
+            for (int k = j - w; k <= j + w; k++)
+                if (k >= 0 && k < W) m = fmaxf(m, in[(size_t)i * W + k]);
+            tmp[(size_t)i * W + j] = m;
+        }
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            float m = -INFINITY;
+            for (int k = i - w; k <= i + w; k++)
+                if (k >= 0 && k < H) m = fmaxf(m, tmp[(size_t)k * W + j]);
+            out[(size_t)i * W + j] = m;
+        }
+}
+
+/* ws_view_fill of the Zmax cache. */
+static int fill_zmax(void *ctx, int split, int view, float *slot, ws_status *st) {
+    (void)st;
+    ws_hidden_lines *hl = ctx;
+    const ws_camera *cam = &hl->scene->split[split].views[view].cam;
+    depth_map(hl->hull, cam, slot);
+    window_max(slot, hl->z, slot, cam->width, cam->height);
+    return WS_OK;
+}
+
+int ws_hidden_lines_mask(ws_hidden_lines *hl, int split, int view, const double *mu, int n,
+                         const uint8_t **hidden, ws_status *st) {
+    const float *zmax;
+    if (ws_view_cache_get(&hl->zmax, split, view, fill_zmax, hl, &zmax, st)) return st->code;
+    if (n > hl->hidden_cap) {
+        free(hl->hidden);
+        hl->hidden_cap = 2 * n;
+        if (!(hl->hidden = ws_malloc((size_t)hl->hidden_cap, "hidden-line mask", st))) {
+            hl->hidden_cap = 0;
+            return st->code;
+        }
+    }
+    const ws_camera *cam = &hl->scene->split[split].views[view].cam;
+    const double tolerance = WS_HIDDEN_TOLERANCE * hl->hull->hull.voxel;
+    for (int k = 0; k < n; k++) {
+        double c[3], u, v;
+        ws_camera_to_cam(cam, mu + 3 * (size_t)k, c);
+        double d = ws_camera_project(cam, c, &u, &v), j = floor(u), i = floor(v);
+        hl->hidden[k] = d > 0 && j >= 0 && j < cam->width && i >= 0 && i < cam->height &&
+                        d > zmax[(size_t)i * cam->width + (size_t)j] + tolerance;
+    }
+    *hidden = hl->hidden;
+    return WS_OK;
+}

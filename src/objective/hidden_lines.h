@@ -1,0 +1,63 @@
+/* hidden_lines.h: hidden-line removal by the training views' visual hull
+ * (METHOD.md section 6, "Hidden lines").
+ *
+ * The stroke image draws every Gaussian in every view, a see-through
+ * wireframe, while a solid's photo shows no edge where the solid hides it.
+ * With hidden lines removed, a Gaussian is drawn in a view only when the
+ * visual hull (geometry/surface.h) does not hide it there:
+ *   Z (H x W)  the hull's depth map: every surface voxel, centre p at depth
+ *              d, drawn as the disc of radius max(1/2, f rho / d) px
+ *              (rho = voxel sqrt(3) / 2, its circumscribed ball) around p's
+ *              image point, keeping the smallest d per pixel centre; +inf
+ *              where no voxel falls ("no hull there");
+ *   Zmax       the largest Z over the (2 WS_HIDDEN_WINDOW + 1)^2 pixels
+ *              around each pixel: lenient at depth jumps, so a Gaussian
+ *              near a contour (or near a hole) is held against the far
+ *              side, and is visible when any pixel of the window has no
+ *              hull;
+ *   hidden     a Gaussian at depth d_g > 0 whose centre falls in pixel
+ *              (i, j) of the image is hidden when
+ *              d_g > Zmax(i, j) + WS_HIDDEN_TOLERANCE x voxel;
+ *              one behind the camera or whose centre falls outside the
+ *              image is not (the splatting culls or clips it anyway).
+ * The tolerance and the window were chosen by measurement (README, "Hidden
+ * lines"): the visual hull stands proud of the object, most near edges seen
+ * at a grazing angle and over faces seen only from above, and a tube's
+ * axis lies a tube radius behind its hull's surface, while a back edge lies
+ * a good part of the solid's size (tens of voxels) behind the front
+ * surface. Zmax is computed once per view,
+ * when the view first asks for it, and kept. The mask is constant within a
+ * step, like the near-plane culling: a hidden Gaussian adds nothing to the
+ * view's stroke image and gets no gradient from it. Deterministic and
+ * independent of the thread count. */
+#ifndef WS_HIDDEN_LINES_H
+#define WS_HIDDEN_LINES_H
+#include <stdint.h>
+#include "geometry/surface.h"
+#include "io/scene.h"
+#include "objective/view_targets.h"
+#include "nn/base/status.h"
+
+#define WS_HIDDEN_WINDOW 2        /* px: the window is 5 x 5 */
+#define WS_HIDDEN_TOLERANCE 14.0  /* voxels of the hull */
+
+/* --hidden-lines: none (see-through, the CLIP method's sketch) or hull. */
+typedef enum { WS_HIDDEN_NONE, WS_HIDDEN_HULL } ws_hidden_mode;
+extern const char *const ws_hidden_mode_names[2];
+
+typedef struct ws_hidden_lines ws_hidden_lines;
+
+/* For the views of every split of the scene (which must outlive it): hull
+ * is borrowed (it must outlive it too), or NULL to carve the training
+ * views' own at WS_HULL_INIT_RESOLUTION from the silhouettes of targets
+ * (view_targets.h). */
+int ws_hidden_lines_create(ws_hidden_lines **hl, const ws_scene *scene, const ws_scene_hull *hull,
+                           ws_view_targets *targets, ws_status *st);
+void ws_hidden_lines_free(ws_hidden_lines *hl);
+
+/* *hidden: n flags, one per Gaussian centre of mu (n x 3), 1 where view
+ * `view` of `split` does not see it (above); valid until the next call. */
+int ws_hidden_lines_mask(ws_hidden_lines *hl, int split, int view, const double *mu, int n,
+                         const uint8_t **hidden, ws_status *st);
+
+#endif

@@ -1,0 +1,205 @@
+/* test_hidden_lines.c: hidden-line removal by the visual hull
+ * (objective/hidden_lines.h). On a synthetic cube, in every training view:
+ * the vertex nearest the camera, the centre of the face turned most towards
+ * it, and the vertex farthest left in the image (on the contour) are
+ * visible; the farthest vertex, behind the solid, is hidden in most views
+ * (near a contour the window lets it through); a point where no hull
+ * projects is visible however far; a Gaussian behind the camera is not
+ * flagged and the splatting still culls it. On a trefoil tube, the axis
+ * point nearest the camera (a tube radius behind the hull's surface) is
+ * visible in every view. A flagged Gaussian adds nothing to the stroke
+ * image. */
+#define _XOPEN_SOURCE 700
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "metrics/metrics.h"
+#include "objective/hidden_lines.h"
+#include "render/splat.h"
+#include "synth/synth.h"
+#include "scene_load.h"
+
+#define SIZE 128
+
+static double depth_of(const ws_camera *cam, const double p[3], double *u, double *v) {
+    double c[3];
+    ws_camera_to_cam(cam, p, c);
+    return ws_camera_project(cam, c, u, v);
+}
+
+static int visible(ws_hidden_lines *hl, int view, const double p[3]) {
+    ws_status st;
+    const uint8_t *hidden;
+    if (ws_hidden_lines_mask(hl, WS_TRAIN, view, p, 1, &hidden, &st)) {
+        CHECK(0, "mask: %s", st.msg);
+        return -1;
+    }
+    return !hidden[0];
+}
+
+static int make_scene(const char *name, const char *dir, ws_scene *scene, ws_curves *gt) {
+    ws_status st;
+    ws_synth_options syn;
+    ws_synth_options_default(&syn);
+    syn.size = SIZE;
+    syn.views[WS_TRAIN] = 24;
+    syn.views[WS_VAL] = 0;
+    syn.views[WS_TEST] = 0;
+    char path[700];
+    snprintf(path, sizeof path, "%s/gt_curves.json", dir);
+    int rc = ws_synth_write(name, dir, &syn, &st);
+    if (!rc) rc = load_scene_at(scene, dir, SIZE, &st);
+    if (!rc) rc = ws_curves_load(path, gt, &st);
+    CHECK(rc == WS_OK, "%s: %s", name, st.msg);
+    return rc;
+}
+
+static void cube(const char *tmp) {
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/cube", tmp);
+    ws_scene scene = {0};
+    ws_curves gt = {0};
+    ws_hidden_lines *hl = NULL;
+    ws_view_targets *targets = NULL;
+    ws_status st;
+    if (make_scene("cube", dir, &scene, &gt) || ws_view_targets_create(&targets, &scene, &st) ||
+        ws_hidden_lines_create(&hl, &scene, NULL, targets, &st)) {
+        CHECK(!hl, "hidden lines: %s", st.msg);
+        goto done;
+    }
+    /* the vertices: every curve's end points (each twice or more) */
+    double lo[3], hi[3], center[3];
+    ws_curves_bbox(&gt, lo, hi);
+    for (int x = 0; x < 3; x++) center[x] = 0.5 * (lo[x] + hi[x]);
+    const ws_split *train = &scene.split[WS_TRAIN];
+    int hidden_far = 0, bad_near = 0, bad_face = 0, bad_contour = 0, bad_empty = 0;
+    for (int k = 0; k < train->n; k++) {
+        const ws_camera *cam = &train->views[k].cam;
+        int near = 0, far = 0, left = 0;
+        double dn = INFINITY, df = -INFINITY, ul = INFINITY;
+        for (int e = 0; e < 2 * gt.n; e++) {
+            const double *p = gt.P + (e / 2) * WS_CURVE_FLOATS + (e % 2) * 9;
+            double u, v, d = depth_of(cam, p, &u, &v);
+            if (d < dn) dn = d, near = e;
+            if (d > df) df = d, far = e;
+            if (u < ul) ul = u, left = e;
+        }
+#define VERTEX(e) (gt.P + ((e) / 2) * WS_CURVE_FLOATS + ((e) % 2) * 9)
+        bad_near += visible(hl, k, VERTEX(near)) != 1;
+        hidden_far += visible(hl, k, VERTEX(far)) == 0;
+        bad_contour += visible(hl, k, VERTEX(left)) != 1;
+        /* of the faces at the nearest vertex n, whose centres lie half way
+         * between two of its neighbours, the one whose centre is nearest */
+        const double *n = VERTEX(near), *nb[3];
+        int found = 0;
+        for (int e = 0; e < 2 * gt.n && found < 3; e++)
+            if (!memcmp(VERTEX(e), n, 3 * sizeof(double))) nb[found++] = VERTEX(e ^ 1);
+        double face[3] = {0}, best = INFINITY;
+        for (int a = 0; a < found; a++)
+            for (int b = a + 1; b < found; b++) {
+                double f[3], u, v;
+                for (int x = 0; x < 3; x++) f[x] = 0.5 * (nb[a][x] + nb[b][x]);
+                double d = depth_of(cam, f, &u, &v);
+                if (d < best) best = d, memcpy(face, f, sizeof f);
+            }
+        CHECK(found == 3, "cube: the nearest vertex has %d edges", found);
+        bad_face += visible(hl, k, face) != 1;
+        /* far along the ray through the image's corner pixel: no hull there */
+        double dir[3], c[3], p[3];
+        ws_camera_ray(cam, 0.5, 0.5, dir);
+        for (int x = 0; x < 3; x++) c[x] = 100 * dir[x];
+        for (int x = 0; x < 3; x++)
+            p[x] = cam->c2w[x][0] * c[0] + cam->c2w[x][1] * c[1] + cam->c2w[x][2] * c[2] + cam->c2w[x][3];
+        bad_empty += visible(hl, k, p) != 1;
+    }
+#undef VERTEX
+    CHECK(!bad_near && !bad_face && !bad_contour && !bad_empty,
+          "cube: hidden in views where visible: nearest vertex %d, front face %d, contour vertex %d, no hull %d",
+          bad_near, bad_face, bad_contour, bad_empty);
+    CHECK(hidden_far >= train->n * 3 / 4, "cube: the farthest vertex is hidden in %d of %d views", hidden_far,
+          train->n);
+    printf("cube: the farthest vertex hidden in %d of %d views\n", hidden_far, train->n);
+    /* behind the camera: not flagged, and culled by the splatting */
+    const ws_camera *cam = &train->views[0].cam;
+    double behind[3], eye[3];
+    ws_camera_position(cam, eye);
+    for (int x = 0; x < 3; x++) behind[x] = 2 * eye[x] - center[x];
+    double u, v;
+    CHECK(depth_of(cam, behind, &u, &v) < 0 && visible(hl, 0, behind) == 1, "behind the camera: flagged hidden");
+    /* a flagged Gaussian adds nothing: the hidden vertex with the front one
+     * draws what the front one alone draws */
+    double two[6], *alpha = malloc(2 * SIZE * SIZE * sizeof(double));
+    memcpy(two, behind, sizeof behind);
+    memcpy(two + 3, center, sizeof center);
+    ws_splat *s = NULL;
+    ws_splat_options so;
+    ws_splat_options_default(&so);
+    if (ws_splat_create(&s, SIZE, SIZE, &st) == WS_OK) {
+        const uint8_t flags[2] = {0, 1};
+        ws_splat_forward(s, cam, two, 1, 0.02, &so, alpha, &st);
+        double ink = 0;
+        for (int p = 0; p < SIZE * SIZE; p++) ink += alpha[p];
+        CHECK(ink == 0, "a Gaussian behind the camera drew %g", ink);
+        so.hidden = flags;
+        ws_splat_forward(s, cam, two, 2, 0.02, &so, alpha, &st);
+        for (int p = 0; p < SIZE * SIZE; p++) ink += alpha[p];
+        CHECK(ink == 0, "a flagged Gaussian drew %g", ink);
+        so.hidden = NULL;
+        ws_splat_forward(s, cam, two, 2, 0.02, &so, alpha, &st);
+        for (int p = 0; p < SIZE * SIZE; p++) ink += alpha[p];
+        CHECK(ink > 1, "the same Gaussian unflagged drew %g", ink);
+    }
+    ws_splat_free(s);
+    free(alpha);
+done:
+    ws_hidden_lines_free(hl);
+    ws_view_targets_free(targets);
+    ws_scene_free(&scene);
+    ws_curves_free(&gt);
+}
+
+static void trefoil(const char *tmp) {
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/trefoil", tmp);
+    ws_scene scene = {0};
+    ws_curves gt = {0};
+    ws_hidden_lines *hl = NULL;
+    ws_view_targets *targets = NULL;
+    ws_status st;
+    if (make_scene("trefoil", dir, &scene, &gt) || ws_view_targets_create(&targets, &scene, &st) ||
+        ws_hidden_lines_create(&hl, &scene, NULL, targets, &st)) {
+        CHECK(!hl, "hidden lines: %s", st.msg);
+        goto done;
+    }
+    const ws_split *train = &scene.split[WS_TRAIN];
+    int bad = 0;
+    for (int k = 0; k < train->n; k++) {
+        double best = INFINITY, nearest[3] = {0};
+        for (int ci = 0; ci < gt.n; ci++)
+            for (int j = 0; j <= 50; j++) {
+                double p[3], u, v;
+                ws_curve_point(&gt, ci, j / 50.0, p);
+                double d = depth_of(&train->views[k].cam, p, &u, &v);
+                if (d < best) best = d, memcpy(nearest, p, sizeof p);
+            }
+        bad += visible(hl, k, nearest) != 1;
+    }
+    CHECK(bad == 0, "trefoil: the nearest point of the tube's axis is hidden in %d of %d views", bad, train->n);
+done:
+    ws_hidden_lines_free(hl);
+    ws_view_targets_free(targets);
+    ws_scene_free(&scene);
+    ws_curves_free(&gt);
+}
+
+int main(void) {
+    char tmp[] = "/tmp/ws_test_hidden_XXXXXX", cmd[700];
+    if (!mkdtemp(tmp)) return 1;
+    cube(tmp);
+    trefoil(tmp);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
+    if (!check_failed && system(cmd) != 0) return 1;
+    return check_summary();
+}
