@@ -25,11 +25,11 @@
  * at a grazing angle and over faces seen only from above, and a tube's
  * axis lies a tube radius behind its hull's surface, while a back edge lies
  * a good part of the solid's size (tens of voxels) behind the front
- * surface. Zmax is computed once per view,
- * when the view first asks for it, and kept. The mask is constant within a
- * step, like the near-plane culling: a hidden Gaussian adds nothing to the
- * view's stroke image and gets no gradient from it. Deterministic and
- * independent of the thread count. */
+ * surface. Zmax is computed once per view, when the view first asks for
+ * it, and kept (4 bytes a pixel: 32 MB for the rose's 161 views at 224
+ * px). The mask is constant within a step, like the near-plane culling: a
+ * hidden Gaussian adds nothing to the view's stroke image and gets no
+ * gradient from it. Deterministic and independent of the thread count. */
 #ifndef WS_HIDDEN_LINES_H
 #define WS_HIDDEN_LINES_H
 #include <stdint.h>
