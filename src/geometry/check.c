@@ -7,13 +7,22 @@
 #include "geometry/hull.h"
 
 #define MAX_SHIFT 2
-#define FOCAL_STEPS 4 /* scales 2^(e / FOCAL_STEPS), e = -FOCAL_STEPS .. FOCAL_STEPS */
+/* The focal search (check.h): log2 of the scale over [-FOCAL_RANGE,
+ * FOCAL_RANGE] in steps of FOCAL_COARSE, then around the best by halving
+ * the step down to FOCAL_FINE, on every k-th image so that at most
+ * FOCAL_VIEWS take part (its cost grows with the views; 24 find what 96
+ * find on the shared scenes and the synthetic ones). */
+#define FOCAL_RANGE 1.0
+#define FOCAL_COARSE 0.25
+#define FOCAL_FINE (FOCAL_COARSE / 4)
+#define FOCAL_VIEWS 24
 
 /* A hypothesis: image k goes with camera `pair[k]` of the split (-1: none)
  * after `flip` (OpenCV) and a focal scale. */
 typedef struct {
     int shift, flip;
     double focal_scale;
+    int every; /* images 0, every, 2 every, ... only */
 } hypothesis;
 
 static int make_camera(const ws_camera *listed, const hypothesis *h, ws_camera *out, ws_status *st) {
@@ -29,11 +38,12 @@ static int make_camera(const ws_camera *listed, const hypothesis *h, ws_camera *
 }
 
 /* Agreement of every image of the split with the others under hypothesis
- * h; images without a camera under it get NAN. Returns the mean over the
- * images that have one in *mean. */
+ * h, on a conservative or a tight hull (hull.h); images without a camera
+ * under it get NAN. Returns the mean over the images that have one in
+ * *mean. */
 static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const double center[3],
-                           int resolution, const hypothesis *h, double *agreement, double *mean,
-                           ws_status *st) {
+                           int resolution, const hypothesis *h, int tight, double *agreement,
+                           double *mean, ws_status *st) {
     ws_camera *cams = ws_malloc(sizeof *cams * sp->n, "check cameras", st);
     ws_hull_view *hv = cams ? ws_malloc(sizeof *hv * sp->n, "check views", st) : NULL;
     double *a = hv ? ws_malloc(sizeof *a * sp->n, "check agreement", st) : NULL;
@@ -43,12 +53,12 @@ static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const d
     for (int k = 0; k < sp->n && !rc; k++) {
         agreement[k] = NAN;
         int c = k + h->shift;
-        if (c < 0 || c >= sp->n) continue;
+        if (c < 0 || c >= sp->n || k % h->every) continue;
         rc = make_camera(&sp->views[c].cam, h, &cams[m], st);
         hv[m] = (ws_hull_view){.cam = &cams[m], .sil = &sil[k]};
         image[m++] = k;
     }
-    if (!rc && m > 0) rc = ws_hull_carve(hv, m, center, resolution, ws_hull_default_tolerance(m), &hull, st);
+    if (!rc && m > 0) rc = ws_hull_carve(hv, m, center, resolution, ws_hull_default_tolerance(m), tight, &hull, st);
     if (!rc && m > 0) rc = ws_hull_agreement(hv, m, &hull, a, st);
     *mean = 0;
     for (int k = 0; k < m && !rc; k++) {
@@ -63,6 +73,37 @@ static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const d
     return rc;
 }
 
+/* The focal scale whose tight hull agrees best with the split's images
+ * (the listed focal wins ties): *scale, the tight mean agreement at the
+ * listed focal in *listed and at *scale in *best. */
+static int focal_search(const ws_split *sp, const ws_silhouette *sil, const double center[3],
+                        int resolution, double *trial, double *scale, double *listed, double *best,
+                        ws_status *st) {
+    const int every = (sp->n + FOCAL_VIEWS - 1) / FOCAL_VIEWS;
+    const hypothesis one = {0, 0, 1.0, every};
+    int rc = agreement_under(sp, sil, center, resolution, &one, 1, trial, listed, st);
+    double at = 0;
+    *best = *listed;
+    for (double x = -FOCAL_RANGE; x <= FOCAL_RANGE + 1e-9 && !rc; x += FOCAL_COARSE) {
+        if (fabs(x) < 1e-9) continue;
+        const hypothesis h = {0, 0, exp2(x), every};
+        double mean;
+        rc = agreement_under(sp, sil, center, resolution, &h, 1, trial, &mean, st);
+        if (!rc && mean > *best) *best = mean, at = x;
+    }
+    for (double step = FOCAL_COARSE / 2; step >= FOCAL_FINE - 1e-12 && !rc; step /= 2) {
+        const double around = at;
+        for (int side = -1; side <= 1 && !rc; side += 2) {
+            const hypothesis h = {0, 0, exp2(around + side * step), every};
+            double mean;
+            rc = agreement_under(sp, sil, center, resolution, &h, 1, trial, &mean, st);
+            if (!rc && mean > *best) *best = mean, at = around + side * step;
+        }
+    }
+    *scale = exp2(at);
+    return rc;
+}
+
 static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, int resolution,
                        ws_check_split *r, ws_status *st) {
     const ws_split *sp = &scene->split[s];
@@ -72,8 +113,11 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
     r->agreement = trial ? ws_malloc(sizeof *r->agreement * sp->n, "check agreement", st) : NULL;
     r->disagree = r->agreement ? ws_malloc(sizeof *r->disagree * sp->n, "check agreement", st) : NULL;
     int rc = r->disagree ? WS_OK : st->code;
-    const hypothesis listed = {0, 0, 1.0};
-    if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &listed, r->agreement, &r->mean, st);
+    const hypothesis listed = {0, 0, 1.0, 1};
+    if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &listed, 0, r->agreement, &r->mean, st);
+    if (!rc)
+        rc = focal_search(sp, sil, scene->center, resolution, trial, &r->focal_estimate, &r->tight_mean,
+                          &r->tight_fixed, st);
     if (!rc) {
         r->worst = 1;
         for (int k = 0; k < sp->n; k++) {
@@ -100,20 +144,30 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
         }
     }
     double best = r->mean + WS_CHECK_GAIN;
-    /* Every hypothesis of one cause, in a fixed order; ties keep the first. */
+    /* Every hypothesis of one cause, in a fixed order (the focal one at the
+     * estimated scale); ties keep the first. */
     for (int shift = -MAX_SHIFT; shift <= MAX_SHIFT && !rc && inconsistent; shift++)
         for (int flip = 0; flip <= 1 && !rc; flip++)
-            for (int e = -FOCAL_STEPS; e <= FOCAL_STEPS && !rc; e++) {
-                if ((shift != 0) + flip + (e != 0) != 1) continue;
-                hypothesis h = {shift, flip, pow(2.0, (double)e / FOCAL_STEPS)};
+            for (int focal = 0; focal <= 1 && !rc; focal++) {
+                if ((shift != 0) + flip + focal != 1 || (focal && r->focal_estimate == 1)) continue;
+                hypothesis h = {shift, flip, focal ? r->focal_estimate : 1.0, 1};
                 double mean;
-                rc = agreement_under(sp, sil, scene->center, resolution, &h, trial, &mean, st);
+                rc = agreement_under(sp, sil, scene->center, resolution, &h, 0, trial, &mean, st);
                 if (rc || !(mean >= WS_CHECK_MEAN_OK && mean > best)) continue;
                 best = r->fixed_mean = mean;
                 r->cause = shift ? WS_CAUSE_SHIFT : flip ? WS_CAUSE_OPENCV : WS_CAUSE_FOCAL;
                 r->shift = shift;
                 r->focal_scale = h.focal_scale;
             }
+    /* A split the conservative hull finds consistent may still have a wrong
+     * focal that the tight one shows (check.h). */
+    if (!rc && !inconsistent && r->cause == WS_CAUSE_NONE && sp->n >= WS_CHECK_FOCAL_VIEWS &&
+        fabs(log(r->focal_estimate)) > log(WS_CHECK_FOCAL_OFF) &&
+        r->tight_fixed - r->tight_mean > WS_CHECK_FOCAL_GAIN) {
+        r->cause = WS_CAUSE_FOCAL;
+        r->focal_scale = r->focal_estimate;
+        r->fixed_mean = r->tight_fixed;
+    }
     if (inconsistent && r->cause == WS_CAUSE_NONE) {
         r->cause = WS_CAUSE_UNKNOWN;
         r->fixed_mean = r->mean;
@@ -150,9 +204,10 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
         double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
         snprintf(line, size,
                  "%.300s/transforms_%s.json: camera_angle_x %.4g does not fit the images; about %.4g "
-                 "does (focal x%.3g; agreement %.2f, corrected %.2f); fix camera_angle_x, or write "
-                 "a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, split, listed, fixed, r->focal_scale, r->mean, r->fixed_mean, scene->dir);
+                 "does (focal x%.3g; tight-hull agreement %.3f, corrected %.3f); fix camera_angle_x, "
+                 "or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
+                 scene->dir, split, listed, fixed, r->focal_scale, r->tight_mean, r->tight_fixed,
+                 scene->dir);
         break;
     }
     case WS_CAUSE_BAD_FRAMES: {
@@ -197,9 +252,9 @@ static int shift_elsewhere(const ws_scene *scene, const ws_silhouette *const sil
         const ws_split *sp = &scene->split[s];
         double *trial = ws_malloc(sizeof *trial * sp->n, "check agreement", st);
         int rc = trial ? WS_OK : st->code;
-        const hypothesis h = {shift, 0, 1.0};
+        const hypothesis h = {shift, 0, 1.0, 1};
         double mean = 0;
-        if (!rc) rc = agreement_under(sp, sil[s], scene->center, resolution, &h, trial, &mean, st);
+        if (!rc) rc = agreement_under(sp, sil[s], scene->center, resolution, &h, 0, trial, &mean, st);
         if (!rc && mean >= WS_CHECK_MEAN_OK) c->repair_shift = shift;
         free(trial);
         if (rc) return rc;

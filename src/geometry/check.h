@@ -12,13 +12,25 @@
  *   k + s, s = -2 .. 2;
  * - the OpenCV convention (y down, z forward): the second and third
  *   columns of every transform_matrix negated;
- * - a wrong field of view: the focal scaled by 2^(e/4), e = -4 .. 4;
+ * - a wrong field of view: the focal scaled by the focal estimate below;
  * and a hypothesis is the diagnosis when it lifts the mean agreement to
  * WS_CHECK_MEAN_OK or more and above the split's own by WS_CHECK_GAIN
  * (the best such one wins). Failing that, when at most a tenth of the
  * views (at least 1) disagree and the others agree on average, those views
  * are bad frames (a wrong camera or image each); anything else is an
- * inconsistency of unknown cause. */
+ * inconsistency of unknown cause.
+ *
+ * The focal estimate: for cameras aimed at the object a focal error looks
+ * almost like a scaled object (only perspective tells them apart), so the
+ * conservative hull above hides it. Every split's focal is therefore
+ * estimated on a tight hull (hull.h): the scale 2^x, x in [-1, 1], whose
+ * tight hull gives the highest mean agreement (steps of 1/4 in x, then
+ * around the best down to 1/16; on at most 24 of the split's images). A split that passes the test above
+ * of at least WS_CHECK_FOCAL_VIEWS views (fewer make the tight mean too
+ * noisy) still has a wrong focal when that scale is off 1 by more than a
+ * factor WS_CHECK_FOCAL_OFF and lifts the tight mean agreement by more
+ * than WS_CHECK_FOCAL_GAIN over the listed focal (correct scenes stay
+ * below: README). */
 #ifndef WS_GEOMETRY_CHECK_H
 #define WS_GEOMETRY_CHECK_H
 #include "geometry/silhouette.h"
@@ -29,6 +41,9 @@
 #define WS_CHECK_VIEW_OK 0.9
 #define WS_CHECK_GAIN 0.005
 #define WS_CHECK_RESOLUTION 64
+#define WS_CHECK_FOCAL_OFF 1.1
+#define WS_CHECK_FOCAL_GAIN 0.003
+#define WS_CHECK_FOCAL_VIEWS 8
 
 typedef enum {
     WS_CAUSE_NONE,       /* consistent */
@@ -49,6 +64,8 @@ typedef struct {
     int shift;            /* WS_CAUSE_SHIFT */
     double focal_scale;   /* WS_CAUSE_FOCAL: f_true / f_listed */
     double fixed_mean;    /* mean agreement with the fix applied */
+    double focal_estimate; /* the best focal scale on the tight hull */
+    double tight_mean, tight_fixed; /* tight mean agreement at the listed focal, at the estimate */
     int repair_shift;     /* the shift the corrected copy applies to this split: its own, or
                              another split's that fits it as well (check.c) */
 } ws_check_split;

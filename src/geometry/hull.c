@@ -6,6 +6,7 @@
 #include "geometry/hull.h"
 
 #define PIXEL_SLACK 1.42 /* 2 x sqrt(2) / 2: see hull.h */
+#define TIGHT_REACH 0.5  /* the tight test's share of the ball's projected radius */
 
 int ws_hull_default_tolerance(int nviews) { return nviews / 20; }
 
@@ -15,21 +16,21 @@ void ws_hull_voxel_center(const ws_hull *h, int x, int y, int z, double p[3]) {
     p[2] = h->origin[2] + (z + 0.5) * h->voxel;
 }
 
-int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho) {
+int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho, int tight) {
     const ws_camera *cam = v->cam;
     const ws_silhouette *s = v->sil;
     double c[3], u, w;
     ws_camera_to_cam(cam, p, c);
     double d = ws_camera_project(cam, c, &u, &w);
     if (!(d > 2 * rho)) return 0; /* the ball reaches the camera plane: no say */
-    double reach = cam->focal * rho / (d - rho);
+    double reach = (tight ? TIGHT_REACH : 1.0) * cam->focal * rho / (d - rho);
     double cu = fmin(fmax(u, 0.0), cam->width), cv = fmin(fmax(w, 0.0), cam->height);
     if (cu != u || cv != w) {
         if (s->touches_border) return 0;
         return hypot(u - cu, w - cv) > reach;
     }
     int j = (int)u < cam->width ? (int)u : cam->width - 1, i = (int)w < cam->height ? (int)w : cam->height - 1;
-    return s->distance[(size_t)i * cam->width + j] > reach + PIXEL_SLACK;
+    return s->distance[(size_t)i * cam->width + j] > reach + (tight ? 0.0 : PIXEL_SLACK);
 }
 
 /* Counts, for every voxel of h's grid, the views that see it outside, up
@@ -46,7 +47,7 @@ static void count_outside(const ws_hull_view *views, int nviews, ws_hull *h) {
                 ws_hull_voxel_center(h, x, y, z, p);
                 int count = 0;
                 for (int k = 0; k < nviews && count < cap; k++)
-                    count += ws_hull_sees_outside(&views[k], p, rho);
+                    count += ws_hull_sees_outside(&views[k], p, rho, h->tight);
                 size_t at = ws_hull_index(h, x, y, z);
                 h->outside[at] = (uint8_t)count;
                 kept += count <= h->tolerance;
@@ -55,8 +56,9 @@ static void count_outside(const ws_hull_view *views, int nviews, ws_hull *h) {
 }
 
 static int carve_grid(const ws_hull_view *views, int nviews, const double origin[3], double voxel,
-                      const int n[3], int tolerance, ws_hull *h, ws_status *st) {
+                      const int n[3], int tolerance, int tight, ws_hull *h, ws_status *st) {
     ws_hull_free(h);
+    h->tight = tight;
     memcpy(h->n, n, sizeof h->n);
     memcpy(h->origin, origin, sizeof h->origin);
     h->voxel = voxel;
@@ -68,7 +70,7 @@ static int carve_grid(const ws_hull_view *views, int nviews, const double origin
 }
 
 int ws_hull_carve(const ws_hull_view *views, int nviews, const double center[3], int resolution,
-                  int tolerance, ws_hull *h, ws_status *st) {
+                  int tolerance, int tight, ws_hull *h, ws_status *st) {
     *h = (ws_hull){0};
     if (nviews < 1 || resolution < 2 || resolution > 1024 || tolerance < 0 || tolerance > 250)
         return ws_fail(st, WS_EINTERNAL, "hull: %d views, resolution %d, tolerance %d", nviews,
@@ -87,7 +89,7 @@ int ws_hull_carve(const ws_hull_view *views, int nviews, const double center[3],
         return ws_fail(st, WS_EINPUT, "hull: the cameras sit on the scene centre");
     const int coarse[3] = {WS_HULL_COARSE, WS_HULL_COARSE, WS_HULL_COARSE};
     double origin[3] = {center[0] - half, center[1] - half, center[2] - half};
-    if (carve_grid(views, nviews, origin, 2 * half / WS_HULL_COARSE, coarse, tolerance, h, st))
+    if (carve_grid(views, nviews, origin, 2 * half / WS_HULL_COARSE, coarse, tolerance, tight, h, st))
         return st->code;
     if (h->kept == 0) return WS_OK; /* nothing to refine: an empty hull */
     int lo[3] = {coarse[0], coarse[1], coarse[2]}, hi[3] = {-1, -1, -1};
@@ -110,7 +112,7 @@ int ws_hull_carve(const ws_hull_view *views, int nviews, const double center[3],
     double voxel = longest / resolution;
     int n[3];
     for (int a = 0; a < 3; a++) n[a] = (int)ceil(extent[a] / voxel - 1e-9);
-    return carve_grid(views, nviews, box_lo, voxel, n, tolerance, h, st);
+    return carve_grid(views, nviews, box_lo, voxel, n, tolerance, tight, h, st);
 }
 
 void ws_hull_free(ws_hull *h) {
@@ -134,7 +136,7 @@ static void project_others(const ws_hull_view *views, int self, const ws_hull *h
                 if (count > h->tolerance + 1) continue;
                 double p[3], c[3], u, w;
                 ws_hull_voxel_center(h, x, y, z, p);
-                if (count == h->tolerance + 1 && !ws_hull_sees_outside(v, p, rho)) continue;
+                if (count == h->tolerance + 1 && !ws_hull_sees_outside(v, p, rho, h->tight)) continue;
                 ws_camera_to_cam(cam, p, c);
                 double d = ws_camera_project(cam, c, &u, &w);
                 if (!(d > inscribed)) continue;

@@ -13,6 +13,13 @@
  * voxel that holds any part of the object is never seen outside by a view
  * whose silhouette and camera are right.
  *
+ * A tight hull (for measuring, not for holding the object: check.c's
+ * field-of-view estimate) tests the voxel's centre against half the ball's
+ * projected radius and no pixel slack, so that silhouettes which disagree
+ * by a pixel already carve each other: it loses thin parts of a right
+ * object, but about equally at every camera error, while a conservative
+ * hull hides a disagreement of up to 1.42 px plus a voxel.
+ *
  * The hull keeps the voxels seen outside by at most `tolerance` views, so
  * that a few bad masks carve nothing. Carving runs twice: over a cube
  * around the scene centre whose half side is the largest half-width of a
@@ -40,6 +47,7 @@ typedef struct {
     double origin[3];  /* the corner of voxel (0, 0, 0) */
     double voxel;      /* edge length, world units */
     int tolerance;
+    int tight;         /* carved with the tight test (above) */
     uint8_t *outside;  /* views that see the voxel outside, counted up to tolerance + 2 */
     long kept;         /* voxels with outside <= tolerance */
 } ws_hull;
@@ -48,7 +56,7 @@ typedef struct {
 int ws_hull_default_tolerance(int nviews);
 
 int ws_hull_carve(const ws_hull_view *views, int nviews, const double center[3], int resolution,
-                  int tolerance, ws_hull *h, ws_status *st);
+                  int tolerance, int tight, ws_hull *h, ws_status *st);
 void ws_hull_free(ws_hull *h);
 
 static inline size_t ws_hull_index(const ws_hull *h, int x, int y, int z) {
@@ -59,8 +67,9 @@ static inline int ws_hull_in(const ws_hull *h, size_t k) { return h->outside[k] 
 /* World centre of voxel (x, y, z). */
 void ws_hull_voxel_center(const ws_hull *h, int x, int y, int z, double p[3]);
 
-/* Whether view v sees the ball (p, rho) outside its silhouette (see above). */
-int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho);
+/* Whether view v sees the ball (p, rho) outside its silhouette (see above;
+ * tight: the tight test). */
+int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho, int tight);
 
 /* Agreement of every view with the others: agreement[k] is the IoU of view
  * k's silhouette and the projection of the hull carved from the other

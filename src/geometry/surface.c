@@ -63,7 +63,7 @@ int ws_scene_hull_make(const ws_scene *scene, int split, const ws_silhouette *si
     int rc = hv ? WS_OK : st->code;
     for (int k = 0; k < sp->n && !rc; k++) hv[k] = (ws_hull_view){.cam = &sp->views[k].cam, .sil = &sil[k]};
     if (!rc)
-        rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), &out->hull, st);
+        rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), 0, &out->hull, st);
     if (!rc) rc = ws_hull_surface_make(&out->hull, &out->surface, st);
     if (!rc && out->surface.n == 0)
         rc = ws_fail(st, WS_EINPUT, "%s: the %s views' silhouettes have no common volume (try "
