@@ -14,8 +14,11 @@ static void print_table(const ws_scene *scene, const ws_check_report *r) {
     for (int s = 0; s < WS_NSPLITS; s++) {
         const ws_check_split *c = &r->split[s];
         if (c->n == 0) continue;
-        printf("%-6s %5d %6.3f %6.3f %6.3f %6.4f  ", ws_split_names[s], c->n, c->mean, c->worst,
-               c->focal_estimate, c->tight_fixed - c->tight_mean);
+        printf("%-6s %5d %6.3f %6.3f ", ws_split_names[s], c->n, c->mean, c->worst);
+        if (c->tight_fixed > 0) /* estimated (check.h) */
+            printf("%6.3f %6.4f  ", c->focal_estimate, c->tight_fixed - c->tight_mean);
+        else
+            printf("%6s %6s  ", "-", "-");
         for (int d = 0; d < c->ndisagree && d < 12; d++)
             printf("%s%s (%.2f)", d ? ", " : "", scene->split[s].views[c->disagree[d]].name,
                    c->agreement[c->disagree[d]]);

@@ -107,7 +107,7 @@ static int focal_search(const ws_split *sp, const ws_silhouette *sil, const doub
 static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, int resolution,
                        ws_check_split *r, ws_status *st) {
     const ws_split *sp = &scene->split[s];
-    *r = (ws_check_split){.n = sp->n, .focal_scale = 1};
+    *r = (ws_check_split){.n = sp->n, .focal_scale = 1, .focal_estimate = 1};
     if (sp->n == 0) return WS_OK;
     double *trial = ws_malloc(sizeof *trial * sp->n, "check agreement", st);
     r->agreement = trial ? ws_malloc(sizeof *r->agreement * sp->n, "check agreement", st) : NULL;
@@ -115,9 +115,6 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
     int rc = r->disagree ? WS_OK : st->code;
     const hypothesis listed = {0, 0, 1.0, 1};
     if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &listed, 0, r->agreement, &r->mean, st);
-    if (!rc)
-        rc = focal_search(sp, sil, scene->center, resolution, trial, &r->focal_estimate, &r->tight_mean,
-                          &r->tight_fixed, st);
     if (!rc) {
         r->worst = 1;
         for (int k = 0; k < sp->n; k++) {
@@ -143,6 +140,11 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
             inconsistent = 0;
         }
     }
+    /* The focal estimate: the focal hypothesis of an inconsistent split, or
+     * the tight test of a consistent one with enough views. */
+    if (!rc && (inconsistent || (r->cause == WS_CAUSE_NONE && sp->n >= WS_CHECK_FOCAL_VIEWS)))
+        rc = focal_search(sp, sil, scene->center, resolution, trial, &r->focal_estimate, &r->tight_mean,
+                          &r->tight_fixed, st);
     double best = r->mean + WS_CHECK_GAIN;
     /* Every hypothesis of one cause, in a fixed order (the focal one at the
      * estimated scale); ties keep the first. */
