@@ -1,6 +1,7 @@
 /* test_view_cache.c: the loss's per-view cache (objective/view_cache.h):
  * a slot is filled once, on first use, per (split, view); a failed fill
- * leaves no slot and is tried again; the full size counts every view. */
+ * leaves no slot and is tried again; the full size counts every view; a
+ * dropped split's slots are filled again. */
 #include <string.h>
 #include "check.h"
 #include "objective/view_cache.h"
@@ -54,6 +55,11 @@ int main(void) {
     CHECK(ws_view_cache_full_bytes(&cache, WS_TRAIN) == 3 * 3 * sizeof(float) &&
               ws_view_cache_full_bytes(&cache, WS_VAL) == 0,
           "full bytes: %zu", ws_view_cache_full_bytes(&cache, WS_TRAIN));
+    ws_view_cache_drop(&cache, WS_TRAIN);
+    CHECK(cache.slot[WS_TRAIN][0] == NULL && cache.slot[WS_TRAIN][2] == NULL && cache.slot[WS_TEST][1] == t,
+          "a dropped split keeps no slot, another split keeps its own");
+    CHECK(ws_view_cache_get(&cache, WS_TRAIN, 2, fill, &n, &a, &st) == WS_OK && n.calls == 5 && a[2] == 5,
+          "a dropped slot is filled again on its next use");
     ws_view_cache_free(&cache);
     return check_summary();
 }

@@ -2,8 +2,9 @@
  * and shared (objective/view_targets.h). On a 64 px cube: the silhouettes
  * and line targets are bit for bit those made directly
  * (ws_view_silhouette, ws_line_target), a second request returns the same
- * buffers instead of making them again, and a view with its own edge map
- * gets that map. */
+ * buffers instead of making them again, a view with its own edge map gets
+ * that map, and what the setup alone reads, once released, is made again
+ * the same while the training silhouettes stay. */
 #define _XOPEN_SOURCE 700
 #include <ftw.h>
 #include <stdio.h>
@@ -86,6 +87,20 @@ int main(void) {
     CHECK(ws_view_targets_line(t, WS_TRAIN, 2, &line, &st) == WS_OK &&
               !memcmp(line, own->edges.data, hw * sizeof *line),
           "a view's own edge map is not its line target");
+
+    /* released: line targets and validation silhouettes made again, the same */
+    ws_view_targets_release_setup(t);
+    v = &scene.split[WS_VAL].views[1];
+    CHECK(ws_view_targets_line(t, WS_VAL, 1, &line, &st) == WS_OK && !memcmp(line, direct, hw * sizeof *line),
+          "a released line target is not made again the same: %s", st.msg);
+    CHECK(ws_view_targets_silhouettes(t, WS_VAL, &sil2, &st) == WS_OK && ws_view_silhouette(v, &fresh, &st) == WS_OK &&
+              same_silhouette(&sil2[1], &fresh),
+          "a released silhouette is not made again the same: %s", st.msg);
+    ws_silhouette_free(&fresh);
+    CHECK(ws_view_targets_silhouettes(t, WS_TRAIN, &sil2, &st) == WS_OK, "silhouettes: %s", st.msg);
+    kept = 1;
+    for (int k = 0; k < scene.split[WS_TRAIN].n; k++) kept &= sil2[k].in == in[k];
+    CHECK(kept, "the release freed the training silhouettes");
 
     free(direct);
     ws_view_targets_free(t);

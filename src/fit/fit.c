@@ -340,6 +340,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     lo.targets = r->targets;
     lo.hull = &r->hull;
     size_t np = (size_t)r->s.curves.n * WS_CURVE_FLOATS;
+    /* before the objective, whose CLIP model and buffers make the fit's peak */
+    if (lo.lines_weight == 0) ws_view_targets_release_setup(r->targets);
     if (ws_objective_create(&r->objective, &r->scene, &lo, &splat_opt, r->s.curves.n, st)) return st->code;
     if (!(r->grad = ws_malloc(np * sizeof(double), "control point gradient", st)) ||
         !(r->backup = ws_malloc(3 * np * sizeof(double), "control point backup", st)))

@@ -23,6 +23,13 @@ void ws_view_cache_free(ws_view_cache *c) {
     memset(c, 0, sizeof *c);
 }
 
+void ws_view_cache_drop(ws_view_cache *c, int split) {
+    for (int v = 0; v < c->n[split]; v++) {
+        free(c->slot[split][v]);
+        c->slot[split][v] = NULL;
+    }
+}
+
 int ws_view_cache_get(ws_view_cache *c, int split, int view, ws_view_fill fill, void *ctx, const float **out,
                       ws_status *st) {
     float **slot = &c->slot[split][view];

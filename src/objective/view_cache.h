@@ -24,6 +24,9 @@ int ws_view_cache_init(ws_view_cache *c, const ws_scene *scene, size_t floats_pe
                        ws_status *st);
 void ws_view_cache_free(ws_view_cache *c);
 
+/* Frees the filled slots of `split`: each is filled again on its next use. */
+void ws_view_cache_drop(ws_view_cache *c, int split);
+
 /* *out: the slot of view `view` of `split`, filled by fill(ctx, ...) on the
  * first call (a failed fill leaves no slot: the next call tries again). */
 int ws_view_cache_get(ws_view_cache *c, int split, int view, ws_view_fill fill, void *ctx, const float **out,

@@ -2,6 +2,9 @@
  * view_targets.h). */
 #include <stdlib.h>
 #include <string.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include "objective/line_target.h"
 #include "objective/view_cache.h"
 #include "objective/view_targets.h"
@@ -31,6 +34,19 @@ void ws_view_targets_free(ws_view_targets *t) {
     }
     ws_view_cache_free(&t->line);
     free(t);
+}
+
+void ws_view_targets_release_setup(ws_view_targets *t) {
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        ws_view_cache_drop(&t->line, s);
+        for (int v = 0; s != WS_TRAIN && v < t->scene->split[s].n; v++) ws_silhouette_free(&t->sil[s][v]);
+    }
+#ifdef __GLIBC__
+    /* The freed buffers lie in the heap under later ones, where glibc keeps
+     * their pages: handed back, they stay out of the fit's peak (the rose
+     * with f16 weights, bench memory: 713 MB kept, 678 MB handed back). */
+    malloc_trim(0);
+#endif
 }
 
 /* Makes view `view`'s silhouette unless it is made already. */

@@ -13,7 +13,9 @@
  * Memory, per view asked for: 5 bytes a pixel for the silhouette (its mask
  * and distance map), 4 for the line target; 452 KB at 224 x 224, so
  * 43.4 MB for the rose's 96 training views and 72.7 MB with its 32
- * validation and 33 test views (a fit with the line loss asks for all).
+ * validation and 33 test views (a fit with the line loss asks for all;
+ * one without keeps the training silhouettes alone, 24.1 MB, see
+ * ws_view_targets_release_setup).
  *
  * Not thread-safe: ask from serial code (a parallel loop takes what it
  * reads before it starts). */
@@ -38,5 +40,11 @@ int ws_view_targets_silhouettes(ws_view_targets *t, int split, const ws_silhouet
  * ws_line_target of its photo, mask and silhouette; made on the first
  * call. */
 int ws_view_targets_line(ws_view_targets *t, int split, int view, const float **out, ws_status *st);
+
+/* Frees what only a fit's setup reads when its loss reads no line target
+ * (CLIP alone): every line target (the respawn keeps their edges in its
+ * own form) and the validation and test views' silhouettes (the scene
+ * check's): 36 MB for the rose. A later request makes them again. */
+void ws_view_targets_release_setup(ws_view_targets *t);
 
 #endif
