@@ -179,6 +179,52 @@ static void test_hull(const char *dir) {
     ws_scene_free(&scene);
 }
 
+/* A wide nerfstudio trefoil (288 x 216, 48 / 8 / 8 views) whose fl_x and
+ * fl_y are 4/3 the true ones (the vertical angle of view taken for the
+ * horizontal one): flagged with the line naming fl_x and fl_y. */
+static void test_nerfstudio_focal(const char *bin) {
+    char dir[400], broken[400], path[600], out[4096];
+    snprintf(dir, sizeof dir, "%s/wide", tmp);
+    snprintf(broken, sizeof broken, "%s/wide_vertical", tmp);
+    ws_status st;
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    opt.nerfstudio = 1;
+    opt.width = 288;
+    opt.height = 216;
+    if (ws_synth_write("trefoil", dir, &opt, &st)) {
+        CHECK(0, "wide trefoil: %s", st.msg);
+        return;
+    }
+    run(out, sizeof out, "rm -rf %s && mkdir -p %s && ln -s $(realpath %s)/rgb %s/rgb", broken, broken, dir, broken);
+    snprintf(path, sizeof path, "%s/transforms.json", dir);
+    FILE *f = fopen(path, "rb");
+    static char text[1 << 20];
+    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f) fclose(f);
+    text[n] = 0;
+    cJSON *root = cJSON_Parse(text);
+    const char *keys[2] = {"fl_x", "fl_y"};
+    for (int k = 0; k < 2; k++) {
+        cJSON *fl = cJSON_GetObjectItem(root, keys[k]);
+        cJSON_SetNumberValue(fl, fl->valuedouble * 4 / 3);
+    }
+    char *printed = cJSON_Print(root);
+    snprintf(path, sizeof path, "%s/transforms.json", broken);
+    f = fopen(path, "wb");
+    fputs(printed, f);
+    fclose(f);
+    free(printed);
+    cJSON_Delete(root);
+    int rc = run(out, sizeof out, "%s check %s", bin, dir);
+    CHECK(rc == 0 && strstr(out, "consistent"), "wide trefoil: exit %d: %s", rc, out);
+    rc = run(out, sizeof out, "%s check %s", bin, broken);
+    CHECK(rc == 1 && strstr(out, "transforms.json: fl_x and fl_y do not fit the train images; about 0.771 "
+                                 "times them does (tight-hull agreement 0.972, corrected 0.991); multiply "
+                                 "fl_x and fl_y by 0.771"),
+          "wide trefoil, vertical angle for horizontal: exit %d: %s", rc, out);
+}
+
 /* Copies `from` into `to` with every transforms file passed through `edit`. */
 typedef void (*edit_fn)(cJSON *root, int split);
 static void broken_copy(const char *from, const char *to, edit_fn edit) {
@@ -336,6 +382,7 @@ int main(void) {
     CHECK(bad == 2 && strstr(out, "--resolution: 4 is not in [8, 512]"), "bad --resolution: %d %s", bad, out);
     bad = run(out, sizeof out, "%s check %s/nowhere", bin, tmp);
     CHECK(bad == 1 && strstr(out, "nowhere"), "missing scene: %d %s", bad, out);
+    test_nerfstudio_focal(bin);
     /* fit refuses a broken scene, naming --no-check, and fits it with it */
     snprintf(broken, sizeof broken, "%s/shift", tmp);
     int rc = run(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet",

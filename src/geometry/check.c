@@ -201,6 +201,14 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
                  scene->dir, split, r->mean, r->fixed_mean, scene->dir);
         break;
     case WS_CAUSE_FOCAL: {
+        if (scene->layout == WS_LAYOUT_NERFSTUDIO) { /* focal lengths in pixels, one file */
+            snprintf(line, size,
+                     "%.300s/transforms.json: fl_x and fl_y do not fit the %s images; about %.3g times "
+                     "them does (tight-hull agreement %.3f, corrected %.3f); multiply fl_x and fl_y "
+                     "by %.3g",
+                     scene->dir, split, r->focal_scale, r->tight_mean, r->tight_fixed, r->focal_scale);
+            break;
+        }
         double listed = 2 * atan(0.5 * scene->split[s].views[0].cam.width /
                                  scene->split[s].views[0].cam.focal);
         double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
