@@ -10,8 +10,9 @@
 /* The focal search (check.h): log2 of the scale over [-FOCAL_RANGE,
  * FOCAL_RANGE] in steps of FOCAL_COARSE, then around the best by halving
  * the step down to FOCAL_FINE, on every k-th image so that at most
- * FOCAL_VIEWS take part (its cost grows with the views; 24 find what 96
- * find on the shared scenes and the synthetic ones). */
+ * FOCAL_VIEWS take part (its cost grows with the views; 24 gave the same
+ * verdicts as all views on the copies compared: the rose, the nut, the
+ * chair with its focal x1.1, the cube with x0.8). */
 #define FOCAL_RANGE 1.0
 #define FOCAL_COARSE 0.25
 #define FOCAL_FINE (FOCAL_COARSE / 4)

@@ -22,12 +22,13 @@
  *
  * The focal estimate: for cameras aimed at the object a focal error looks
  * almost like a scaled object (only perspective tells them apart), so the
- * conservative hull above hides it. Every split's focal is therefore
- * estimated on a tight hull (hull.h): the scale 2^x, x in [-1, 1], whose
- * tight hull gives the highest mean agreement (steps of 1/4 in x, then
- * around the best down to 1/16; on at most 24 of the split's images). A split that passes the test above
- * of at least WS_CHECK_FOCAL_VIEWS views (fewer make the tight mean too
- * noisy) still has a wrong focal when that scale is off 1 by more than a
+ * conservative hull above hides it. The focal is therefore estimated on a
+ * tight hull (hull.h): the scale 2^x, x in [-1, 1], whose tight hull gives
+ * the highest mean agreement (steps of 1/4 in x, then around the best down
+ * to 1/16; on at most 24 of the split's images). An inconsistent split
+ * tries it as its focal hypothesis; a split that passes the test above and
+ * has at least WS_CHECK_FOCAL_VIEWS views (fewer make the tight mean too
+ * noisy) still has a wrong focal when the estimate is off 1 by more than a
  * factor WS_CHECK_FOCAL_OFF and lifts the tight mean agreement by more
  * than WS_CHECK_FOCAL_GAIN over the listed focal (correct scenes stay
  * below: README). */
