@@ -24,7 +24,8 @@ int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho, i
     double d = ws_camera_project(cam, c, &u, &w);
     if (!(d > 2 * rho)) return 0; /* the ball reaches the camera plane: no say */
     double reach = (tight ? TIGHT_REACH : 1.0) * cam->focal * rho / (d - rho);
-    double cu = fmin(fmax(u, 0.0), cam->width), cv = fmin(fmax(w, 0.0), cam->height);
+    const double width = cam->width, height = cam->height; /* u, w clamped to the frame: */
+    double cu = u < 0 ? 0 : u > width ? width : u, cv = w < 0 ? 0 : w > height ? height : w;
     if (cu != u || cv != w) {
         if (s->touches_border) return 0;
         return hypot(u - cu, w - cv) > reach;
@@ -122,13 +123,16 @@ void ws_hull_free(ws_hull *h) {
 }
 
 /* The hull less view `self` drawn into view `self`'s image: voxels seen
- * outside by at most tolerance views other than it. drawn: H x W, zeroed. */
-static void project_others(const ws_hull_view *views, int self, const ws_hull *h, uint8_t *drawn) {
+ * outside by at most tolerance views other than it. Only the pixels set in
+ * `todo` (H x W) are drawn, each at most once: drawing clears it, so a
+ * solid hull's many voxels behind the first skip their pixels' disc test.
+ * Returns the pixels drawn. */
+static long project_others(const ws_hull_view *views, int self, const ws_hull *h, uint8_t *todo) {
     const ws_hull_view *v = &views[self];
     const ws_camera *cam = v->cam;
     const int W = cam->width, H = cam->height;
     const double rho = h->voxel * sqrt(3.0) / 2, inscribed = h->voxel / 2;
-    memset(drawn, 0, (size_t)W * H);
+    long drawn = 0;
     for (int z = 0; z < h->n[2]; z++)
         for (int y = 0; y < h->n[1]; y++)
             for (int x = 0; x < h->n[0]; x++) {
@@ -142,13 +146,19 @@ static void project_others(const ws_hull_view *views, int self, const ws_hull *h
                 if (!(d > inscribed)) continue;
                 double r = cam->focal * inscribed / d;
                 int j0 = (int)floor(u - r), j1 = (int)floor(u + r), i0 = (int)floor(w - r), i1 = (int)floor(w + r);
+                const int ju = (int)floor(u), iw = (int)floor(w);
                 for (int i = i0 > 0 ? i0 : 0; i <= i1 && i < H; i++)
                     for (int j = j0 > 0 ? j0 : 0; j <= j1 && j < W; j++) {
+                        uint8_t *t = &todo[(size_t)i * W + j];
+                        if (!*t) continue;
                         double du = j + WS_PIXEL_CENTER - u, dv = i + WS_PIXEL_CENTER - w;
-                        int under = j == (int)floor(u) && i == (int)floor(w);
-                        if (under || du * du + dv * dv <= r * r) drawn[(size_t)i * W + j] = 1;
+                        if ((j == ju && i == iw) || du * du + dv * dv <= r * r) {
+                            *t = 0;
+                            drawn++;
+                        }
                     }
             }
+    return drawn;
 }
 
 int ws_hull_agreement(const ws_hull_view *views, int nviews, const ws_hull *h, double *agreement,
@@ -168,13 +178,15 @@ int ws_hull_agreement(const ws_hull_view *views, int nviews, const ws_hull *h, d
     for (int k = 0; k < nviews; k++) {
         uint8_t *mine = drawn + (size_t)omp_get_thread_num() * W * H;
         const ws_silhouette *s = views[k].sil;
-        project_others(views, k, h, mine);
-        long both = 0, either = 0;
-        for (size_t p = 0; p < (size_t)s->width * s->height; p++) {
-            both += mine[p] & s->in[p];
-            either += mine[p] | s->in[p];
-        }
-        agreement[k] = s->area ? (double)both / s->area : (either ? 0.0 : 1.0);
+        /* The IoU needs the projection only inside the silhouette, or
+         * anywhere for an empty one. */
+        const size_t npix = (size_t)s->width * s->height;
+        if (s->area)
+            memcpy(mine, s->in, npix);
+        else
+            memset(mine, 1, npix);
+        long both = project_others(views, k, h, mine);
+        agreement[k] = s->area ? (double)both / s->area : (both ? 0.0 : 1.0);
     }
     free(drawn);
     return WS_OK;

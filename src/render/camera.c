@@ -71,18 +71,6 @@ int ws_camera_check_angle(double camera_angle_x, const char *what, ws_status *st
     return WS_OK;
 }
 
-void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]) {
-    for (int i = 0; i < 3; i++)
-        c[i] = cam->R[i][0] * p[0] + cam->R[i][1] * p[1] + cam->R[i][2] * p[2] + cam->t[i];
-}
-
-double ws_camera_project(const ws_camera *cam, const double c[3], double *u, double *v) {
-    double d = -c[2];
-    *u = cam->cx + cam->focal * c[0] / d;
-    *v = cam->cy - cam->focal * c[1] / d;
-    return d;
-}
-
 void ws_camera_ray(const ws_camera *cam, double u, double v, double dir[3]) {
     dir[0] = (u - cam->cx) / cam->focal;
     dir[1] = -(v - cam->cy) / cam->focal;

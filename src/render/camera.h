@@ -45,15 +45,24 @@ int ws_camera_init_pinhole(ws_camera *cam, const double c2w[4][4], double focal,
 /* camera_angle_x in [WS_CAMERA_MIN_ANGLE, pi - WS_CAMERA_MIN_ANGLE]. */
 int ws_camera_check_angle(double camera_angle_x, const char *what, ws_status *st);
 
-/* Camera-space coordinates c = R p + t. */
-void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]);
+/* Camera-space coordinates c = R p + t. Inline, as is ws_camera_project:
+ * the hull (geometry/hull.c) calls both per voxel and view. */
+static inline void ws_camera_to_cam(const ws_camera *cam, const double p[3], double c[3]) {
+    for (int i = 0; i < 3; i++)
+        c[i] = cam->R[i][0] * p[0] + cam->R[i][1] * p[1] + cam->R[i][2] * p[2] + cam->t[i];
+}
 
 /* Pixel j's centre is at image coordinate j + WS_PIXEL_CENTER. */
 #define WS_PIXEL_CENTER 0.5
 
 /* Image point (u, v) of camera-space point c; returns its depth d = -c_z.
  * u and v are meaningful only when d > 0. */
-double ws_camera_project(const ws_camera *cam, const double c[3], double *u, double *v);
+static inline double ws_camera_project(const ws_camera *cam, const double c[3], double *u, double *v) {
+    double d = -c[2];
+    *u = cam->cx + cam->focal * c[0] / d;
+    *v = cam->cy - cam->focal * c[1] / d;
+    return d;
+}
 
 /* Camera-space direction (x, y, -1) of the ray through image point (u, v). */
 void ws_camera_ray(const ws_camera *cam, double u, double v, double dir[3]);
