@@ -26,7 +26,7 @@ typedef struct {
     ws_splat *splat;
     ws_splat_options so;
     ws_hidden_lines *hidden; /* NULL: every Gaussian drawn */
-    int n_hidden;            /* Gaussians the last fresh sampling hid */
+    int n_hidden;            /* Gaussians of the last gradient that got none (culled) */
     ws_gaussians g;
     double *alpha, *dalpha, *dmu;
 } setup;
@@ -35,19 +35,15 @@ typedef struct {
  * gradient. rng0: the augmentation stream, restored for every evaluation.
  * With dP the curves are sampled anew; without, the Gaussians keep the
  * parameters t_k of the last sampling (METHOD.md section 2: the t_k are constants of the
- * backward pass, so the finite differences must hold them too), as they
- * hold the hidden-line mask of the last sampling (a constant of the step). */
+ * backward pass, so the finite differences must hold them too). With hidden
+ * lines removed, the view's far limit culls the Gaussians behind it. */
 static double loss_of(setup *s, const ws_curves *c, int augment, const ws_rng *rng0, double *dP) {
     ws_status st = {0};
     ws_rng rng = *rng0;
     double value = NAN;
     if (dP && ws_curves_sample(c, &s->g, &st)) return NAN;
     for (int k = 0; !dP && k < s->g.n; k++) ws_curve_point(c, s->g.curve[k], s->g.t[k], s->g.mu + 3 * k);
-    if (dP && s->hidden) {
-        if (ws_hidden_lines_mask(s->hidden, WS_TRAIN, 0, s->g.mu, s->g.n, &s->so.hidden, &st)) return NAN;
-        s->n_hidden = 0;
-        for (int k = 0; k < s->g.n; k++) s->n_hidden += s->so.hidden[k];
-    }
+    if (s->hidden && ws_hidden_lines_far(s->hidden, WS_TRAIN, 0, &s->so.far, &st)) return NAN;
     if (ws_splat_forward(s->splat, &s->scene.split[WS_TRAIN].views[0].cam, s->g.mu, s->g.n, c->thickness,
                          &s->so, s->alpha, &st) ||
         ws_loss_view(s->loss, WS_TRAIN, 0, s->alpha, augment, &rng, &value, dP ? s->dalpha : NULL, &st)) {
@@ -57,6 +53,10 @@ static double loss_of(setup *s, const ws_curves *c, int augment, const ws_rng *r
     if (dP) {
         if (ws_splat_backward(s->splat, s->dalpha, s->dmu, &st)) return NAN;
         ws_curves_backward(c, &s->g, s->dmu, dP);
+        /* at the exact sum every drawn Gaussian reaches every pixel: only a culled one gets 0 */
+        s->n_hidden = 0;
+        for (int k = 0; k < s->g.n; k++)
+            s->n_hidden += s->dmu[3 * k] == 0 && s->dmu[3 * k + 1] == 0 && s->dmu[3 * k + 2] == 0;
     }
     return value;
 }
@@ -231,8 +231,8 @@ int main(void) {
         free_setup(&s);
     }
     /* The same with hidden lines removed by the hull of a cube's 8 training
-     * views: the mask hides some Gaussians (those inside the cube) and is
-     * held constant, so the gradient is that of the masked loss. */
+     * views: the far limit culls some Gaussians (those inside the cube), and
+     * the gradient is that of the loss of those it lets through. */
     {
         setup s = {0};
         ws_curves c = {0};

@@ -1,7 +1,8 @@
 /* test_splat.c: the splatting rasteriser against a direct summation written
  * here, against the reference fixture of tools/reference_splat.py, its
  * gradients against central finite differences (double), the stiff cases of
- * METHOD.md section 3, and determinism (same bits for 1 and 2 threads). */
+ * METHOD.md section 3, the far limit, and determinism (same bits for 1 and
+ * 2 threads). */
 #include <cJSON.h>
 #include <math.h>
 #include <omp.h>
@@ -489,6 +490,48 @@ static void test_stiff(void) {
     ws_splat_free(s2);
 }
 
+/* The far limit (hidden-line removal): of two Gaussians on one pixel's
+ * centre, the one beyond the pixel's limit draws nothing and gets zero
+ * gradient, the one in front draws what it draws alone; a centre outside
+ * the image is not culled by it; NULL is see-through. */
+static void test_far_limit(void) {
+    ws_status st;
+    const double eye[3] = {0, 0, 4}, target[3] = {0, 0, 0};
+    ws_camera cam = look_at(eye, target, 64, 64);
+    double f = cam.focal;
+    /* both on the centre of pixel (32, 32): in front at depth 3.5, behind at 4.5 */
+    double two[6] = {0.5 * 3.5 / f, -0.5 * 3.5 / f, 0.5, 0.5 * 4.5 / f, -0.5 * 4.5 / f, -0.5};
+    double radius = 2 * 4 / f, front[64 * 64], a[64 * 64], ones[64 * 64], dmu[6];
+    static float far[64 * 64];
+    for (int p = 0; p < 64 * 64; p++) far[p] = p == 32 * 64 + 32 ? 4.0f : 0.0f;
+    for (int p = 0; p < 64 * 64; p++) ones[p] = 1.0;
+    ws_splat_options opt;
+    ws_splat_options_default(&opt);
+    ws_splat *s;
+    ws_splat_create(&s, 64, 64, &st);
+    ws_splat_forward(s, &cam, two, 1, radius, &opt, front, &st);
+    opt.far = far;
+    CHECK(ws_splat_forward(s, &cam, two, 2, radius, &opt, a, &st) == WS_OK && !memcmp(a, front, sizeof a),
+          "far limit: the Gaussian beyond it changed alpha");
+    CHECK(ws_splat_backward(s, ones, dmu, &st) == WS_OK && dmu[3] == 0 && dmu[4] == 0 && dmu[5] == 0 &&
+              (dmu[0] != 0 || dmu[1] != 0 || dmu[2] != 0),
+          "far limit: gradients %g %g %g (in front), %g %g %g (beyond: 0)", dmu[0], dmu[1], dmu[2], dmu[3], dmu[4],
+          dmu[5]);
+    double ink = 0;
+    for (int p = 0; p < 64 * 64; p++) ink += front[p];
+    CHECK(ink > 1, "far limit: the Gaussian in front drew %g", ink);
+    /* 1.5 px left of the image (limit 0 everywhere in it): its footprint reaches in */
+    double outside[3] = {-33.5 * 4 / f, 0, 0};
+    CHECK(ws_splat_forward(s, &cam, outside, 1, radius, &opt, a, &st) == WS_OK && a[32 * 64] > 0,
+          "far limit: a centre outside the image was culled (alpha %g at its edge)", a[32 * 64]);
+    opt.far = NULL;
+    ws_splat_forward(s, &cam, two, 2, radius, &opt, a, &st);
+    double both = 0;
+    for (int p = 0; p < 64 * 64; p++) both += a[p];
+    CHECK(both > ink, "no far limit: the Gaussian behind adds nothing (%g against %g)", both, ink);
+    ws_splat_free(s);
+}
+
 /* Same input, same bits: twice with 2 threads and once with 1. */
 static void test_determinism(void) {
     ws_status st;
@@ -568,6 +611,7 @@ int main(void) {
     test_gradients();
     test_end_to_end();
     test_stiff();
+    test_far_limit();
     test_determinism();
     return check_summary();
 }

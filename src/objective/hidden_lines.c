@@ -10,10 +10,8 @@ struct ws_hidden_lines {
     const ws_scene *scene;
     ws_scene_hull own;         /* carved here when none was lent */
     const ws_scene_hull *hull;
-    ws_view_cache zmax;        /* per view: Zmax, H x W */
-    float *z;                  /* H x W scratch: Z, then its row pass */
-    uint8_t *hidden;           /* the last mask, grown with it */
-    int hidden_cap;
+    ws_view_cache far;         /* per view: the far limit, H x W */
+    float *z;                  /* H x W scratch: the window's row pass */
 };
 
 int ws_hidden_lines_create(ws_hidden_lines **out, const ws_scene *scene, const ws_scene_hull *hull,
@@ -27,8 +25,8 @@ int ws_hidden_lines_create(ws_hidden_lines **out, const ws_scene *scene, const w
                   ws_scene_hull_make(scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, &hl->own, st)))
         return st->code;
     hl->hull = hull ? hull : &hl->own;
-    if (ws_view_cache_init(&hl->zmax, scene, hw, "hull depth maps", st) ||
-        !(hl->z = ws_malloc(hw * sizeof(float), "a hull depth map", st)))
+    if (ws_view_cache_init(&hl->far, scene, hw, "hidden-line far limits", st) ||
+        !(hl->z = ws_malloc(hw * sizeof(float), "a hidden-line scratch map", st)))
         return st->code;
     return WS_OK;
 }
@@ -36,9 +34,8 @@ int ws_hidden_lines_create(ws_hidden_lines **out, const ws_scene *scene, const w
 void ws_hidden_lines_free(ws_hidden_lines *hl) {
     if (!hl) return;
     ws_scene_hull_free(&hl->own);
-    ws_view_cache_free(&hl->zmax);
+    ws_view_cache_free(&hl->far);
     free(hl->z);
-    free(hl->hidden);
     free(hl);
 }
 
@@ -85,37 +82,19 @@ static void window_max(const float *in, float *tmp, float *out, int W, int H) {
         }
 }
 
-/* ws_view_fill of the Zmax cache. */
-static int fill_zmax(void *ctx, int split, int view, float *slot, ws_status *st) {
+/* ws_view_fill of the far limits: Z, its window's largest, plus the
+ * tolerance (added here only; +inf, no hull, stays +inf). */
+static int fill_far(void *ctx, int split, int view, float *slot, ws_status *st) {
     (void)st;
     ws_hidden_lines *hl = ctx;
     const ws_camera *cam = &hl->scene->split[split].views[view].cam;
+    const double tolerance = WS_HIDDEN_TOLERANCE * hl->hull->hull.voxel;
     depth_map(hl->hull, cam, slot);
     window_max(slot, hl->z, slot, cam->width, cam->height);
+    for (size_t k = 0; k < (size_t)cam->width * cam->height; k++) slot[k] = (float)(slot[k] + tolerance);
     return WS_OK;
 }
 
-int ws_hidden_lines_mask(ws_hidden_lines *hl, int split, int view, const double *mu, int n,
-                         const uint8_t **hidden, ws_status *st) {
-    const float *zmax;
-    if (ws_view_cache_get(&hl->zmax, split, view, fill_zmax, hl, &zmax, st)) return st->code;
-    if (n > hl->hidden_cap) {
-        free(hl->hidden);
-        hl->hidden_cap = 2 * n;
-        if (!(hl->hidden = ws_malloc((size_t)hl->hidden_cap, "hidden-line mask", st))) {
-            hl->hidden_cap = 0;
-            return st->code;
-        }
-    }
-    const ws_camera *cam = &hl->scene->split[split].views[view].cam;
-    const double tolerance = WS_HIDDEN_TOLERANCE * hl->hull->hull.voxel;
-    for (int k = 0; k < n; k++) {
-        double c[3], u, v;
-        ws_camera_to_cam(cam, mu + 3 * (size_t)k, c);
-        double d = ws_camera_project(cam, c, &u, &v), j = floor(u), i = floor(v);
-        hl->hidden[k] = d > 0 && j >= 0 && j < cam->width && i >= 0 && i < cam->height &&
-                        d > zmax[(size_t)i * cam->width + (size_t)j] + tolerance;
-    }
-    *hidden = hl->hidden;
-    return WS_OK;
+int ws_hidden_lines_far(ws_hidden_lines *hl, int split, int view, const float **far, ws_status *st) {
+    return ws_view_cache_get(&hl->far, split, view, fill_far, hl, far, st);
 }

@@ -15,24 +15,25 @@
  *              near a contour (or near a hole) is held against the far
  *              side, and is visible when any pixel of the window has no
  *              hull;
- *   hidden     a Gaussian at depth d_g > 0 whose centre falls in pixel
- *              (i, j) of the image is hidden when
- *              d_g > Zmax(i, j) + WS_HIDDEN_TOLERANCE x voxel;
- *              one behind the camera or whose centre falls outside the
- *              image is not (the splatting culls or clips it anyway).
+ *   far        Zmax(i, j) + WS_HIDDEN_TOLERANCE x voxel, the far limit of
+ *              the splatting (render/splat.h): a Gaussian at depth d whose
+ *              centre falls in pixel (i, j) of the image is hidden when
+ *              d > far(i, j) (+inf where no hull); one behind the camera
+ *              or whose centre falls outside the image is not (the
+ *              splatting culls or clips it anyway).
  * The tolerance and the window were chosen by measurement (README, "Hidden
  * lines"): the visual hull stands proud of the object, most near edges seen
  * at a grazing angle and over faces seen only from above, and a tube's
  * axis lies a tube radius behind its hull's surface, while a back edge lies
  * a good part of the solid's size (tens of voxels) behind the front
- * surface. Zmax is computed once per view, when the view first asks for
- * it, and kept (4 bytes a pixel: 32 MB for the rose's 161 views at 224
- * px). The mask is constant within a step, like the near-plane culling: a
- * hidden Gaussian adds nothing to the view's stroke image and gets no
- * gradient from it. Deterministic and independent of the thread count. */
+ * surface. The far map is made once per view, when the view first asks
+ * for it, and kept (4 bytes a pixel: 32 MB for the rose's 161 views at 224
+ * px); the splatting tests each Gaussian against it as it projects it, as
+ * it tests the near plane: a hidden Gaussian adds nothing to the view's
+ * stroke image and gets no gradient from it. Deterministic and
+ * independent of the thread count. */
 #ifndef WS_HIDDEN_LINES_H
 #define WS_HIDDEN_LINES_H
-#include <stdint.h>
 #include "geometry/surface.h"
 #include "io/scene.h"
 #include "objective/view_targets.h"
@@ -55,9 +56,8 @@ int ws_hidden_lines_create(ws_hidden_lines **hl, const ws_scene *scene, const ws
                            ws_view_targets *targets, ws_status *st);
 void ws_hidden_lines_free(ws_hidden_lines *hl);
 
-/* *hidden: n flags, one per Gaussian centre of mu (n x 3), 1 where view
- * `view` of `split` does not see it (above); valid until the next call. */
-int ws_hidden_lines_mask(ws_hidden_lines *hl, int split, int view, const double *mu, int n,
-                         const uint8_t **hidden, ws_status *st);
+/* *far: the far limit of view `view` of `split` (H x W, above), for
+ * ws_splat_options.far; valid as long as hl. */
+int ws_hidden_lines_far(ws_hidden_lines *hl, int split, int view, const float **far, ws_status *st);
 
 #endif

@@ -127,9 +127,7 @@ static int grow_dmu(ws_objective *o, ws_status *st) {
 
 static int splat_view(ws_objective *o, const ws_curves *c, int split, int view, ws_status *st) {
     double t0 = ws_time_start(o->timing);
-    if (o->hidden && ws_hidden_lines_mask(o->hidden, split, view, o->gaussians.mu, o->gaussians.n,
-                                          &o->splat_opt.hidden, st))
-        return st->code;
+    if (o->hidden && ws_hidden_lines_far(o->hidden, split, view, &o->splat_opt.far, st)) return st->code;
     if (ws_splat_forward(o->splat, &o->scene->split[split].views[view].cam, o->gaussians.mu, o->gaussians.n,
                          c->thickness, &o->splat_opt, o->alpha, st))
         return st->code;

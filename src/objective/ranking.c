@@ -91,7 +91,7 @@ static int mean_loss(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *sce
     for (int v = 0; v < sp->n && !rc; v++) {
         double l;
         if (c->n > 0) {
-            if (hidden) rc = ws_hidden_lines_mask(hidden, split, v, g.mu, g.n, &so.hidden, st);
+            if (hidden) rc = ws_hidden_lines_far(hidden, split, v, &so.far, st);
             if (!rc) rc = ws_splat_forward(splat, &sp->views[v].cam, g.mu, g.n, thickness, &so, alpha, st);
         } else {
             memset(alpha, 0, (size_t)scene->width * scene->height * sizeof(double));

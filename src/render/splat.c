@@ -58,7 +58,7 @@ struct ws_splat {
 void ws_splat_options_default(ws_splat_options *opt) {
     opt->cutoff = 4.0;
     opt->near = 1e-3;
-    opt->hidden = NULL;
+    opt->far = NULL;
 }
 
 /* Grows an array to hold `count` items of `size` bytes (contents kept). */
@@ -134,17 +134,24 @@ void ws_splat_free(ws_splat *s) {
     free(s);
 }
 
-/* Projects one Gaussian; a culled one (depth <= near, flagged hidden, or a
- * projection that overflows) or one whose cut-off box misses the image gets an empty box. */
+/* Projects one Gaussian; a culled one (depth <= near, beyond the far limit
+ * of its centre's pixel, or a projection that overflows) or one whose
+ * cut-off box misses the image gets an empty box. */
 static void project(const ws_camera *cam, const double mu[3], double radius, double cutoff,
-                    double near, int hidden, projected *p) {
+                    double near, const float *far, projected *p) {
     ws_camera_to_cam(cam, mu, p->c);
     double u, v, d = ws_camera_project(cam, p->c, &u, &v);
     p->x0 = 1;
     p->x1 = 0;
     p->y0 = 1;
     p->y1 = 0;
-    if (!(d > near) || hidden) return;
+    if (!(d > near)) return;
+    if (far) {
+        double j = floor(u), i = floor(v);
+        if (j >= 0 && j < cam->width && i >= 0 && i < cam->height &&
+            d > far[(size_t)i * cam->width + (size_t)j])
+            return;
+    }
     p->u = u - WS_PIXEL_CENTER;
     p->v = v - WS_PIXEL_CENTER;
     p->sigma = cam->focal * radius / d;
@@ -225,7 +232,7 @@ int ws_splat_forward(ws_splat *s, const ws_camera *cam, const double *mu, int n,
     /* Per-Gaussian loops are cheap: a thread team pays only for many. */
     #pragma omp parallel for schedule(static) if (n >= PARALLEL_GAUSSIANS)
     for (int k = 0; k < n; k++)
-        project(cam, mu + (size_t)k * 3, radius, cutoff, opt->near, opt->hidden && opt->hidden[k], &s->g[k]);
+        project(cam, mu + (size_t)k * 3, radius, cutoff, opt->near, opt->far, &s->g[k]);
     int longest;
     if (bin_tiles(s, n, &longest, st) || reserve_scratch(s, omp_get_max_threads(), (size_t)longest * TILE, st))
         return st->code;

@@ -1,7 +1,8 @@
 /* splat.h: the differentiable Gaussian splatting rasteriser (METHOD.md section 3).
  *
  * For each Gaussian (centre mu, world radius r) seen by a camera at depth
- * d > near (and not flagged hidden): image point (u, v), footprint sigma = f r / d, weight
+ * d > near (and, with a far limit, d <= far(i, j) of the pixel (i, j) its
+ * centre falls in): image point (u, v), footprint sigma = f r / d, weight
  * w = exp(-((j + 1/2 - u)^2 + (i + 1/2 - v)^2) / (2 sigma^2)) at pixel
  * (row i, col j), whose centre is (j + 1/2, i + 1/2) (camera.h),
  * cut off beyond `cutoff` sigmas (INFINITY = the exact sum over all pixels);
@@ -11,15 +12,17 @@
  * given input and thread count. */
 #ifndef WS_SPLAT_H
 #define WS_SPLAT_H
-#include <stdint.h>
 #include "render/camera.h"
 #include "nn/base/status.h"
 
 typedef struct {
     double cutoff; /* in sigmas; INFINITY = exact; default 4 */
     double near;   /* Gaussians with depth <= near are culled; default 1e-3 */
-    const uint8_t *hidden; /* NULL, or one flag per Gaussian: those flagged are culled too
-                            * (hidden-line removal, objective/hidden_lines.h); default NULL */
+    const float *far; /* NULL, or a per-pixel far limit (height x width): a Gaussian at
+                       * depth d whose centre falls in pixel (i, j) of the image is culled
+                       * too when d > far[i width + j]; one whose centre falls outside the
+                       * image is not (hidden-line removal, objective/hidden_lines.h);
+                       * default NULL */
 } ws_splat_options;
 
 void ws_splat_options_default(ws_splat_options *opt);
