@@ -1,7 +1,8 @@
 /* test_synth.c: the synthetic scenes: they load as scenes, their images
  * show the ground-truth curves where the cameras project them (and nothing
  * elsewhere), the object is centred, gt_curves.json loads, and the same
- * options give the same bytes. Small scenes (few views, 64 px) keep it fast. */
+ * options give the same bytes; the wire objects have their promised shapes.
+ * Small scenes (few views, 64 to 96 px) keep it fast. */
 #define _XOPEN_SOURCE 700
 #include <ftw.h>
 #include <math.h>
@@ -90,8 +91,10 @@ static void check_view(const ws_view *v, const ws_curves *gt, const char *label)
     free(uvr);
 }
 
-/* Generates `name` into tmp/dir_name and checks it end to end. */
-static void check_scene(const char *name, const char *dir_name, const int views[3], int size) {
+/* Generates `name` into tmp/dir_name and checks it end to end: its
+ * gt_curves.json holds the object's `curves` curves. */
+static void check_scene(const char *name, const char *dir_name, const int views[3], int size,
+                        int curves) {
     char dir[512], path[600];
     snprintf(dir, sizeof dir, "%s/%s", tmp, dir_name);
     ws_status st;
@@ -119,6 +122,7 @@ static void check_scene(const char *name, const char *dir_name, const int views[
     int same = gt.n == obj.curves.n && gt.thickness == obj.curves.thickness;
     for (int k = 0; same && k < gt.n * WS_CURVE_FLOATS; k++) same = gt.P[k] == obj.curves.P[k];
     CHECK(same, "%s: gt_curves.json holds the object's curves exactly", name);
+    CHECK(gt.n == curves, "%s: %d curves in gt_curves.json, not %d", name, gt.n, curves);
 
     ws_scene sc;
     ws_scene_options so;
@@ -203,7 +207,8 @@ static void test_errors(void) {
     char dir[512];
     snprintf(dir, sizeof dir, "%s/never", tmp);
     int rc = ws_synth_write("teapot", dir, &opt, &st);
-    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair, cube, dodecahedron, nut)"),
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
+                                    "dodecahedron, nut)"),
           "unknown name: %s", st.msg);
     opt.views[WS_TRAIN] = 0;
     rc = ws_synth_write("chair", dir, &opt, &st);
@@ -306,15 +311,91 @@ static void check_solid(const char *name, int edges, int white) {
     ws_curves_free(&gt);
 }
 
+/* The bounding box of dense samples of the curves. */
+static void curves_box(const ws_curves *c, double lo[3], double hi[3]) {
+    for (int x = 0; x < 3; x++) {
+        lo[x] = INFINITY;
+        hi[x] = -INFINITY;
+    }
+    for (int ci = 0; ci < c->n; ci++)
+        for (int k = 0; k <= 64; k++) {
+            double p[3];
+            ws_curve_point(c, ci, k / 64.0, p);
+            for (int x = 0; x < 3; x++) {
+                lo[x] = fmin(lo[x], p[x]);
+                hi[x] = fmax(hi[x], p[x]);
+            }
+        }
+}
+
+/* The wire shapes are what their names promise: the spring a coil of 5
+ * turns, radius 0.3, 1 unit tall, about the vertical through its centre;
+ * the flat wire object has every control point in one plane, a plane
+ * tilted (neither horizontal nor vertical) so that some views see it
+ * edge-on, and it is a clip about 1.75 units across. */
+static void test_wire_shapes(void) {
+    ws_status st;
+    ws_synth_object obj;
+    int rc = ws_synth_object_make(&obj, "spring", &st);
+    CHECK(rc == WS_OK, "spring: %s", st.msg);
+    if (!rc) {
+        double lo[3], hi[3], turns = 0, prev = NAN;
+        curves_box(&obj.curves, lo, hi);
+        CHECK(fabs(hi[2] - lo[2] - 1.0) < 1e-9, "spring: %.12g tall", hi[2] - lo[2]);
+        for (int x = 0; x < 2; x++)
+            CHECK(fabs(hi[x] - lo[x] - 0.6) < 0.01, "spring: %.4g wide along axis %d", hi[x] - lo[x], x);
+        for (int ci = 0; ci < obj.curves.n; ci++)
+            for (int k = 0; k < 64; k++) { /* windings: the angle about the axis, unwrapped */
+                double p[3];
+                ws_curve_point(&obj.curves, ci, k / 64.0, p);
+                double a = atan2(p[1] - obj.center[1], p[0] - obj.center[0]);
+                if (!isnan(prev)) turns += remainder(a - prev, 2 * M_PI) / (2 * M_PI);
+                prev = a;
+            }
+        CHECK(fabs(fabs(turns) - 5) < 0.05, "spring: %.3g turns", turns);
+        ws_synth_object_free(&obj);
+    }
+    rc = ws_synth_object_make(&obj, "flat", &st);
+    CHECK(rc == WS_OK, "flat: %s", st.msg);
+    if (!rc) {
+        const double *P = obj.curves.P; /* the plane of the first leg's ends and the second's start */
+        double u[3], v[3], n[3], worst = 0, lo[3], hi[3];
+        for (int x = 0; x < 3; x++) {
+            u[x] = P[9 + x] - P[x];
+            v[x] = P[3 * WS_CURVE_FLOATS + x] - P[x];
+        }
+        n[0] = u[1] * v[2] - u[2] * v[1];
+        n[1] = u[2] * v[0] - u[0] * v[2];
+        n[2] = u[0] * v[1] - u[1] * v[0];
+        double nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int j = 0; j < 4 * obj.curves.n; j++) {
+            double d = 0;
+            for (int x = 0; x < 3; x++) d += (P[3 * j + x] - P[x]) * n[x] / nl;
+            worst = fmax(worst, fabs(d));
+        }
+        CHECK(worst < 1e-12, "flat: a control point %g off its plane", worst);
+        double tilt = acos(fabs(n[2]) / nl) * 180 / M_PI;
+        CHECK(tilt > 20 && tilt < 70, "flat: its plane tilted %.3g degrees", tilt);
+        curves_box(&obj.curves, lo, hi);
+        double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        CHECK(diag > 1.6 && diag < 1.9, "flat: diagonal %.3g", diag);
+        ws_synth_object_free(&obj);
+    }
+}
+
 int main(void) {
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_synth_XXXXXX");
     if (!mkdtemp(tmp)) {
         perror("mkdtemp");
         return 1;
     }
-    const int trefoil_views[3] = {5, 2, 2}, chair_views[3] = {4, 0, 1};
-    check_scene("trefoil", "trefoil", trefoil_views, 64);
-    check_scene("chair", "chair", chair_views, 96);
+    const int trefoil_views[3] = {5, 2, 2}, chair_views[3] = {4, 0, 1}, wire_views[3] = {4, 1, 1};
+    check_scene("trefoil", "trefoil", trefoil_views, 64, 12);
+    check_scene("chair", "chair", chair_views, 96, 15);
+    check_scene("spring", "spring", wire_views, 96, 20);
+    check_scene("flat", "flat", wire_views, 96, 10);
+    test_wire_shapes();
     check_solid("cube", 12, 0);
     check_solid("dodecahedron", 30, 1);
     check_solid("nut", 26, 0);

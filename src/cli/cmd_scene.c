@@ -25,9 +25,12 @@ int cmd_scene(int argc, char **argv) {
         {"--height", WS_ARG_INT, &opt.height, 0, "image height, nerfstudio layout [--size]"},
     };
     const ws_command_spec spec = {
-        "scene NAME --out DIR [options]   (NAME: trefoil, chair, cube, dodecahedron or nut)",
-        "Render a synthetic object (trefoil, chair: Bezier tubes; cube, dodecahedron,\n"
-        "nut: shaded solids with sharp edges) into a NeRF-synthetic scene:\n"
+        "scene NAME --out DIR [options]   (NAME: trefoil, chair, spring, flat, cube, dodecahedron, nut)",
+        "Render a synthetic object into a NeRF-synthetic scene. Wire objects, drawn as\n"
+        "shaded tubes along Bezier curves: trefoil (a knot), chair (a wire chair),\n"
+        "spring (a coil of 5 turns, radius 0.3, 1 unit tall), flat (a paper clip lying\n"
+        "in one tilted plane, seen edge-on by some views). Solids with sharp edges:\n"
+        "cube, dodecahedron, nut. The scene:\n"
         "DIR/transforms_{train,val,test}.json, DIR/rgb/SPLIT/r_K.png, and its exact\n"
         "ground truth DIR/gt_curves.json (the tubes' curves, the solids' sharp edges;\n"
         "solids also DIR/gt_points.ply).",

@@ -33,7 +33,7 @@ static const double OBJECT_CENTER[3] = {0.3, -0.2, 0.5};
 /* surface points of a solid's gt_points.ply */
 #define GT_POINTS 20000
 
-const char *const ws_synth_names[] = {"trefoil", "chair"};
+const char *const ws_synth_names[] = {"trefoil", "chair", "spring", "flat"};
 const int ws_synth_count = sizeof ws_synth_names / sizeof ws_synth_names[0];
 
 void ws_synth_options_default(ws_synth_options *opt) {
@@ -80,27 +80,47 @@ static void lerp3(const double a[3], const double b[3], double s, double out[3])
     for (int x = 0; x < 3; x++) out[x] = a[x] + s * (b[x] - a[x]);
 }
 
-/* The trefoil knot (sin t + 2 sin 2t, cos t - 2 cos 2t, -sin 3t) scaled to
- * about 1.6 units across, as 12 cubic pieces: each the Hermite cubic of the
- * knot's points and tangents at its ends (continuous tangents throughout). */
+/* A parametric space curve of a few shape numbers: its point p(t) and
+ * derivative p'(t). */
+typedef void (*param_curve)(double t, const double *shape, double p[3], double d[3]);
+
+/* n cubic pieces of curve f over [t0, t1], scaled by `scale`, into curves
+ * ci .. ci + n - 1: each the Hermite cubic of the curve's points and
+ * tangents at its ends (P1 = p(a) + h/3 p'(a), P2 = p(b) - h/3 p'(b), h
+ * the piece's parameter step), so the tangent is continuous throughout. */
+static void add_pieces(ws_curves *c, int ci, int n, double t0, double t1, param_curve f,
+                       const double *shape, double scale) {
+    const double h = (t1 - t0) / n;
+    for (int k = 0; k < n; k++) {
+        double P[4][3];
+        for (int end = 0; end < 2; end++) {
+            double p[3], d[3], sign = end ? -1.0 : 1.0;
+            f(t0 + (k + end) * h, shape, p, d);
+            for (int x = 0; x < 3; x++) {
+                P[3 * end][x] = scale * p[x];
+                P[1 + end][x] = scale * (p[x] + sign * h / 3 * d[x]);
+            }
+        }
+        set_curve(c, ci + k, P);
+    }
+}
+
+/* The trefoil knot (sin t + 2 sin 2t, cos t - 2 cos 2t, -sin 3t). */
+static void trefoil_curve(double t, const double *shape, double p[3], double d[3]) {
+    (void)shape;
+    p[0] = sin(t) + 2 * sin(2 * t);
+    p[1] = cos(t) - 2 * cos(2 * t);
+    p[2] = -sin(3 * t);
+    d[0] = cos(t) + 4 * cos(2 * t);
+    d[1] = -sin(t) + 4 * sin(2 * t);
+    d[2] = -3 * cos(3 * t);
+}
+
+/* The trefoil scaled to about 1.6 units across, as 12 cubic pieces. */
 #define TREFOIL_PIECES 12
 static int make_trefoil(ws_synth_object *obj, ws_status *st) {
     if (ws_curves_alloc(&obj->curves, TREFOIL_PIECES, st)) return st->code;
-    const double scale = 0.27, dt = 2 * M_PI / TREFOIL_PIECES;
-    for (int k = 0; k < TREFOIL_PIECES; k++) {
-        double P[4][3];
-        for (int end = 0; end < 2; end++) {
-            double t = (k + end) * dt;
-            double p[3] = {sin(t) + 2 * sin(2 * t), cos(t) - 2 * cos(2 * t), -sin(3 * t)};
-            double d[3] = {cos(t) + 4 * cos(2 * t), -sin(t) + 4 * sin(2 * t), -3 * cos(3 * t)};
-            double sign = end ? -1.0 : 1.0; /* P1 = p(a) + dt/3 p'(a), P2 = p(b) - dt/3 p'(b) */
-            for (int x = 0; x < 3; x++) {
-                P[3 * end][x] = scale * p[x];
-                P[1 + end][x] = scale * (p[x] + sign * dt / 3 * d[x]);
-            }
-        }
-        set_curve(&obj->curves, k, P);
-    }
+    add_pieces(&obj->curves, 0, TREFOIL_PIECES, 0, 2 * M_PI, trefoil_curve, NULL, 0.27);
     obj->curves.thickness = 0.05;
     const float colour[3] = {0.95f, 0.55f, 0.2f};
     memcpy(obj->colour, colour, sizeof colour);
@@ -145,6 +165,85 @@ static int make_chair(ws_synth_object *obj, ws_status *st) {
     set_line(c, ci++, mid_c, top_c);
     c->thickness = 0.03;
     const float colour[3] = {0.85f, 0.65f, 0.4f};
+    memcpy(obj->colour, colour, sizeof colour);
+    return WS_OK;
+}
+
+/* The helix of radius shape[0] rising shape[1] per radian about the z axis. */
+static void helix_curve(double t, const double *shape, double p[3], double d[3]) {
+    p[0] = shape[0] * cos(t);
+    p[1] = shape[0] * sin(t);
+    p[2] = shape[1] * t;
+    d[0] = -shape[0] * sin(t);
+    d[1] = shape[0] * cos(t);
+    d[2] = shape[1];
+}
+
+/* A wire spring, z up: a helix of radius 0.3 and 5 turns, 1 unit tall
+ * (0.2 between turns), 4 cubic pieces a turn: 20 curves. */
+#define SPRING_TURNS 5
+#define SPRING_PIECES_PER_TURN 4
+static int make_spring(ws_synth_object *obj, ws_status *st) {
+    const int n = SPRING_TURNS * SPRING_PIECES_PER_TURN;
+    if (ws_curves_alloc(&obj->curves, n, st)) return st->code;
+    const double shape[2] = {0.3, 1.0 / (2 * M_PI * SPRING_TURNS)};
+    add_pieces(&obj->curves, 0, n, 0, 2 * M_PI * SPRING_TURNS, helix_curve, shape, 1.0);
+    obj->curves.thickness = 0.03;
+    const float colour[3] = {0.75f, 0.78f, 0.85f};
+    memcpy(obj->colour, colour, sizeof colour);
+    return WS_OK;
+}
+
+/* The circle of centre (shape[0], shape[1]) and radius shape[2] in the
+ * plane z = 0. */
+static void circle_curve(double t, const double *shape, double p[3], double d[3]) {
+    p[0] = shape[0] + shape[2] * cos(t);
+    p[1] = shape[1] + shape[2] * sin(t);
+    p[2] = 0;
+    d[0] = -shape[2] * sin(t);
+    d[1] = shape[2] * cos(t);
+    d[2] = 0;
+}
+
+/* A flat wire object: a paper clip, 1.7 x 0.44 units, its four straight
+ * legs joined by three U-turns (half circles of radius 0.1, 0.15 and 0.22,
+ * two quarter pieces each; neighbouring wires 0.1 to 0.14 apart): 10
+ * curves. Drawn in the plane z = 0, then tilted 40 degrees about its long
+ * axis and turned 30 degrees about z, so that the training views that lie
+ * near the great circle of directions in its plane see it nearly edge-on,
+ * a thin line. */
+#define FLAT_CURVES 10
+static int make_flat(ws_synth_object *obj, ws_status *st) {
+    if (ws_curves_alloc(&obj->curves, FLAT_CURVES, st)) return st->code;
+    ws_curves *c = &obj->curves;
+    /* legs: from the inner free end out, alternating direction */
+    const double leg[4][2][3] = {{{0.2, 0.1, 0}, {-0.55, 0.1, 0}},
+                                 {{-0.55, -0.1, 0}, {0.6, -0.1, 0}},
+                                 {{0.6, 0.2, 0}, {-0.75, 0.2, 0}},
+                                 {{-0.75, -0.24, 0}, {0.3, -0.24, 0}}};
+    /* U-turn k joins leg k to leg k + 1: centre, radius, first angle */
+    const double turn[3][4] = {{-0.55, 0.0, 0.1, M_PI / 2},
+                               {0.6, 0.05, 0.15, -M_PI / 2},
+                               {-0.75, -0.02, 0.22, M_PI / 2}};
+    int ci = 0;
+    for (int k = 0; k < 4; k++) {
+        set_line(c, ci++, leg[k][0], leg[k][1]);
+        if (k < 3) {
+            add_pieces(c, ci, 2, turn[k][3], turn[k][3] + M_PI, circle_curve, turn[k], 1.0);
+            ci += 2;
+        }
+    }
+    const double tilt = 40 * M_PI / 180, turn_z = 30 * M_PI / 180;
+    for (int j = 0; j < 4 * c->n; j++) { /* a rotation maps a Bezier curve's control points */
+        double *q = c->P + 3 * j;
+        double y = cos(tilt) * q[1] - sin(tilt) * q[2], z = sin(tilt) * q[1] + cos(tilt) * q[2];
+        double x = cos(turn_z) * q[0] - sin(turn_z) * y;
+        q[1] = sin(turn_z) * q[0] + cos(turn_z) * y;
+        q[0] = x;
+        q[2] = z;
+    }
+    c->thickness = 0.025;
+    const float colour[3] = {0.8f, 0.8f, 0.82f};
     memcpy(obj->colour, colour, sizeof colour);
     return WS_OK;
 }
@@ -207,15 +306,26 @@ static int build_capsules(ws_synth_object *obj, ws_status *st) {
     return WS_OK;
 }
 
+/* The makers of the objects, in the order of ws_synth_names. */
+static int (*const makers[])(ws_synth_object *obj, ws_status *st) = {make_trefoil, make_chair,
+                                                                      make_spring, make_flat};
+_Static_assert(sizeof makers / sizeof makers[0] == sizeof ws_synth_names / sizeof ws_synth_names[0],
+               "one maker per name");
+
+/* The index of `name` in ws_synth_names, or -1. */
+static int object_index(const char *name) {
+    for (int k = 0; k < ws_synth_count; k++)
+        if (!strcmp(name, ws_synth_names[k])) return k;
+    return -1;
+}
+
 int ws_synth_object_make(ws_synth_object *obj, const char *name, ws_status *st) {
     memset(obj, 0, sizeof *obj);
-    int rc;
-    if (!strcmp(name, "trefoil"))
-        rc = make_trefoil(obj, st);
-    else if (!strcmp(name, "chair"))
-        rc = make_chair(obj, st);
-    else
-        return ws_fail(st, WS_EUSAGE, "%s: unknown synthetic scene (trefoil, chair)", name);
+    int k = object_index(name);
+    if (k < 0)
+        return ws_fail(st, WS_EUSAGE, "%s: unknown synthetic scene (trefoil, chair, spring, flat)",
+                       name);
+    int rc = makers[k](obj, st);
     if (!rc) {
         center_curves(obj);
         rc = build_capsules(obj, st);
@@ -566,10 +676,12 @@ static int write_views(const char *dir, const scene_object *obj, const ws_synth_
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st) {
     if (check_options(opt, st)) return st->code;
     if (strlen(dir) > 4000) return ws_fail(st, WS_EUSAGE, "%s: path too long", dir);
-    int solid = ws_solid_exists(name), tubes = !strcmp(name, "trefoil") || !strcmp(name, "chair");
-    if (!solid && !tubes)
+    int solid = ws_solid_exists(name);
+    if (!solid && object_index(name) < 0)
         return ws_fail(st, WS_EUSAGE,
-                       "%s: unknown synthetic scene (trefoil, chair, cube, dodecahedron, nut)", name);
+                       "%s: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
+                       "dodecahedron, nut)",
+                       name);
     ws_synth_object obj = {0};
     ws_solid sol = {0};
     if (solid ? ws_solid_make(&sol, name, OBJECT_CENTER, st) : ws_synth_object_make(&obj, name, st))

@@ -1,7 +1,8 @@
 /* synth.h: synthetic test scenes whose ground truth is exactly a curve file.
  *
  * An object is a set of cubic Bezier curves drawn as tubes of one radius
- * (a trefoil knot, a wire chair), or a solid with sharp edges (solids.h: a
+ * (a trefoil knot, a wire chair, a wire spring, a flat paper clip in a
+ * tilted plane), or a solid with sharp edges (solids.h: a
  * cube, a dodecahedron, a nut). ws_synth_write renders it from cameras on
  * a sphere around the object into a NeRF-synthetic scene:
  *   DIR/transforms_{train,val,test}.json  (camera_angle_x, frames[])
@@ -44,7 +45,7 @@ typedef struct {
     double *capsules; /* ncapsules x 2 endpoints x 3 */
 } ws_synth_object;
 
-/* The objects there are: "trefoil", "chair". */
+/* The objects there are: "trefoil", "chair", "spring", "flat". */
 extern const char *const ws_synth_names[];
 extern const int ws_synth_count;
 
