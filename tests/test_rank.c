@@ -57,16 +57,20 @@ static void rank_scene(const char *dir, const char *name, const ws_loss_options 
     ws_status st;
     ws_scene scene = {0};
     ws_curves gt = {0};
-    ws_loss *loss = NULL;
+    ws_objective *obj = NULL;
+    ws_splat_options so;
+    ws_splat_options_default(&so);
     char path[600];
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     int rc = ws_curves_load(path, &gt, &st);
     if (!rc) rc = load_scene_at(&scene, dir, size, &st);
-    if (!rc) rc = ws_loss_create(&loss, lo, &scene, &st);
+    /* the variants, or the tubes' two outlines */
+    int most = ws_rank_curves(&gt) > 2 * gt.n ? ws_rank_curves(&gt) : 2 * gt.n;
+    if (!rc) rc = ws_objective_create(&obj, &scene, lo, &so, most, &st);
     CHECK(rc == WS_OK, "%s %s: %s", name, what, st.msg);
     for (int k = 0; k < 4 && !rc; k++) {
         double l[WS_RANK_COUNT];
-        rc = ws_rank_losses(loss, NULL, &scene, WS_TEST, &gt, thickness[k], 3, l, &st);
+        rc = ws_rank_losses(obj, WS_TEST, &gt, thickness[k], 3, l, &st);
         CHECK(rc == WS_OK, "%s %s: %s", name, what, st.msg);
         if (rc) break;
         printf("%-13s %-6s %.3f:", name, what, thickness[k]);
@@ -82,7 +86,7 @@ static void rank_scene(const char *dir, const char *name, const ws_loss_options 
         if (tubes) {
             ws_curves two = {0};
             double l2 = 0;
-            rc = outlines(&gt, thickness[k], &two, &st) || ws_rank_score(loss, NULL, &scene, WS_TEST, &two, &l2, &st);
+            rc = outlines(&gt, thickness[k], &two, &st) || ws_rank_score(obj, WS_TEST, &two, &l2, &st);
             ws_curves_free(&two);
             CHECK(rc == WS_OK, "%s %s: %s", name, what, st.msg);
             printf("%-13s %-6s %.3f: two outlines %.4f\n", name, what, thickness[k], l2);
@@ -90,16 +94,14 @@ static void rank_scene(const char *dir, const char *name, const ws_loss_options 
                   name, what, thickness[k], l[WS_RANK_TRUTH], l2);
         }
     }
-    ws_loss_free(loss);
+    ws_objective_free(obj);
     ws_scene_free(&scene);
     ws_curves_free(&gt);
 }
 
 /* The smallest loss increase over the truth of the truth without one of
- * its curves (the line loss on the training split, hidden lines removed by
- * hl or not), and which curve gives it. */
-static double drop_one(const ws_scene *scene, ws_loss *loss, ws_hidden_lines *hl, const ws_curves *gt,
-                       double thickness, int *worst) {
+ * its curves (obj's loss on the training split), and which curve gives it. */
+static double drop_one(ws_objective *obj, const ws_curves *gt, double thickness, int *worst) {
     ws_status st;
     ws_curves c = {0};
     double truth = NAN, least = INFINITY;
@@ -108,13 +110,13 @@ static double drop_one(const ws_scene *scene, ws_loss *loss, ws_hidden_lines *hl
     c.overlap = gt->overlap;
     c.n = gt->n;
     memcpy(c.P, gt->P, (size_t)gt->n * WS_CURVE_FLOATS * sizeof(double));
-    int rc = ws_rank_score(loss, hl, scene, WS_TRAIN, &c, &truth, &st);
+    int rc = ws_rank_score(obj, WS_TRAIN, &c, &truth, &st);
     for (int drop = 0; drop < gt->n && !rc; drop++) {
         double l;
         c.n = gt->n - 1;
         for (int ci = 0, k = 0; ci < gt->n; ci++)
             if (ci != drop) memcpy(c.P + k++ * WS_CURVE_FLOATS, gt->P + ci * WS_CURVE_FLOATS, WS_CURVE_FLOATS * sizeof(double));
-        rc = ws_rank_score(loss, hl, scene, WS_TRAIN, &c, &l, &st);
+        rc = ws_rank_score(obj, WS_TRAIN, &c, &l, &st);
         if (!rc && l - truth < least) least = l - truth, *worst = drop;
     }
     CHECK(rc == WS_OK, "drop one: %s", st.msg);
@@ -142,29 +144,32 @@ static void drop_one_scenes(const char *tmp, const char *const *names, int count
         snprintf(path, sizeof path, "%s/gt_curves.json", dir);
         ws_scene scene = {0};
         ws_curves gt = {0};
-        ws_loss *loss = NULL;
-        ws_hidden_lines *hl = NULL;
+        ws_objective *hull = NULL, *none = NULL; /* hidden lines removed, see-through */
         ws_loss_options lo;
         ws_loss_options_default(&lo);
         lo.conv_weight = lo.fc_weight = lo.global_weight = 0;
         lo.lines_weight = 1;
+        ws_splat_options so;
+        ws_splat_options_default(&so);
         int rc = ws_synth_write(names[k], dir, &syn, &st);
         if (!rc) rc = load_scene_at(&scene, dir, DROP_SIZE, &st);
         if (!rc) rc = ws_curves_load(path, &gt, &st);
-        if (!rc) rc = ws_loss_create(&loss, &lo, &scene, &st);
-        if (!rc) rc = ws_hidden_lines_create(&hl, &scene, NULL, ws_loss_targets(loss), &st);
+        lo.hidden_lines = WS_HIDDEN_HULL;
+        if (!rc) rc = ws_objective_create(&hull, &scene, &lo, &so, gt.n, &st);
+        lo.hidden_lines = WS_HIDDEN_NONE;
+        if (!rc && k == 2) rc = ws_objective_create(&none, &scene, &lo, &so, gt.n, &st);
         CHECK(rc == WS_OK, "%s: %s", names[k], st.msg);
         if (!rc) {
             int worst = -1, worst_none = -1;
-            double with = drop_one(&scene, loss, hl, &gt, DROP_THICKNESS, &worst);
-            double without = k == 2 ? drop_one(&scene, loss, NULL, &gt, DROP_THICKNESS, &worst_none) : NAN;
+            double with = drop_one(hull, &gt, DROP_THICKNESS, &worst);
+            double without = none ? drop_one(none, &gt, DROP_THICKNESS, &worst_none) : NAN;
             printf("%-13s drop one: least margin %+.5f (curve %d) with hidden lines removed, %+.5f (curve %d) "
                    "without\n", names[k], with, worst, without, worst_none);
             CHECK(with > 0, "%s: the truth without curve %d scores %+.5g against the truth", names[k], worst, with);
             pays_without += without <= 0;
         }
-        ws_hidden_lines_free(hl);
-        ws_loss_free(loss);
+        ws_objective_free(hull);
+        ws_objective_free(none);
         ws_scene_free(&scene);
         ws_curves_free(&gt);
     }

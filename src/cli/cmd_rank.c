@@ -56,15 +56,14 @@ int cmd_rank(int argc, char **argv) {
     so.width = so.height = size;
     so.edge_maps_dir = edge_maps;
     ws_curves gt = {0};
-    ws_loss *loss = NULL;
-    ws_hidden_lines *hidden = NULL;
+    ws_splat_options splat;
+    ws_splat_options_default(&splat);
+    ws_objective *obj = NULL;
     double table[16][WS_RANK_COUNT];
     int rc = ws_curves_load(gt_path ? gt_path : gt_default, &gt, &st);
     if (!rc) rc = ws_scene_load(&scene, pos[0], &so, &st);
-    if (!rc) rc = ws_loss_create(&loss, &lo, &scene, &st);
-    if (!rc && lo.hidden_lines == WS_HIDDEN_HULL) rc = ws_hidden_lines_create(&hidden, &scene, NULL, ws_loss_targets(loss), &st);
-    for (int k = 0; k < thick.n && !rc; k++)
-        rc = ws_rank_losses(loss, hidden, &scene, split, &gt, thick.v[k], 0, table[k], &st);
+    if (!rc) rc = ws_objective_create(&obj, &scene, &lo, &splat, ws_rank_curves(&gt), &st);
+    for (int k = 0; k < thick.n && !rc; k++) rc = ws_rank_losses(obj, split, &gt, thick.v[k], 0, table[k], &st);
     if (!rc) {
         printf("| %s loss, %s (%d views, %d px) |", loss_name, pos[0], scene.split[split].n, size);
         for (int k = 0; k < thick.n; k++) printf(" %g |", thick.v[k]);
@@ -80,8 +79,7 @@ int cmd_rank(int argc, char **argv) {
             printf("\n");
         }
     }
-    ws_loss_free(loss);
-    ws_hidden_lines_free(hidden);
+    ws_objective_free(obj);
     ws_scene_free(&scene);
     ws_curves_free(&gt);
     return rc ? ws_cli_fail(&st) : 0;

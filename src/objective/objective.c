@@ -112,8 +112,8 @@ const ws_gaussians *ws_objective_gaussians(const ws_objective *o) { return &o->g
 const ws_loss *ws_objective_loss(const ws_objective *o) { return o->loss; }
 
 int ws_objective_sample(ws_objective *o, const ws_curves *c, ws_status *st) {
-    if (c->n != o->n_curves)
-        return ws_fail(st, WS_EINTERNAL, "objective: %d curves in one made for %d", c->n, o->n_curves);
+    if (c->n > o->n_curves)
+        return ws_fail(st, WS_EINTERNAL, "objective: %d curves in one made for at most %d", c->n, o->n_curves);
     return ws_curves_sample(c, &o->gaussians, st);
 }
 

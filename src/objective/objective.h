@@ -5,8 +5,8 @@
  * and dL/dalpha is carried back through the splatting and the Bernstein
  * weights; with lo->hidden_lines hull, each view draws only the Gaussians
  * the visual hull does not hide (hidden_lines.h). `fit` (a training batch,
- * the validation and test losses), `grad`, `eval` and the benchmarks all
- * call it. */
+ * the validation and test losses), `grad`, `eval`, `rank` (ranking.h) and
+ * the benchmarks all call it. */
 #ifndef WS_OBJECTIVE_H
 #define WS_OBJECTIVE_H
 #include <stddef.h>
@@ -20,8 +20,8 @@
 
 typedef struct ws_objective ws_objective;
 
-/* An objective for sketches of n_curves curves on the scene's views (the
- * scene must outlive it). */
+/* An objective for sketches of at most n_curves curves on the scene's
+ * views (the scene must outlive it). */
 int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss_options *lo,
                         const ws_splat_options *so, int n_curves, ws_status *st);
 void ws_objective_free(ws_objective *obj);

@@ -5,13 +5,14 @@
 #include <string.h>
 #include "metrics/metrics.h"
 #include "objective/ranking.h"
-#include "render/splat.h"
 
 const char *const ws_rank_names[WS_RANK_COUNT] = {
     "ground truth", "empty sketch", "a single dot", "shrunk to dots",
     "half of the curves", "shifted by 1%", "shifted by 5%", "plus 10 random strokes"};
 
 #define NOISE_STROKES 10
+
+int ws_rank_curves(const ws_curves *gt) { return gt->n + NOISE_STROKES; }
 
 int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t seed, ws_curves *out,
                     ws_status *st) {
@@ -22,7 +23,7 @@ int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t se
         S = fmax(S, hi[x] - lo[x]);
     }
     int n = kind == WS_RANK_EMPTY ? 0 : kind == WS_RANK_DOT ? 1 : kind == WS_RANK_HALF ? (gt->n + 1) / 2
-            : kind == WS_RANK_NOISE ? gt->n + NOISE_STROKES : gt->n;
+            : kind == WS_RANK_NOISE ? ws_rank_curves(gt) : gt->n;
     if (ws_curves_alloc(out, n ? n : 1, st)) return st->code;
     out->n = n;
     out->thickness = thickness;
@@ -77,67 +78,21 @@ int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t se
     return WS_OK;
 }
 
-/* The mean loss over `split` of c drawn at `thickness`, with the caller's
- * splatting and stroke image, hidden lines removed by `hidden` (or NULL). */
-static int mean_loss(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
-                     const ws_curves *c, double thickness, ws_splat *splat, double *alpha, double *out,
-                     ws_status *st) {
-    const ws_split *sp = &scene->split[split];
-    ws_splat_options so;
-    ws_splat_options_default(&so);
-    ws_gaussians g = {0};
-    int rc = c->n > 0 ? ws_curves_sample(c, &g, st) : WS_OK;
-    double sum = 0;
-    for (int v = 0; v < sp->n && !rc; v++) {
-        double l;
-        if (c->n > 0) {
-            if (hidden) rc = ws_hidden_lines_far(hidden, split, v, &so.far, st);
-            if (!rc) rc = ws_splat_forward(splat, &sp->views[v].cam, g.mu, g.n, thickness, &so, alpha, st);
-        } else {
-            memset(alpha, 0, (size_t)scene->width * scene->height * sizeof(double));
-        }
-        if (!rc) rc = ws_loss_view(loss, split, v, alpha, 0, NULL, &l, NULL, st);
-        if (!rc) sum += l;
-    }
-    *out = sum / sp->n;
-    ws_gaussians_free(&g);
-    return rc;
+int ws_rank_score(ws_objective *obj, int split, const ws_curves *c, double *out, ws_status *st) {
+    if (ws_objective_split_mean(obj, c, split, NULL, out, st)) return st->code;
+    /* ws_objective_split_mean's mean of no views */
+    if (isnan(*out)) return ws_fail(st, WS_EUSAGE, "rank: the %s split has no views", ws_split_names[split]);
+    return WS_OK;
 }
 
-/* The splatting and stroke image of a split's scoring, or the error of an empty split. */
-static int scoring_begin(const ws_scene *scene, int split, ws_splat **splat, double **alpha, ws_status *st) {
-    *splat = NULL;
-    *alpha = NULL;
-    if (scene->split[split].n == 0)
-        return ws_fail(st, WS_EUSAGE, "rank: the %s split has no views", ws_split_names[split]);
-    *alpha = ws_malloc((size_t)scene->width * scene->height * sizeof(double), "stroke image", st);
-    return *alpha ? ws_splat_create(splat, scene->width, scene->height, st) : st->code;
-}
-
-int ws_rank_score(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
-                  const ws_curves *c, double *out, ws_status *st) {
-    ws_splat *splat;
-    double *alpha;
-    int rc = scoring_begin(scene, split, &splat, &alpha, st);
-    if (!rc) rc = mean_loss(loss, hidden, scene, split, c, c->thickness, splat, alpha, out, st);
-    ws_splat_free(splat);
-    free(alpha);
-    return rc;
-}
-
-int ws_rank_losses(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
-                   const ws_curves *gt,
-                   double thickness, uint64_t seed, double loss_out[WS_RANK_COUNT], ws_status *st) {
-    ws_splat *splat;
-    double *alpha;
-    int rc = scoring_begin(scene, split, &splat, &alpha, st);
+int ws_rank_losses(ws_objective *obj, int split, const ws_curves *gt, double thickness, uint64_t seed,
+                   double loss_out[WS_RANK_COUNT], ws_status *st) {
+    int rc = WS_OK;
     for (int kind = 0; kind < WS_RANK_COUNT && !rc; kind++) {
         ws_curves c = {0};
         rc = ws_rank_variant(gt, kind, thickness, seed, &c, st);
-        if (!rc) rc = mean_loss(loss, hidden, scene, split, &c, thickness, splat, alpha, &loss_out[kind], st);
+        if (!rc) rc = ws_rank_score(obj, split, &c, &loss_out[kind], st);
         ws_curves_free(&c);
     }
-    ws_splat_free(splat);
-    free(alpha);
     return rc;
 }

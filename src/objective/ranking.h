@@ -18,10 +18,8 @@
 #ifndef WS_RANKING_H
 #define WS_RANKING_H
 #include <stdint.h>
-#include "objective/hidden_lines.h"
-#include "objective/loss.h"
+#include "objective/objective.h"
 #include "render/curves.h"
-#include "io/scene.h"
 
 enum {
     WS_RANK_TRUTH,
@@ -41,16 +39,19 @@ extern const char *const ws_rank_names[WS_RANK_COUNT];
 int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t seed, ws_curves *out,
                     ws_status *st);
 
+/* The most curves a variant of gt has: an objective that scores them
+ * must take that many (ws_objective_create). */
+int ws_rank_curves(const ws_curves *gt);
+
 /* loss[k] = the mean loss over `split` of variant k, k < WS_RANK_COUNT,
- * with hidden lines removed by `hidden` (NULL: none; hidden_lines.h). */
-int ws_rank_losses(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
-                   const ws_curves *gt,
-                   double thickness, uint64_t seed, double loss_out[WS_RANK_COUNT], ws_status *st);
+ * scored by obj (ws_objective_split_mean: its loss, splatting and
+ * hidden-line removal); an empty split is an error. */
+int ws_rank_losses(ws_objective *obj, int split, const ws_curves *gt, double thickness, uint64_t seed,
+                   double loss_out[WS_RANK_COUNT], ws_status *st);
 
 /* *out = the mean loss over `split` of c, drawn at its own thickness (a
  * sketch of the caller's, e.g. tests/test_rank.c's two outlines of a tube),
- * hidden lines removed as above. */
-int ws_rank_score(ws_loss *loss, ws_hidden_lines *hidden, const ws_scene *scene, int split,
-                  const ws_curves *c, double *out, ws_status *st);
+ * scored as above. */
+int ws_rank_score(ws_objective *obj, int split, const ws_curves *c, double *out, ws_status *st);
 
 #endif
