@@ -18,13 +18,36 @@
 #define FOCAL_FINE (FOCAL_COARSE / 4)
 #define FOCAL_VIEWS 24
 
-/* A hypothesis: image k goes with camera `pair[k]` of the split (-1: none)
- * after `flip` (OpenCV) and a focal scale. */
+/* A hypothesis: the image of frame k goes with the camera listed for frame
+ * k + shift of the same transforms file (none there: left out), after
+ * `flip` (OpenCV) and a focal scale. */
 typedef struct {
     int shift, flip;
     double focal_scale;
     int every; /* images 0, every, 2 every, ... only */
 } hypothesis;
+
+/* The camera listed for frame `frame` of the file that holds split s
+ * (ws_scene_file): a view of split s, or of any split in a nerfstudio
+ * scene, whose frames are in one file; NULL where no view has that frame
+ * (outside the file, or in a nerfstudio file a frame in no split). A
+ * split's views are in frame order. */
+static const ws_camera *listed_camera(const ws_scene *scene, int s, int frame) {
+    for (int t = 0; t < WS_NSPLITS; t++) {
+        if (t != s && scene->layout != WS_LAYOUT_NERFSTUDIO) continue;
+        const ws_split *sp = &scene->split[t];
+        int lo = 0, hi = sp->n;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (sp->views[mid].frame < frame)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        if (lo < sp->n && sp->views[lo].frame == frame) return &sp->views[lo].cam;
+    }
+    return NULL;
+}
 
 static int make_camera(const ws_camera *listed, const hypothesis *h, ws_camera *out, ws_status *st) {
     double c2w[4][4];
@@ -38,13 +61,14 @@ static int make_camera(const ws_camera *listed, const hypothesis *h, ws_camera *
     return ws_camera_init(out, c2w, angle, listed->width, listed->height, "check", st);
 }
 
-/* Agreement of every image of the split with the others under hypothesis
+/* Agreement of every image of split s with the others under hypothesis
  * h, on a conservative or a tight hull (hull.h); images without a camera
  * under it get NAN. Returns the mean over the images that have one in
  * *mean. */
-static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const double center[3],
-                           int resolution, const hypothesis *h, int tight, double *agreement,
-                           double *mean, ws_status *st) {
+static int agreement_under(const ws_scene *scene, int s, const ws_silhouette *sil, int resolution,
+                           const hypothesis *h, int tight, double *agreement, double *mean,
+                           ws_status *st) {
+    const ws_split *sp = &scene->split[s];
     ws_camera *cams = ws_malloc(sizeof *cams * sp->n, "check cameras", st);
     ws_hull_view *hv = cams ? ws_malloc(sizeof *hv * sp->n, "check views", st) : NULL;
     double *a = hv ? ws_malloc(sizeof *a * sp->n, "check agreement", st) : NULL;
@@ -53,13 +77,13 @@ static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const d
     int m = 0, rc = image ? WS_OK : st->code;
     for (int k = 0; k < sp->n && !rc; k++) {
         agreement[k] = NAN;
-        int c = k + h->shift;
-        if (c < 0 || c >= sp->n || k % h->every) continue;
-        rc = make_camera(&sp->views[c].cam, h, &cams[m], st);
+        const ws_camera *listed = listed_camera(scene, s, sp->views[k].frame + h->shift);
+        if (!listed || k % h->every) continue;
+        rc = make_camera(listed, h, &cams[m], st);
         hv[m] = (ws_hull_view){.cam = &cams[m], .sil = &sil[k]};
         image[m++] = k;
     }
-    if (!rc && m > 0) rc = ws_hull_carve(hv, m, center, resolution, ws_hull_default_tolerance(m), tight, &hull, st);
+    if (!rc && m > 0) rc = ws_hull_carve(hv, m, scene->center, resolution, ws_hull_default_tolerance(m), tight, &hull, st);
     if (!rc && m > 0) rc = ws_hull_agreement(hv, m, &hull, a, st);
     *mean = 0;
     for (int k = 0; k < m && !rc; k++) {
@@ -77,19 +101,19 @@ static int agreement_under(const ws_split *sp, const ws_silhouette *sil, const d
 /* The focal scale whose tight hull agrees best with the split's images
  * (the listed focal wins ties): *scale, the tight mean agreement at the
  * listed focal in *listed and at *scale in *best. */
-static int focal_search(const ws_split *sp, const ws_silhouette *sil, const double center[3],
-                        int resolution, double *trial, double *scale, double *listed, double *best,
-                        ws_status *st) {
+static int focal_search(const ws_scene *scene, int s, const ws_silhouette *sil, int resolution,
+                        double *trial, double *scale, double *listed, double *best, ws_status *st) {
+    const ws_split *sp = &scene->split[s];
     const int every = (sp->n + FOCAL_VIEWS - 1) / FOCAL_VIEWS;
     const hypothesis one = {0, 0, 1.0, every};
-    int rc = agreement_under(sp, sil, center, resolution, &one, 1, trial, listed, st);
+    int rc = agreement_under(scene, s, sil, resolution, &one, 1, trial, listed, st);
     double at = 0;
     *best = *listed;
     for (double x = -FOCAL_RANGE; x <= FOCAL_RANGE + 1e-9 && !rc; x += FOCAL_COARSE) {
         if (fabs(x) < 1e-9) continue;
         const hypothesis h = {0, 0, exp2(x), every};
         double mean;
-        rc = agreement_under(sp, sil, center, resolution, &h, 1, trial, &mean, st);
+        rc = agreement_under(scene, s, sil, resolution, &h, 1, trial, &mean, st);
         if (!rc && mean > *best) *best = mean, at = x;
     }
     for (double step = FOCAL_COARSE / 2; step >= FOCAL_FINE - 1e-12 && !rc; step /= 2) {
@@ -97,7 +121,7 @@ static int focal_search(const ws_split *sp, const ws_silhouette *sil, const doub
         for (int side = -1; side <= 1 && !rc; side += 2) {
             const hypothesis h = {0, 0, exp2(around + side * step), every};
             double mean;
-            rc = agreement_under(sp, sil, center, resolution, &h, 1, trial, &mean, st);
+            rc = agreement_under(scene, s, sil, resolution, &h, 1, trial, &mean, st);
             if (!rc && mean > *best) *best = mean, at = around + side * step;
         }
     }
@@ -115,7 +139,7 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
     r->disagree = r->agreement ? ws_malloc(sizeof *r->disagree * sp->n, "check agreement", st) : NULL;
     int rc = r->disagree ? WS_OK : st->code;
     const hypothesis listed = {0, 0, 1.0, 1};
-    if (!rc) rc = agreement_under(sp, sil, scene->center, resolution, &listed, 0, r->agreement, &r->mean, st);
+    if (!rc) rc = agreement_under(scene, s, sil, resolution, &listed, 0, r->agreement, &r->mean, st);
     if (!rc) {
         r->worst = 1;
         for (int k = 0; k < sp->n; k++) {
@@ -144,7 +168,7 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
     /* The focal estimate: the focal hypothesis of an inconsistent split, or
      * the tight test of a consistent one with enough views. */
     if (!rc && (inconsistent || (r->cause == WS_CAUSE_NONE && sp->n >= WS_CHECK_FOCAL_VIEWS)))
-        rc = focal_search(sp, sil, scene->center, resolution, trial, &r->focal_estimate, &r->tight_mean,
+        rc = focal_search(scene, s, sil, resolution, trial, &r->focal_estimate, &r->tight_mean,
                           &r->tight_fixed, st);
     double best = r->mean + WS_CHECK_GAIN;
     /* Every hypothesis of one cause, in a fixed order (the focal one at the
@@ -155,7 +179,7 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
                 if ((shift != 0) + flip + focal != 1 || (focal && r->focal_estimate == 1)) continue;
                 hypothesis h = {shift, flip, focal ? r->focal_estimate : 1.0, 1};
                 double mean;
-                rc = agreement_under(sp, sil, scene->center, resolution, &h, 0, trial, &mean, st);
+                rc = agreement_under(scene, s, sil, resolution, &h, 0, trial, &mean, st);
                 if (rc || !(mean >= WS_CHECK_MEAN_OK && mean > best)) continue;
                 best = r->fixed_mean = mean;
                 r->cause = shift ? WS_CAUSE_SHIFT : flip ? WS_CAUSE_OPENCV : WS_CAUSE_FOCAL;
@@ -179,70 +203,77 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
     return rc;
 }
 
-/* One line for the first inconsistent split. */
+/* One line for the first inconsistent split. It names the split's file
+ * (ws_scene_file) and its frames by their index there; where that file
+ * holds every split (nerfstudio), it also names the split. */
 static void explain(const ws_scene *scene, int s, const ws_check_split *r, char *line, size_t size) {
-    const char *split = ws_split_names[s];
+    const char *split = ws_split_names[s], *file = ws_scene_file(scene, s);
+    char views[32] = "", whose[32] = ""; /* "train ", "the train views' " */
+    if (scene->layout == WS_LAYOUT_NERFSTUDIO) {
+        snprintf(views, sizeof views, "%s ", split);
+        snprintf(whose, sizeof whose, "the %s views' ", split);
+    }
     switch (r->cause) {
     case WS_CAUSE_NONE:
         line[0] = 0;
         break;
     case WS_CAUSE_SHIFT:
         snprintf(line, size,
-                 "%.300s/transforms_%s.json: the image of frame k belongs to the camera listed for frame k%+d "
-                 "(agreement %.2f, re-paired %.2f); write a corrected copy with "
+                 "%.300s/%s: the image of frame k belongs to the camera listed for frame k%+d "
+                 "(%sagreement %.2f, re-paired %.2f); write a corrected copy with "
                  "`wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, split, r->shift, r->mean, r->fixed_mean, scene->dir);
+                 scene->dir, file, r->shift, whose, r->mean, r->fixed_mean, scene->dir);
         break;
     case WS_CAUSE_OPENCV:
         snprintf(line, size,
-                 "%.300s/transforms_%s.json: the cameras are in the OpenCV convention (y down, z "
-                 "forward; agreement %.2f, flipped %.2f); negate the second and third columns of "
+                 "%.300s/%s: the cameras are in the OpenCV convention (y down, z "
+                 "forward; %sagreement %.2f, flipped %.2f); negate the second and third columns of "
                  "every transform_matrix, or write a corrected copy with "
                  "`wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, split, r->mean, r->fixed_mean, scene->dir);
+                 scene->dir, file, whose, r->mean, r->fixed_mean, scene->dir);
         break;
     case WS_CAUSE_FOCAL: {
         if (scene->layout == WS_LAYOUT_NERFSTUDIO) { /* focal lengths in pixels, one file */
             snprintf(line, size,
-                     "%.300s/transforms.json: fl_x and fl_y do not fit the %s images; about %.3g times "
+                     "%.300s/%s: fl_x and fl_y do not fit the %s images; about %.3g times "
                      "them does (tight-hull agreement %.3f, corrected %.3f); multiply fl_x and fl_y "
-                     "by %.3g",
-                     scene->dir, split, r->focal_scale, r->tight_mean, r->tight_fixed, r->focal_scale);
+                     "by %.3g, or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
+                     scene->dir, file, split, r->focal_scale, r->tight_mean, r->tight_fixed,
+                     r->focal_scale, scene->dir);
             break;
         }
         double listed = 2 * atan(0.5 * scene->split[s].views[0].cam.width /
                                  scene->split[s].views[0].cam.focal);
         double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
         snprintf(line, size,
-                 "%.300s/transforms_%s.json: camera_angle_x %.4g does not fit the images; about %.4g "
+                 "%.300s/%s: camera_angle_x %.4g does not fit the images; about %.4g "
                  "does (focal x%.3g; tight-hull agreement %.3f, corrected %.3f); fix camera_angle_x, "
                  "or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, split, listed, fixed, r->focal_scale, r->tight_mean, r->tight_fixed,
+                 scene->dir, file, listed, fixed, r->focal_scale, r->tight_mean, r->tight_fixed,
                  scene->dir);
         break;
     }
     case WS_CAUSE_BAD_FRAMES: {
-        int at = snprintf(line, size, "%.300s/transforms_%s.json: frame%s", scene->dir, split,
-                          r->ndisagree > 1 ? "s" : "");
+        int at = snprintf(line, size, "%.300s/%s: frame%s", scene->dir, file, r->ndisagree > 1 ? "s" : "");
         for (int d = 0; d < r->ndisagree && at > 0 && (size_t)at < size; d++) {
             const ws_view *v = &scene->split[s].views[r->disagree[d]];
-            at += snprintf(line + at, size - at, "%s %d (%s, agreement %.2f)", d ? "," : "",
-                           r->disagree[d], v->name, r->agreement[r->disagree[d]]);
+            at += snprintf(line + at, size - at, "%s %d (%s, agreement %.2f)", d ? "," : "", v->frame,
+                           v->name, r->agreement[r->disagree[d]]);
         }
         if (at > 0 && (size_t)at < size)
             snprintf(line + at, size - at,
-                     " disagree%s with the other views (mean %.2f): fix %s transform_matrix or "
+                     " disagree%s with the other %sviews (mean %.2f): fix %s transform_matrix or "
                      "image, or remove %s",
-                     r->ndisagree > 1 ? "" : "s", r->fixed_mean, r->ndisagree > 1 ? "their" : "its",
+                     r->ndisagree > 1 ? "" : "s", views, r->fixed_mean, r->ndisagree > 1 ? "their" : "its",
                      r->ndisagree > 1 ? "them" : "it");
         break;
     }
     case WS_CAUSE_UNKNOWN:
         snprintf(line, size,
-                 "%.300s/transforms_%s.json: the views do not agree with each other (mean agreement "
+                 "%.300s/%s: the %sviews do not agree with each other (mean agreement "
                  "%.2f, worst %.2f) and no frame shift, OpenCV flip or field of view explains it; "
                  "check the cameras and the images",
-                 scene->dir, split, r->mean, r->worst);
+                 scene->dir, file, views, r->mean, r->worst);
         break;
     }
 }
@@ -250,23 +281,35 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
 /* A shift found in one split is usually in every split, but a split whose
  * cameras form a regular orbit or spiral cannot show it (shifting such
  * cameras by a frame turns them all alike, which keeps them consistent):
- * the fix re-pairs every split that agrees as well re-paired. */
+ * the fix re-pairs every split that agrees as well re-paired. Where one
+ * file holds every split (nerfstudio), the shift is in that file's frame
+ * order, so it also explains a split whose views disagree as listed (bad
+ * frames, or no cause found) when it re-pairs them: that split's cause
+ * becomes the shift. */
 static int shift_elsewhere(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
                            ws_check_report *r, ws_status *st) {
     int shift = 0;
     for (int s = 0; s < WS_NSPLITS && !shift; s++)
         if (r->split[s].cause == WS_CAUSE_SHIFT) shift = r->split[s].shift;
     if (!shift) return WS_OK;
+    const int one_file = scene->layout == WS_LAYOUT_NERFSTUDIO;
     for (int s = 0; s < WS_NSPLITS; s++) {
         ws_check_split *c = &r->split[s];
-        if (c->n == 0 || c->cause != WS_CAUSE_NONE) continue;
-        const ws_split *sp = &scene->split[s];
-        double *trial = ws_malloc(sizeof *trial * sp->n, "check agreement", st);
+        const int unexplained = c->cause == WS_CAUSE_BAD_FRAMES || c->cause == WS_CAUSE_UNKNOWN;
+        if (c->n == 0 || !(c->cause == WS_CAUSE_NONE || (one_file && unexplained))) continue;
+        double *trial = ws_malloc(sizeof *trial * c->n, "check agreement", st);
         int rc = trial ? WS_OK : st->code;
         const hypothesis h = {shift, 0, 1.0, 1};
         double mean = 0;
-        if (!rc) rc = agreement_under(sp, sil[s], scene->center, resolution, &h, 0, trial, &mean, st);
-        if (!rc && mean >= WS_CHECK_MEAN_OK) c->repair_shift = shift;
+        if (!rc) rc = agreement_under(scene, s, sil[s], resolution, &h, 0, trial, &mean, st);
+        if (!rc && mean >= WS_CHECK_MEAN_OK) {
+            c->repair_shift = shift;
+            if (unexplained) {
+                c->cause = WS_CAUSE_SHIFT;
+                c->shift = shift;
+                c->fixed_mean = mean;
+            }
+        }
         free(trial);
         if (rc) return rc;
     }
@@ -276,22 +319,23 @@ static int shift_elsewhere(const ws_scene *scene, const ws_silhouette *const sil
 int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
                    ws_check_report *r, ws_status *st) {
     memset(r, 0, sizeof *r);
-    r->consistent = 1;
     for (int s = 0; s < WS_NSPLITS; s++) {
         if (check_split(scene, s, sil[s], resolution, &r->split[s], st)) {
             ws_check_report_free(r);
             return st->code;
         }
         if (r->split[s].cause == WS_CAUSE_SHIFT) r->split[s].repair_shift = r->split[s].shift;
-        if (r->split[s].cause != WS_CAUSE_NONE && r->consistent) {
-            r->consistent = 0;
-            explain(scene, s, &r->split[s], r->line, sizeof r->line);
-        }
     }
     if (shift_elsewhere(scene, sil, resolution, r, st)) {
         ws_check_report_free(r);
         return st->code;
     }
+    r->consistent = 1;
+    for (int s = 0; s < WS_NSPLITS && r->consistent; s++)
+        if (r->split[s].cause != WS_CAUSE_NONE) {
+            r->consistent = 0;
+            explain(scene, s, &r->split[s], r->line, sizeof r->line);
+        }
     return WS_OK;
 }
 

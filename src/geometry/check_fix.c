@@ -14,32 +14,70 @@
 
 #define TRANSFORMS_MAX_BYTES ((size_t)64 << 20)
 
-/* Applies split r's fix to the parsed transforms `root` (checked by the
- * scene loader already: an object with camera_angle_x and frames). */
-static int fix_transforms(cJSON *root, const ws_check_split *r, ws_status *st) {
-    cJSON *frames = cJSON_GetObjectItemCaseSensitive(root, "frames");
-    int n = cJSON_GetArraySize(frames);
-    if (r->repair_shift) {
-        int s = r->repair_shift;
-        cJSON **moved = ws_calloc(n, sizeof *moved, "frames", st);
-        if (!moved) return st->code;
-        for (int k = 0; k < n; k++) {
-            int c = k + s;
-            if (c >= 0 && c < n)
-                moved[k] = cJSON_Duplicate(
-                    cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(frames, c), "transform_matrix"), 1);
-        }
-        for (int k = n - 1; k >= 0; k--) {
-            if (moved[k])
-                cJSON_ReplaceItemInObjectCaseSensitive(cJSON_GetArrayItem(frames, k), "transform_matrix",
-                                                       moved[k]);
-            else
-                cJSON_DeleteItemFromArray(frames, k);
-        }
-        free(moved);
+/* The focal lengths of one object (the file's root or a frame) scaled:
+ * fl_x and fl_y times `scale`, camera_angle_x to the angle of that focal. */
+static void scale_focal(cJSON *object, double scale) {
+    static const char *const lengths[2] = {"fl_x", "fl_y"};
+    for (int k = 0; k < 2; k++) {
+        cJSON *fl = cJSON_GetObjectItemCaseSensitive(object, lengths[k]);
+        if (cJSON_IsNumber(fl)) cJSON_SetNumberValue(fl, fl->valuedouble * scale);
     }
-    if (r->cause == WS_CAUSE_OPENCV)
-        for (cJSON *f = frames->child; f; f = f->next) {
+    cJSON *angle = cJSON_GetObjectItemCaseSensitive(object, "camera_angle_x");
+    if (cJSON_IsNumber(angle)) cJSON_SetNumberValue(angle, 2 * atan(tan(0.5 * angle->valuedouble) / scale));
+}
+
+/* train/val/test_filenames naming the file_path of every frame kept
+ * (drop[k] == 0) in its split (split_of[k]; -1: in none), in frame order. */
+static int write_split_lists(cJSON *root, cJSON *frames, const int *split_of, const char *drop,
+                             ws_status *st) {
+    static const char *const keys[WS_NSPLITS] = {"train_filenames", "val_filenames", "test_filenames"};
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        cJSON *list = cJSON_CreateArray();
+        int k = 0, ok = list != NULL;
+        for (cJSON *f = frames->child; f && ok; f = f->next, k++) {
+            if (drop[k] || split_of[k] != s) continue;
+            cJSON *name = cJSON_CreateString(cJSON_GetObjectItemCaseSensitive(f, "file_path")->valuestring);
+            ok = name && cJSON_AddItemToArray(list, name);
+        }
+        if (ok)
+            ok = cJSON_HasObjectItem(root, keys[s]) ? cJSON_ReplaceItemInObjectCaseSensitive(root, keys[s], list)
+                                                    : cJSON_AddItemToObject(root, keys[s], list);
+        if (!ok) {
+            cJSON_Delete(list);
+            return ws_fail(st, WS_ENOMEM, "out of memory for the split lists");
+        }
+    }
+    return WS_OK;
+}
+
+/* Applies the fix of each frame's split to the parsed transforms `root`
+ * (checked by the scene loader already: an object with frames whose
+ * transform_matrix are 4x4 numbers): split_of[k], the split of frame k
+ * (-1: in none, left as it is); drop[k], set for the bad frames. In file
+ * order: frame k takes the camera listed for frame k + the split's
+ * repair_shift (dropped where there is none), then the OpenCV flip of its
+ * split, the focal scale of the file, and the drops. A nerfstudio file
+ * (`lists`) that loses frames lists every split's frames explicitly, so
+ * that the k % 8 rule does not move the frames after a dropped one. */
+static int fix_frames(cJSON *root, const ws_check_report *r, const int *split_of, char *drop,
+                      double focal_scale, int lists, ws_status *st) {
+    cJSON *frames = cJSON_GetObjectItemCaseSensitive(root, "frames");
+    const int n = cJSON_GetArraySize(frames);
+    cJSON **moved = ws_calloc(n, sizeof *moved, "frames", st);
+    if (!moved) return st->code;
+    for (int k = 0; k < n; k++) {
+        const int shift = split_of[k] < 0 ? 0 : r->split[split_of[k]].repair_shift, c = k + shift;
+        if (!shift) continue;
+        if (c < 0 || c >= n)
+            drop[k] = 1;
+        else
+            moved[k] = cJSON_Duplicate(
+                cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(frames, c), "transform_matrix"), 1);
+    }
+    int k = 0, dropped = 0;
+    for (cJSON *f = frames->child; f; f = f->next, k++) {
+        if (moved[k]) cJSON_ReplaceItemInObjectCaseSensitive(f, "transform_matrix", moved[k]);
+        if (split_of[k] >= 0 && r->split[split_of[k]].cause == WS_CAUSE_OPENCV) {
             cJSON *m = cJSON_GetObjectItemCaseSensitive(f, "transform_matrix");
             for (int i = 0; i < 3; i++)
                 for (int j = 1; j <= 2; j++) {
@@ -47,30 +85,56 @@ static int fix_transforms(cJSON *root, const ws_check_split *r, ws_status *st) {
                     cJSON_SetNumberValue(e, -e->valuedouble);
                 }
         }
-    if (r->cause == WS_CAUSE_FOCAL) {
-        cJSON *angle = cJSON_GetObjectItemCaseSensitive(root, "camera_angle_x");
-        cJSON_SetNumberValue(angle, 2 * atan(tan(0.5 * angle->valuedouble) / r->focal_scale));
+        if (focal_scale != 1) scale_focal(f, focal_scale);
+        dropped += drop[k];
     }
-    if (r->cause == WS_CAUSE_BAD_FRAMES)
-        for (int d = r->ndisagree - 1; d >= 0; d--) cJSON_DeleteItemFromArray(frames, r->disagree[d]);
+    free(moved);
+    if (focal_scale != 1) scale_focal(root, focal_scale);
+    if (lists && dropped && write_split_lists(root, frames, split_of, drop, st)) return st->code;
+    for (k = n - 1; k >= 0; k--)
+        if (drop[k]) cJSON_DeleteItemFromArray(frames, k);
     return WS_OK;
 }
 
-static int write_split(const ws_scene *scene, int s, const ws_check_split *r, const char *out,
-                       ws_status *st) {
+/* Rewrites the file that holds the splits `first` .. `last` with their
+ * fixes. The file's focal scale is that of the first of them whose cause
+ * is the focal: a nerfstudio file's focal lengths serve every split. */
+static int write_file(const ws_scene *scene, const ws_check_report *r, int first, int last, const char *out,
+                      ws_status *st) {
+    const char *file = ws_scene_file(scene, first);
     char in_path[WS_PATH_MAX], out_path[WS_PATH_MAX];
-    snprintf(in_path, sizeof in_path, "%s/transforms_%s.json", scene->dir, ws_split_names[s]);
-    snprintf(out_path, sizeof out_path, "%s/transforms_%s.json", out, ws_split_names[s]);
+    snprintf(in_path, sizeof in_path, "%s/%s", scene->dir, file);
+    snprintf(out_path, sizeof out_path, "%s/%s", out, file);
     unsigned char *bytes = NULL;
     size_t length = 0;
     if (ws_read_file(in_path, TRANSFORMS_MAX_BYTES, &bytes, &length, st)) return st->code;
     cJSON *root = cJSON_ParseWithLength((const char *)bytes, length);
     free(bytes);
-    if (!root) return ws_fail(st, WS_EINPUT, "%s: changed while it was checked", in_path);
+    const int n = cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(root, "frames"));
+    int *split_of = root ? ws_malloc(sizeof *split_of * (n ? n : 1), "frames", st) : NULL;
+    char *drop = split_of ? ws_calloc(n ? n : 1, 1, "frames", st) : NULL;
+    int rc = !root ? ws_fail(st, WS_EINPUT, "%s: changed while it was checked", in_path) : drop ? WS_OK : st->code;
+    double focal_scale = 1;
+    for (int k = 0; k < n && !rc; k++) split_of[k] = -1;
+    for (int s = first; s <= last && !rc; s++) {
+        const ws_check_split *c = &r->split[s];
+        for (int k = 0; k < scene->split[s].n && !rc; k++) {
+            const int frame = scene->split[s].views[k].frame;
+            if (frame < n)
+                split_of[frame] = s;
+            else
+                rc = ws_fail(st, WS_EINPUT, "%s: changed while it was checked", in_path);
+        }
+        for (int d = 0; d < c->ndisagree && !rc && c->cause == WS_CAUSE_BAD_FRAMES; d++)
+            drop[scene->split[s].views[c->disagree[d]].frame] = 1;
+        if (c->cause == WS_CAUSE_FOCAL && focal_scale == 1) focal_scale = c->focal_scale;
+    }
     char *text = NULL;
-    int rc = fix_transforms(root, r, st);
+    if (!rc) rc = fix_frames(root, r, split_of, drop, focal_scale, scene->layout == WS_LAYOUT_NERFSTUDIO, st);
     if (!rc && !(text = cJSON_Print(root))) rc = ws_fail(st, WS_ENOMEM, "out of memory for %s", out_path);
     cJSON_Delete(root);
+    free(split_of);
+    free(drop);
     ws_outfile f;
     if (!rc && !(rc = ws_outfile_open(&f, out_path, st))) {
         fputs(text, f.fp);
@@ -81,15 +145,18 @@ static int write_split(const ws_scene *scene, int s, const ws_check_split *r, co
     return rc;
 }
 
-/* Links every entry of the scene directory but its transforms files. */
-static int link_rest(const char *dir, const char *out, ws_status *st) {
+/* Links every entry of the scene directory but its transforms files
+ * (transforms_*.json, and for a nerfstudio scene transforms.json). */
+static int link_rest(const char *dir, int nerfstudio, const char *out, ws_status *st) {
     char real[PATH_MAX];
     if (!realpath(dir, real)) return ws_fail(st, WS_EIO, "%s: %s", dir, strerror(errno));
     DIR *d = opendir(real);
     if (!d) return ws_fail(st, WS_EIO, "%s: %s", dir, strerror(errno));
     int rc = WS_OK;
     for (struct dirent *e; !rc && (e = readdir(d));) {
-        if (e->d_name[0] == '.' || !strncmp(e->d_name, "transforms_", 11)) continue;
+        if (e->d_name[0] == '.' || !strncmp(e->d_name, "transforms_", 11) ||
+            (nerfstudio && !strcmp(e->d_name, "transforms.json")))
+            continue;
         char target[PATH_MAX + 256], link[4400];
         snprintf(target, sizeof target, "%s/%s", real, e->d_name);
         snprintf(link, sizeof link, "%s/%s", out, e->d_name);
@@ -106,7 +173,9 @@ int ws_check_write_fixed(const ws_scene *scene, const ws_check_report *r, const 
     if (ws_mkdir(out, st)) return st->code;
     if (realpath(scene->dir, a) && realpath(out, b) && !strcmp(a, b))
         return ws_fail(st, WS_EUSAGE, "--write-fixed: %s is the scene itself", out);
-    for (int s = 0; s < WS_NSPLITS; s++)
-        if (r->split[s].n > 0 && write_split(scene, s, &r->split[s], out, st)) return st->code;
-    return link_rest(scene->dir, out, st);
+    const int nerfstudio = scene->layout == WS_LAYOUT_NERFSTUDIO;
+    if (nerfstudio && write_file(scene, r, 0, WS_NSPLITS - 1, out, st)) return st->code;
+    for (int s = 0; s < WS_NSPLITS && !nerfstudio; s++)
+        if (r->split[s].n > 0 && write_file(scene, r, s, s, out, st)) return st->code;
+    return link_rest(scene->dir, nerfstudio, out, st);
 }

@@ -23,6 +23,12 @@
 
 const char *const ws_split_names[WS_NSPLITS] = {"train", "val", "test"};
 
+const char *ws_scene_file(const ws_scene *scene, int s) {
+    static const char *const files[WS_NSPLITS] = {"transforms_train.json", "transforms_val.json",
+                                                  "transforms_test.json"};
+    return scene->layout == WS_LAYOUT_NERFSTUDIO ? "transforms.json" : files[s];
+}
+
 int ws_split_index(const char *name) {
     for (int s = 0; s < WS_NSPLITS; s++)
         if (!strcmp(name, ws_split_names[s])) return s;
@@ -266,6 +272,7 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
         char what[4300];
         double c2w[4][4];
         ws_view *v = &split->views[index];
+        v->frame = index;
         snprintf(what, sizeof what, "%s: frame %d", path, index);
         if ((rc = parse_frame(frame, what, dir, opt, v, c2w, st)) ||
             (rc = ws_camera_init(&v->cam, c2w, angle->valuedouble, opt->width, opt->height, what, st)))
@@ -452,6 +459,7 @@ static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_opt
         double c2w[4][4];
         intrinsics in;
         ws_view *v = &scene->split[s].views[scene->split[s].n++];
+        v->frame = index;
         snprintf(what, sizeof what, "%s: frame %d", path, index);
         if (!(rc = parse_frame(frame, what, dir, opt, v, c2w, st)) &&
             !(rc = frame_intrinsics(frame, root, what, &in, st)))
@@ -658,13 +666,10 @@ static int check_distances(ws_scene *scene, ws_status *st) {
             ws_camera_position(&scene->split[s].views[k].cam, p);
             for (int i = 0; i < 3; i++) d2 += (p[i] - scene->center[i]) * (p[i] - scene->center[i]);
             if (!isfinite(d2)) {
-                /* nerfstudio: the frames of one file, split apart */
-                const int one_file = scene->layout == WS_LAYOUT_NERFSTUDIO;
                 ws_fail(st, WS_EINPUT,
-                        "%s/transforms%s%s.json: %s%s %d: camera too far out (its distance to the "
-                        "scene centre overflows)",
-                        scene->dir, one_file ? "" : "_", one_file ? "" : ws_split_names[s],
-                        one_file ? ws_split_names[s] : "", one_file ? " view" : "frame", k);
+                        "%s/%s: frame %d: camera too far out (its distance to the scene centre "
+                        "overflows)",
+                        scene->dir, ws_scene_file(scene, s), scene->split[s].views[k].frame);
                 ws_scene_free(scene);
                 return st->code;
             }

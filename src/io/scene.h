@@ -39,6 +39,8 @@ enum { WS_TRAIN = 0, WS_VAL = 1, WS_TEST = 2, WS_NSPLITS = 3 };
 
 typedef struct {
     char name[256];       /* image file name without extension: "r_0" */
+    int frame;            /* its index in its transforms file's frames[] (ws_scene_file);
+                             a split's views are in this order */
     char image_path[4096];/* the PNG that was found */
     ws_camera cam;
     ws_image photo;       /* 3 x height x width, composited on the background */
@@ -90,6 +92,11 @@ void ws_scene_options_default(ws_scene_options *opt);
  * mean camera position is used instead. */
 int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt, ws_status *st);
 void ws_scene_free(ws_scene *scene);
+
+/* The transforms file (in scene->dir) that lists split s's frames:
+ * "transforms_train.json" etc., or "transforms.json" for every split of a
+ * nerfstudio scene. */
+const char *ws_scene_file(const ws_scene *scene, int s);
 
 /* "train" -> WS_TRAIN etc.; -1 for anything else. */
 int ws_split_index(const char *name);
