@@ -179,6 +179,115 @@ static void test_hull(const char *dir) {
     ws_scene_free(&scene);
 }
 
+/* Copies `from` into `to` with every transforms file passed through `edit`
+ * (split: the file's, or -1 for a nerfstudio transforms.json). */
+typedef void (*edit_fn)(cJSON *root, int split);
+static void broken_copy(const char *from, const char *to, edit_fn edit) {
+    static const char *const files[4] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
+                                         "transforms.json"};
+    char out[4096];
+    run(out, sizeof out, "rm -rf %s && mkdir -p %s && ln -s $(realpath %s)/rgb %s/rgb", to, to, from, to);
+    for (int s = 0; s < 4; s++) {
+        char path[600];
+        snprintf(path, sizeof path, "%s/%s", from, files[s]);
+        FILE *f = fopen(path, "rb");
+        if (!f) continue;
+        static char text[1 << 20];
+        size_t n = fread(text, 1, sizeof text - 1, f);
+        fclose(f);
+        text[n] = 0;
+        cJSON *root = cJSON_Parse(text);
+        edit(root, s < WS_NSPLITS ? s : -1);
+        char *printed = cJSON_Print(root);
+        snprintf(path, sizeof path, "%s/%s", to, files[s]);
+        f = fopen(path, "wb");
+        fputs(printed, f);
+        fclose(f);
+        free(printed);
+        cJSON_Delete(root);
+    }
+}
+
+/* Image k listed with the camera of frame k + 1, the last image dropped
+ * (as the duck's transforms were shipped). */
+static void edit_shift(cJSON *root, int split) {
+    cJSON *frames = cJSON_GetObjectItem(root, "frames");
+    int n = cJSON_GetArraySize(frames);
+    for (int k = 0; k + 1 < n; k++)
+        cJSON_ReplaceItemInObject(cJSON_GetArrayItem(frames, k), "transform_matrix",
+                                  cJSON_Duplicate(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, k + 1), "transform_matrix"), 1));
+    cJSON_DeleteItemFromArray(frames, n - 1);
+}
+
+static void edit_opencv(cJSON *root, int split) {
+    cJSON *frames = cJSON_GetObjectItem(root, "frames");
+    for (cJSON *f = frames->child; f; f = f->next)
+        for (int i = 0; i < 3; i++)
+            for (int j = 1; j <= 2; j++) {
+                cJSON *e = cJSON_GetArrayItem(cJSON_GetArrayItem(cJSON_GetObjectItem(f, "transform_matrix"), i), j);
+                cJSON_SetNumberValue(e, -e->valuedouble);
+            }
+}
+
+/* Frame `frame` gets the camera of the frame of the file farthest from it. */
+static void replace_far(cJSON *root, int frame) {
+    cJSON *frames = cJSON_GetObjectItem(root, "frames");
+    int n = cJSON_GetArraySize(frames), far = 0;
+    double pos[64][3], best = -1;
+    for (int k = 0; k < n && k < 64; k++)
+        for (int i = 0; i < 3; i++)
+            pos[k][i] = cJSON_GetArrayItem(cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, k), "transform_matrix"), i), 3)->valuedouble;
+    for (int k = 0; k < n && k < 64; k++) {
+        double d = pow(pos[k][0] - pos[frame][0], 2) + pow(pos[k][1] - pos[frame][1], 2) +
+                   pow(pos[k][2] - pos[frame][2], 2);
+        if (d > best) best = d, far = k;
+    }
+    cJSON_ReplaceItemInObject(cJSON_GetArrayItem(frames, frame), "transform_matrix",
+                              cJSON_Duplicate(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, far), "transform_matrix"), 1));
+}
+
+/* Train frame 5 gets the camera of the train frame farthest from it. */
+static void edit_replace(cJSON *root, int split) {
+    if (split == WS_TRAIN) replace_far(root, 5);
+}
+
+/* camera_angle_x listing a focal `factor` times the true one. */
+static void scale_focal(cJSON *root, double factor) {
+    cJSON *a = cJSON_GetObjectItem(root, "camera_angle_x");
+    cJSON_SetNumberValue(a, 2 * atan(tan(0.5 * a->valuedouble) / factor));
+}
+static void edit_fov(cJSON *root, int split) { scale_focal(root, 0.5); }
+static void edit_fov_09(cJSON *root, int split) { scale_focal(root, 0.9); }
+static void edit_fov_125(cJSON *root, int split) { scale_focal(root, 1.25); }
+
+static void check_cause(const char *bin, const char *dir, int size, ws_check_cause want,
+                        const char *label, const char *phrase) {
+    ws_status st;
+    ws_scene scene = {0};
+    ws_check_report r;
+    ws_view_targets *targets = NULL;
+    const ws_silhouette *sil[WS_NSPLITS];
+    int failed = load_scene_at(&scene, dir, size, &st) || ws_view_targets_create(&targets, &scene, &st);
+    for (int s = 0; s < WS_NSPLITS && !failed; s++) failed = ws_view_targets_silhouettes(targets, s, &sil[s], &st);
+    if (failed || ws_check_scene(&scene, sil, WS_CHECK_RESOLUTION, &r, &st)) {
+        CHECK(0, "%s: %s", label, st.msg);
+        ws_view_targets_free(targets);
+        ws_scene_free(&scene);
+        return;
+    }
+    ws_check_cause got = WS_CAUSE_NONE;
+    for (int s = 0; s < WS_NSPLITS && got == WS_CAUSE_NONE; s++) got = r.split[s].cause;
+    CHECK(got == want && r.consistent == (want == WS_CAUSE_NONE), "%s: cause %d, want %d (%s)", label,
+          got, want, r.line);
+    ws_check_report_free(&r);
+    ws_view_targets_free(targets);
+    ws_scene_free(&scene);
+    static char out[1 << 16];
+    int rc = run(out, sizeof out, "%s check %s --size %d", bin, dir, size);
+    CHECK(rc == (want == WS_CAUSE_NONE ? 0 : 1) && strstr(out, phrase), "%s: exit %d, output:\n%s", label,
+          rc, out);
+}
+
 /* A wide nerfstudio trefoil (288 x 216, 48 / 8 / 8 views) whose fl_x and
  * fl_y are 4/3 the true ones (the vertical angle of view taken for the
  * horizontal one): flagged with the line naming fl_x and fl_y. */
@@ -218,112 +327,142 @@ static void test_nerfstudio_focal(const char *bin) {
     cJSON_Delete(root);
     int rc = run(out, sizeof out, "%s check %s", bin, dir);
     CHECK(rc == 0 && strstr(out, "consistent"), "wide trefoil: exit %d: %s", rc, out);
-    rc = run(out, sizeof out, "%s check %s", bin, broken);
-    CHECK(rc == 1 && strstr(out, "transforms.json: fl_x and fl_y do not fit the train images; about 0.771 "
-                                 "times them does (tight-hull agreement 0.972, corrected 0.991); multiply "
-                                 "fl_x and fl_y by 0.771"),
+    char line[2048], fixed[416];
+    snprintf(line, sizeof line,
+             "\n%s/transforms.json: fl_x and fl_y do not fit the train images; about 0.771 times them does "
+             "(tight-hull agreement 0.972, corrected 0.991); multiply fl_x and fl_y by 0.771, or write a "
+             "corrected copy with `wiresketch check %s --write-fixed DIR`\n",
+             broken, broken);
+    snprintf(fixed, sizeof fixed, "%s_fixed", broken);
+    rc = run(out, sizeof out, "%s check %s --write-fixed %s", bin, broken, fixed);
+    CHECK(rc == 1 && strstr(out, line) && strstr(out, "wrote a corrected copy"),
           "wide trefoil, vertical angle for horizontal: exit %d: %s", rc, out);
+    rc = run(out, sizeof out, "%s check %s", bin, fixed);
+    CHECK(rc == 0 && strstr(out, "consistent"), "wide trefoil, corrected focal: exit %d: %s", rc, out);
 }
 
-/* Copies `from` into `to` with every transforms file passed through `edit`. */
-typedef void (*edit_fn)(cJSON *root, int split);
-static void broken_copy(const char *from, const char *to, edit_fn edit) {
-    char out[4096];
-    run(out, sizeof out, "rm -rf %s && mkdir -p %s && ln -s $(realpath %s)/rgb %s/rgb", to, to, from, to);
-    for (int s = 0; s < WS_NSPLITS; s++) {
-        char path[600];
-        snprintf(path, sizeof path, "%s/transforms_%s.json", from, ws_split_names[s]);
-        FILE *f = fopen(path, "rb");
-        if (!f) continue;
-        static char text[1 << 20];
-        size_t n = fread(text, 1, sizeof text - 1, f);
-        fclose(f);
-        text[n] = 0;
-        cJSON *root = cJSON_Parse(text);
-        edit(root, s);
-        char *printed = cJSON_Print(root);
-        snprintf(path, sizeof path, "%s/transforms_%s.json", to, ws_split_names[s]);
-        f = fopen(path, "wb");
-        fputs(printed, f);
-        fclose(f);
-        free(printed);
-        cJSON_Delete(root);
-    }
+/* nerfstudio copies: the split lists removed (the k % 8 rule splits the
+ * frames), the file's frame order shifted (frame k listed with the camera
+ * of frame k + 1, the last frame keeping its own), the OpenCV flip, one
+ * frame on the farthest frame's camera. */
+static void edit_rule(cJSON *root, int split) {
+    cJSON_DeleteItemFromObject(root, "train_filenames");
+    cJSON_DeleteItemFromObject(root, "val_filenames");
+    cJSON_DeleteItemFromObject(root, "test_filenames");
 }
-
-/* Image k listed with the camera of frame k + 1, the last image dropped
- * (as the duck's transforms were shipped). */
-static void edit_shift(cJSON *root, int split) {
+static void edit_file_shift(cJSON *root, int split) {
     cJSON *frames = cJSON_GetObjectItem(root, "frames");
-    int n = cJSON_GetArraySize(frames);
-    for (int k = 0; k + 1 < n; k++)
+    for (int k = 0; k + 1 < cJSON_GetArraySize(frames); k++)
         cJSON_ReplaceItemInObject(cJSON_GetArrayItem(frames, k), "transform_matrix",
                                   cJSON_Duplicate(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, k + 1), "transform_matrix"), 1));
-    cJSON_DeleteItemFromArray(frames, n - 1);
+}
+static void edit_rule_shift(cJSON *root, int split) {
+    edit_rule(root, split);
+    edit_file_shift(root, split);
+}
+static void edit_rule_opencv(cJSON *root, int split) {
+    edit_rule(root, split);
+    edit_opencv(root, split);
+}
+static void edit_rule_replace(cJSON *root, int split) {
+    edit_rule(root, split);
+    replace_far(root, 9);
 }
 
-static void edit_opencv(cJSON *root, int split) {
-    cJSON *frames = cJSON_GetObjectItem(root, "frames");
-    for (cJSON *f = frames->child; f; f = f->next)
-        for (int i = 0; i < 3; i++)
-            for (int j = 1; j <= 2; j++) {
-                cJSON *e = cJSON_GetArrayItem(cJSON_GetArrayItem(cJSON_GetObjectItem(f, "transform_matrix"), i), j);
-                cJSON_SetNumberValue(e, -e->valuedouble);
-            }
-}
-
-/* Train frame 5 gets the camera of the train frame farthest from it. */
-static void edit_replace(cJSON *root, int split) {
-    if (split != WS_TRAIN) return;
-    cJSON *frames = cJSON_GetObjectItem(root, "frames");
-    int n = cJSON_GetArraySize(frames), far = 0;
-    double pos[64][3], best = -1;
-    for (int k = 0; k < n && k < 64; k++)
-        for (int i = 0; i < 3; i++)
-            pos[k][i] = cJSON_GetArrayItem(cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, k), "transform_matrix"), i), 3)->valuedouble;
-    for (int k = 0; k < n && k < 64; k++) {
-        double d = pow(pos[k][0] - pos[5][0], 2) + pow(pos[k][1] - pos[5][1], 2) + pow(pos[k][2] - pos[5][2], 2);
-        if (d > best) best = d, far = k;
+/* The rule's split of every frame of `from`'s transforms.json, by
+ * file_path, against the lists of `fixed`'s: every frame of `fixed` keeps
+ * its split, and `fixed` has `dropped` frames fewer. */
+static void check_kept_splits(const char *from, const char *fixed, int dropped, const char *label) {
+    cJSON *root[2] = {NULL, NULL};
+    const char *dirs[2] = {from, fixed};
+    for (int d = 0; d < 2; d++) {
+        char path[600];
+        snprintf(path, sizeof path, "%s/transforms.json", dirs[d]);
+        FILE *f = fopen(path, "rb");
+        static char text[1 << 20];
+        size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+        if (f) fclose(f);
+        text[n] = 0;
+        root[d] = cJSON_Parse(text);
     }
-    cJSON_ReplaceItemInObject(cJSON_GetArrayItem(frames, 5), "transform_matrix",
-                              cJSON_Duplicate(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, far), "transform_matrix"), 1));
+    static const char *const keys[WS_NSPLITS] = {"train_filenames", "val_filenames", "test_filenames"};
+    const cJSON *frames = cJSON_GetObjectItem(root[0], "frames"), *kept = cJSON_GetObjectItem(root[1], "frames");
+    int moved = 0, listed = 0;
+    for (const cJSON *f = kept ? kept->child : NULL; f; f = f->next) {
+        const char *name = cJSON_GetObjectItem(f, "file_path")->valuestring;
+        int k = 0, want = -1, got = -1;
+        for (const cJSON *g = frames->child; g; g = g->next, k++)
+            if (!strcmp(cJSON_GetObjectItem(g, "file_path")->valuestring, name)) want = k % 8 == 0 ? WS_TEST : k % 8 == 4 ? WS_VAL : WS_TRAIN;
+        for (int s = 0; s < WS_NSPLITS; s++) {
+            const cJSON *item;
+            cJSON_ArrayForEach(item, cJSON_GetObjectItem(root[1], keys[s])) if (!strcmp(item->valuestring, name)) got = s, listed++;
+        }
+        moved += got != want;
+    }
+    const int n = cJSON_GetArraySize(frames), m = cJSON_GetArraySize(kept);
+    CHECK(m == n - dropped && listed == m && moved == 0,
+          "%s: %d of %d frames kept (want %d), %d listed, %d in another split than the rule gave them", label, m,
+          n, n - dropped, listed, moved);
+    cJSON_Delete(root[0]);
+    cJSON_Delete(root[1]);
 }
 
-/* camera_angle_x listing a focal `factor` times the true one. */
-static void scale_focal(cJSON *root, double factor) {
-    cJSON *a = cJSON_GetObjectItem(root, "camera_angle_x");
-    cJSON_SetNumberValue(a, 2 * atan(tan(0.5 * a->valuedouble) / factor));
-}
-static void edit_fov(cJSON *root, int split) { scale_focal(root, 0.5); }
-static void edit_fov_09(cJSON *root, int split) { scale_focal(root, 0.9); }
-static void edit_fov_125(cJSON *root, int split) { scale_focal(root, 1.25); }
-
-static void check_cause(const char *bin, const char *dir, int size, ws_check_cause want,
-                        const char *label, const char *phrase) {
+/* A nerfstudio trefoil (64 px, 24 / 6 / 6 views, with split lists, and a
+ * copy split by the rule): a shift in the file's frame order is found as
+ * one (with and without lists), the OpenCV flip and a replaced camera too,
+ * each line naming transforms.json and the frame's index there; each
+ * corrected copy is consistent, and one that drops frames from a rule-split
+ * file lists every other frame in the split it had. */
+static void test_nerfstudio_check(const char *bin) {
+    char dir[400], broken[400], fixed[400], line[2048];
+    static char out[1 << 16];
+    snprintf(dir, sizeof dir, "%s/ns", tmp);
     ws_status st;
-    ws_scene scene = {0};
-    ws_check_report r;
-    ws_view_targets *targets = NULL;
-    const ws_silhouette *sil[WS_NSPLITS];
-    int failed = load_scene_at(&scene, dir, size, &st) || ws_view_targets_create(&targets, &scene, &st);
-    for (int s = 0; s < WS_NSPLITS && !failed; s++) failed = ws_view_targets_silhouettes(targets, s, &sil[s], &st);
-    if (failed || ws_check_scene(&scene, sil, WS_CHECK_RESOLUTION, &r, &st)) {
-        CHECK(0, "%s: %s", label, st.msg);
-        ws_view_targets_free(targets);
-        ws_scene_free(&scene);
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    opt.nerfstudio = 1;
+    opt.size = 64;
+    opt.views[WS_TRAIN] = 24;
+    opt.views[WS_VAL] = 6;
+    opt.views[WS_TEST] = 6;
+    if (ws_synth_write("trefoil", dir, &opt, &st)) {
+        CHECK(0, "nerfstudio trefoil: %s", st.msg);
         return;
     }
-    ws_check_cause got = WS_CAUSE_NONE;
-    for (int s = 0; s < WS_NSPLITS && got == WS_CAUSE_NONE; s++) got = r.split[s].cause;
-    CHECK(got == want && r.consistent == (want == WS_CAUSE_NONE), "%s: cause %d, want %d (%s)", label,
-          got, want, r.line);
-    ws_check_report_free(&r);
-    ws_view_targets_free(targets);
-    ws_scene_free(&scene);
-    static char out[1 << 16];
-    int rc = run(out, sizeof out, "%s check %s --size %d", bin, dir, size);
-    CHECK(rc == (want == WS_CAUSE_NONE ? 0 : 1) && strstr(out, phrase), "%s: exit %d, output:\n%s", label,
-          rc, out);
+    const struct {
+        const char *name;
+        edit_fn edit;
+        ws_check_cause cause;
+        const char *line; /* after "DIR/transforms.json: ", up to the closing "DIR" where it names one */
+        int dropped;      /* frames the corrected copy drops; -1: it keeps the lists as they are */
+    } broken_ways[] = {
+        {"ns_shift", edit_file_shift, WS_CAUSE_SHIFT,
+         "the image of frame k belongs to the camera listed for frame k-1 (the val views' agreement 0.71, "
+         "re-paired 1.00); write a corrected copy with `wiresketch check ", -1},
+        {"ns_rule_shift", edit_rule_shift, WS_CAUSE_SHIFT,
+         "the image of frame k belongs to the camera listed for frame k-1 (the train views' agreement 0.59, "
+         "re-paired 1.00); write a corrected copy with `wiresketch check ", 1},
+        {"ns_rule_opencv", edit_rule_opencv, WS_CAUSE_OPENCV,
+         "the cameras are in the OpenCV convention (y down, z forward; the train views' agreement 0.00, "
+         "flipped 1.00); negate the second and third columns of every transform_matrix, or write a "
+         "corrected copy with `wiresketch check ", -1},
+        {"ns_rule_replace", edit_rule_replace, WS_CAUSE_BAD_FRAMES,
+         "frame 9 (r_9, agreement 0.67) disagrees with the other train views (mean 1.00): fix its "
+         "transform_matrix or image, or remove it\n", 1},
+    };
+    for (size_t b = 0; b < sizeof broken_ways / sizeof broken_ways[0]; b++) {
+        snprintf(broken, sizeof broken, "%s/%s", tmp, broken_ways[b].name);
+        snprintf(fixed, sizeof fixed, "%s/%s_fixed", tmp, broken_ways[b].name);
+        broken_copy(dir, broken, broken_ways[b].edit);
+        snprintf(line, sizeof line, "\n%s/transforms.json: %s%s", broken, broken_ways[b].line,
+                 broken_ways[b].cause == WS_CAUSE_BAD_FRAMES ? "" : broken);
+        int rc = run(out, sizeof out, "%s check %s --size 64 --write-fixed %s", bin, broken, fixed);
+        CHECK(rc == 1 && strstr(out, line) && strstr(out, "wrote a corrected copy"), "%s: exit %d: %s",
+              broken_ways[b].name, rc, out);
+        rc = run(out, sizeof out, "%s check %s --size 64", bin, fixed);
+        CHECK(rc == 0 && strstr(out, "consistent"), "%s, corrected: exit %d: %s", broken_ways[b].name, rc, out);
+        if (broken_ways[b].dropped >= 0) check_kept_splits(broken, fixed, broken_ways[b].dropped, broken_ways[b].name);
+    }
 }
 
 int main(void) {
@@ -383,6 +522,7 @@ int main(void) {
     bad = run(out, sizeof out, "%s check %s/nowhere", bin, tmp);
     CHECK(bad == 1 && strstr(out, "nowhere"), "missing scene: %d %s", bad, out);
     test_nerfstudio_focal(bin);
+    test_nerfstudio_check(bin);
     /* fit refuses a broken scene, naming --no-check, and fits it with it */
     snprintf(broken, sizeof broken, "%s/shift", tmp);
     int rc = run(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet",

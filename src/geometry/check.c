@@ -278,35 +278,53 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
     }
 }
 
-/* A shift found in one split is usually in every split, but a split whose
- * cameras form a regular orbit or spiral cannot show it (shifting such
- * cameras by a frame turns them all alike, which keeps them consistent):
- * the fix re-pairs every split that agrees as well re-paired. Where one
- * file holds every split (nerfstudio), the shift is in that file's frame
- * order, so it also explains a split whose views disagree as listed (bad
- * frames, or no cause found) when it re-pairs them: that split's cause
- * becomes the shift. */
-static int shift_elsewhere(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
-                           ws_check_report *r, ws_status *st) {
-    int shift = 0;
-    for (int s = 0; s < WS_NSPLITS && !shift; s++)
-        if (r->split[s].cause == WS_CAUSE_SHIFT) shift = r->split[s].shift;
-    if (!shift) return WS_OK;
+/* The hypothesis a split's cause names (shift, OpenCV or focal). */
+static int hypothesis_cause(ws_check_cause cause) {
+    return cause == WS_CAUSE_SHIFT || cause == WS_CAUSE_OPENCV || cause == WS_CAUSE_FOCAL;
+}
+
+/* A cause found in one split is usually in every split, though not every
+ * split shows it: a split whose cameras form a regular orbit or spiral
+ * cannot show a shift (shifting such cameras by a frame turns them all
+ * alike, which keeps them consistent), and a split of a few views can
+ * agree under more than one hypothesis. So the hypothesis of one split,
+ * *from, is measured on the others:
+ * - each split its own file (NeRF-synthetic): the first split's shift, on
+ *   the consistent splits, which the fix re-pairs when they agree as well
+ *   re-paired;
+ * - one file for every split (nerfstudio): that of the split with the most
+ *   views whose cause is a hypothesis, on every split with another cause:
+ *   one that agrees under it has that cause (a consistent one keeps its
+ *   verdict, and a shift re-pairs it too), since the file's frame order,
+ *   convention and focal are those of all its splits. */
+static int cause_elsewhere(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
+                           ws_check_report *r, int *from, ws_status *st) {
     const int one_file = scene->layout == WS_LAYOUT_NERFSTUDIO;
+    *from = -1;
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        const ws_check_split *c = &r->split[s];
+        if (one_file ? hypothesis_cause(c->cause) && (*from < 0 || c->n > r->split[*from].n)
+                     : c->cause == WS_CAUSE_SHIFT && *from < 0)
+            *from = s;
+    }
+    if (*from < 0) return WS_OK;
+    const ws_check_split *e = &r->split[*from];
+    const hypothesis h = {e->cause == WS_CAUSE_SHIFT ? e->shift : 0, e->cause == WS_CAUSE_OPENCV,
+                          e->cause == WS_CAUSE_FOCAL ? e->focal_scale : 1.0, 1};
     for (int s = 0; s < WS_NSPLITS; s++) {
         ws_check_split *c = &r->split[s];
-        const int unexplained = c->cause == WS_CAUSE_BAD_FRAMES || c->cause == WS_CAUSE_UNKNOWN;
-        if (c->n == 0 || !(c->cause == WS_CAUSE_NONE || (one_file && unexplained))) continue;
+        const int same = c->cause == e->cause && c->shift == e->shift && c->focal_scale == e->focal_scale;
+        if (s == *from || c->n == 0 || (one_file ? same : c->cause != WS_CAUSE_NONE)) continue;
         double *trial = ws_malloc(sizeof *trial * c->n, "check agreement", st);
         int rc = trial ? WS_OK : st->code;
-        const hypothesis h = {shift, 0, 1.0, 1};
         double mean = 0;
         if (!rc) rc = agreement_under(scene, s, sil[s], resolution, &h, 0, trial, &mean, st);
         if (!rc && mean >= WS_CHECK_MEAN_OK) {
-            c->repair_shift = shift;
-            if (unexplained) {
-                c->cause = WS_CAUSE_SHIFT;
-                c->shift = shift;
+            c->repair_shift = h.shift;
+            if (c->cause != WS_CAUSE_NONE) {
+                c->cause = e->cause;
+                c->shift = e->shift;
+                c->focal_scale = e->focal_scale;
                 c->fixed_mean = mean;
             }
         }
@@ -326,16 +344,19 @@ int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPL
         }
         if (r->split[s].cause == WS_CAUSE_SHIFT) r->split[s].repair_shift = r->split[s].shift;
     }
-    if (shift_elsewhere(scene, sil, resolution, r, st)) {
+    int from;
+    if (cause_elsewhere(scene, sil, resolution, r, &from, st)) {
         ws_check_report_free(r);
         return st->code;
     }
-    r->consistent = 1;
-    for (int s = 0; s < WS_NSPLITS && r->consistent; s++)
-        if (r->split[s].cause != WS_CAUSE_NONE) {
-            r->consistent = 0;
-            explain(scene, s, &r->split[s], r->line, sizeof r->line);
-        }
+    /* The line explains the first inconsistent split; in one file, the
+     * split whose cause the others were measured under. */
+    r->explained = -1;
+    for (int s = WS_NSPLITS - 1; s >= 0; s--)
+        if (r->split[s].cause != WS_CAUSE_NONE) r->explained = s;
+    if (scene->layout == WS_LAYOUT_NERFSTUDIO && from >= 0) r->explained = from;
+    r->consistent = r->explained < 0;
+    if (!r->consistent) explain(scene, r->explained, &r->split[r->explained], r->line, sizeof r->line);
     return WS_OK;
 }
 

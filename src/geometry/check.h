@@ -8,8 +8,10 @@
  * mean agreement is at least WS_CHECK_MEAN_OK and no view is below
  * WS_CHECK_VIEW_OK. Otherwise the usual causes are tried, each as a
  * hypothesis whose mean agreement is measured the same way:
- * - a frame shift: the image of frame k belongs to the camera of frame
- *   k + s, s = -2 .. 2;
+ * - a frame shift: the image of frame k belongs to the camera listed for
+ *   frame k + s, s = -2 .. 2, of the same transforms file (ws_scene_file;
+ *   in a nerfstudio scene, whose one file holds every split, that frame
+ *   may be another split's);
  * - the OpenCV convention (y down, z forward): the second and third
  *   columns of every transform_matrix negated;
  * - a wrong field of view: the focal scaled by the focal estimate below;
@@ -18,7 +20,11 @@
  * (the best such one wins). Failing that, when at most a tenth of the
  * views (at least 1) disagree and the others agree on average, those views
  * are bad frames (a wrong camera or image each); anything else is an
- * inconsistency of unknown cause.
+ * inconsistency of unknown cause. The cause of one split is then measured
+ * on the others (check.c: cause_elsewhere): a shift re-pairs the splits
+ * that agree as well re-paired, and in a nerfstudio file, whose frame
+ * order, convention and focal serve every split, a split that agrees under
+ * the hypothesis of the split with the most views gets that cause too.
  *
  * The focal estimate: for cameras aimed at the object a focal error looks
  * almost like a scaled object (only perspective tells them apart), so the
@@ -48,9 +54,9 @@
 
 typedef enum {
     WS_CAUSE_NONE,       /* consistent */
-    WS_CAUSE_SHIFT,      /* image k belongs to the camera of frame k + shift */
+    WS_CAUSE_SHIFT,      /* image k belongs to the camera listed for frame k + shift */
     WS_CAUSE_OPENCV,     /* cameras in the OpenCV convention */
-    WS_CAUSE_FOCAL,      /* camera_angle_x wrong: the focal should be scaled by focal_scale */
+    WS_CAUSE_FOCAL,      /* camera_angle_x (fl_x, fl_y) wrong: the focal should be scaled by focal_scale */
     WS_CAUSE_BAD_FRAMES, /* the views in `disagree` are wrong */
     WS_CAUSE_UNKNOWN
 } ws_check_cause;
@@ -60,7 +66,7 @@ typedef struct {
     double *agreement;    /* n */
     double mean, worst;
     int ndisagree;
-    int *disagree;        /* ndisagree view indices, agreement below WS_CHECK_VIEW_OK */
+    int *disagree;        /* ndisagree view indices (in the split), agreement below WS_CHECK_VIEW_OK */
     ws_check_cause cause;
     int shift;            /* WS_CAUSE_SHIFT */
     double focal_scale;   /* WS_CAUSE_FOCAL: f_true / f_listed */
@@ -74,6 +80,7 @@ typedef struct {
 typedef struct {
     ws_check_split split[WS_NSPLITS];
     int consistent;       /* every split */
+    int explained;        /* the split `line` explains; -1 when consistent */
     char line[1024];      /* what is wrong and how to fix it; "" when consistent */
 } ws_check_report;
 
@@ -85,11 +92,17 @@ int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPL
 void ws_check_report_free(ws_check_report *r);
 
 /* Writes a corrected copy of the scene into `out` (created if missing,
- * not the scene itself): every split's transforms_SPLIT.json rewritten
- * with its fix (frames re-paired, frames left without a camera by the
- * shift dropped; second and third columns negated; camera_angle_x
- * replaced; bad frames dropped), every other entry of the scene directory
- * linked (symbolic links to absolute paths). */
+ * not the scene itself): every transforms file rewritten with the fix of
+ * each frame's split (frame k re-paired with the camera listed for frame
+ * k + repair_shift, in file order, and dropped where there is none; second
+ * and third columns negated; bad frames dropped) and the file's focal
+ * (camera_angle_x, fl_x and fl_y, at the root and in frames, for the focal
+ * scale of its split, or in a nerfstudio file of the split r->explained);
+ * a nerfstudio file that loses frames gets explicit train / val /
+ * test_filenames of their splits, so that the k % 8 rule of a file
+ * without them does not move the frames after a dropped one. Every other
+ * entry of the scene directory is linked (symbolic links to absolute
+ * paths). */
 int ws_check_write_fixed(const ws_scene *scene, const ws_check_report *r, const char *out,
                          ws_status *st);
 

@@ -97,8 +97,7 @@ static int fix_frames(cJSON *root, const ws_check_report *r, const int *split_of
 }
 
 /* Rewrites the file that holds the splits `first` .. `last` with their
- * fixes. The file's focal scale is that of the first of them whose cause
- * is the focal: a nerfstudio file's focal lengths serve every split. */
+ * fixes. */
 static int write_file(const ws_scene *scene, const ws_check_report *r, int first, int last, const char *out,
                       ws_status *st) {
     const char *file = ws_scene_file(scene, first);
@@ -114,7 +113,11 @@ static int write_file(const ws_scene *scene, const ws_check_report *r, int first
     int *split_of = root ? ws_malloc(sizeof *split_of * (n ? n : 1), "frames", st) : NULL;
     char *drop = split_of ? ws_calloc(n ? n : 1, 1, "frames", st) : NULL;
     int rc = !root ? ws_fail(st, WS_EINPUT, "%s: changed while it was checked", in_path) : drop ? WS_OK : st->code;
-    double focal_scale = 1;
+    /* the focal of the split this file holds, or of the split the line
+     * explains where the file holds every split (one focal serves them) */
+    const int named = first == last ? first : r->explained;
+    const double focal_scale =
+        named >= 0 && r->split[named].cause == WS_CAUSE_FOCAL ? r->split[named].focal_scale : 1;
     for (int k = 0; k < n && !rc; k++) split_of[k] = -1;
     for (int s = first; s <= last && !rc; s++) {
         const ws_check_split *c = &r->split[s];
@@ -127,7 +130,6 @@ static int write_file(const ws_scene *scene, const ws_check_report *r, int first
         }
         for (int d = 0; d < c->ndisagree && !rc && c->cause == WS_CAUSE_BAD_FRAMES; d++)
             drop[scene->split[s].views[c->disagree[d]].frame] = 1;
-        if (c->cause == WS_CAUSE_FOCAL && focal_scale == 1) focal_scale = c->focal_scale;
     }
     char *text = NULL;
     if (!rc) rc = fix_frames(root, r, split_of, drop, focal_scale, scene->layout == WS_LAYOUT_NERFSTUDIO, st);
