@@ -148,7 +148,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--respawn-every", WS_ARG_INT, &opt->respawn_every, 0,
          "steps between moves of idle curves onto the hull, 0 = never [300]"},
         {"--init", WS_ARG_STRING, &opt->init_curves, 0,
-         "hull (on the visual hull), random (the original's sphere) or a curve file [hull]"},
+         "hull (on the visual hull), edges (on the photos' edges), random (the original's sphere) "
+         "or a curve file [hull]"},
         {"--no-check", WS_ARG_FLAG, &opt->no_check, 0, "fit even a scene `check` finds inconsistent"},
         {"--quiet", WS_ARG_FLAG, &opt->quiet, 0, "no progress line"},
     };

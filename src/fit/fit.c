@@ -41,7 +41,7 @@ typedef struct {
     double *grad;             /* curves x WS_CURVE_FLOATS */
     double *backup;           /* 3 x curves x WS_CURVE_FLOATS: P, Adam m and v before an update */
     ws_fit_state s;
-    ws_respawn *respawn;      /* NULL when --respawn-every is 0 */
+    ws_respawn *respawn;      /* NULL when --respawn-every is 0 (and not --init edges) */
     ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
                                * the respawn and hidden-line removal (empty when none of them is on) */
     double start;             /* ws_seconds() when this process began fitting */
@@ -173,6 +173,12 @@ static int init_state(fit_run *r, ws_status *st) {
     s->order = ws_malloc((size_t)s->n_train * sizeof(int), "view order", st);
     if (!s->order || ws_adam_init(&s->adam, s->curves.n * WS_CURVE_FLOATS, o->learning_rate, st))
         return st->code;
+    /* --init edges: with fresh moments every curve is idle (no gradient
+     * yet), so one respawn places them all on the photos' edges, each on
+     * the edge pixel farthest from those already placed (fit/init.h) */
+    int placed;
+    if (!strcmp(o->init_curves, "edges") && ws_respawn_step(r->respawn, &s->curves, &s->adam, &placed, st))
+        return st->code;
     shuffle(s->order, s->n_train, &s->rng);
     return ws_fit_state_snapshot(s, st);
 }
@@ -223,7 +229,8 @@ static int respawn(fit_run *r, ws_status *st) {
     const ws_fit_options *o = r->opt;
     ws_fit_state *s = &r->s;
     long schedule = (long)o->epochs * ((s->n_train + o->batch_size - 1) / o->batch_size) * o->inner_steps;
-    if (!r->respawn || s->global_step % o->respawn_every != 0 || 4 * s->global_step > 3 * schedule)
+    if (!r->respawn || o->respawn_every == 0 || s->global_step % o->respawn_every != 0 ||
+        4 * s->global_step > 3 * schedule)
         return WS_OK;
     int moved;
     if (ws_respawn_step(r->respawn, &s->curves, &s->adam, &moved, st)) return st->code;
@@ -322,15 +329,16 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     } else if (!o->no_check && ws_fit_check_scene(&r->scene, r->targets, st)) {
         return st->code;
     }
-    int hull_init = !resume && !strcmp(o->init_curves, "hull");
+    int edges_init = !resume && !strcmp(o->init_curves, "edges");
+    int hull_init = edges_init || (!resume && !strcmp(o->init_curves, "hull"));
     const ws_silhouette *sil;
     if ((hull_init || o->respawn_every > 0 || o->loss.hidden_lines == WS_HIDDEN_HULL) &&
         (ws_view_targets_silhouettes(r->targets, WS_TRAIN, &sil, st) ||
          ws_scene_hull_make(&r->scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, &r->hull, st)))
         return st->code;
-    if ((!resume && init_state(r, st)) ||
-        (o->respawn_every > 0 &&
-         ws_respawn_create(&r->respawn, &r->scene, r->targets, &r->hull, o->n_curves, o->length, st)))
+    if (((o->respawn_every > 0 || edges_init) &&
+         ws_respawn_create(&r->respawn, &r->scene, r->targets, &r->hull, o->n_curves, o->length, st)) ||
+        (!resume && init_state(r, st)))
         return st->code;
     ws_splat_options splat_opt;
     ws_splat_options_default(&splat_opt);
@@ -357,7 +365,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
 static int retired_curves(const fit_run *r, int **retire, ws_status *st) {
     if (!(*retire = ws_calloc(r->s.curves.n ? r->s.curves.n : 1, sizeof(int), "retired curves", st)))
         return st->code;
-    return r->respawn ? ws_respawn_retire(r->respawn, &r->s.curves, *retire, st) : WS_OK;
+    return r->respawn && r->opt->respawn_every > 0 ? ws_respawn_retire(r->respawn, &r->s.curves, *retire, st)
+                                                   : WS_OK;
 }
 
 /* FNV-1a over bytes, continuing from h. */

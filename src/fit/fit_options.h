@@ -10,8 +10,9 @@
 typedef struct {
     const char *scene_dir;
     const char *out_dir;
-    const char *init_curves;   /* "hull" (on the visual hull, the default), "random" (METHOD.md
-                                  section 2) or a curve file (fit/init.h) */
+    const char *init_curves;   /* "hull" (on the visual hull, the default), "edges" (on the
+                                  photos' edges), "random" (METHOD.md section 2) or a curve
+                                  file (fit/init.h) */
     int no_check;              /* skip the scene check (geometry/check.h) before a new fit */
     ws_loss_options loss;
     int size;                  /* working resolution (the model's with CLIP) */

@@ -8,7 +8,7 @@ int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_
     if (!strcmp(o->init_curves, "random"))
         return ws_curves_init_random(c, o->n_curves, scene->center, o->radius, o->length,
                                      o->thickness, o->overlap, rng, st);
-    if (!strcmp(o->init_curves, "hull"))
+    if (!strcmp(o->init_curves, "hull") || !strcmp(o->init_curves, "edges")) /* edges: fit.c moves them */
         return ws_curves_init_hull(c, &hull->surface, o->n_curves, o->length, o->thickness, o->overlap, rng, st);
     if (ws_curves_load(o->init_curves, c, st)) return st->code;
     if (c->n == 0)

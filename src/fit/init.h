@@ -4,8 +4,14 @@
  * --init hull (the default): the curves start on the surface of the visual
  * hull of the training views (geometry/surface.h, WS_HULL_INIT_RESOLUTION
  * voxels along its longest side), spread by farthest-point sampling, as
- * short strokes tangent to it (hull: the fit's, carved once). --init random: the original's sphere
- * (METHOD.md section 2). Anything else names a curve file. */
+ * short strokes tangent to it (hull: the fit's, carved once). --init edges:
+ * the same, then before the first step every curve (all idle: no gradient
+ * yet) is moved as a respawn moves an idle curve (fit/respawn.h): each onto
+ * the training views' edge pixel farthest from the curves already placed,
+ * at the depth the other views agree on, along the edge; the hull start
+ * stays where no edge is left uncovered. fit.c does that move; here it is
+ * the hull start. --init random: the original's sphere (METHOD.md section
+ * 2). Anything else names a curve file. */
 #ifndef WS_FIT_INIT_H
 #define WS_FIT_INIT_H
 #include "fit/fit_options.h"
