@@ -737,6 +737,10 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "--hidden-lines: 'hidden' is not hull or none"), "fit --hidden-lines hidden");
     rc = run("rank %s/scene --size 32 --hidden-lines Hull", tmp);
     CHECK(ANSWER(2, rc, "--hidden-lines: 'Hull' is not hull or none"), "rank --hidden-lines Hull");
+    CHECK(run("scene trefoil --out %s/scene_noval --size 32 --views-train 3 --views-val 0 --views-test 1", tmp) == 0,
+          "scene without validation views failed");
+    rc = run("rank %s/scene_noval --size 32 --split val", tmp);
+    CHECK(ANSWER(2, rc, "rank: the val split has no views"), "rank of an empty split");
     rc = run("fit %s/scene --out %s " FIT " --edges-weight -1", tmp, out);
     CHECK(ANSWER(2, rc, "loss weights (--clip-weight, --clip-conv-loss, --clip-fc-loss-weight, "
                         "--clip-conv-layer-weights, --edges-weight) must be >= 0"),
