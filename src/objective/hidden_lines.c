@@ -39,25 +39,46 @@ void ws_hidden_lines_free(ws_hidden_lines *hl) {
     free(hl);
 }
 
-/* Z of a view into z (H x W): the surface voxels z-buffered as discs. */
-static void depth_map(const ws_scene_hull *h, const ws_camera *cam, float *z) {
+/* The tolerance, in voxels, of a surface voxel with outward normal n whose
+ * centre lies at camera-space c: WS_HIDDEN_TOLERANCE_HEAD_ON / |cos| of the
+ * angle between n and the ray, at most WS_HIDDEN_TOLERANCE (reached from 55
+ * degrees off head-on, and where the normal is zero). */
+static double tolerance_voxels(const ws_camera *cam, const double n[3], const double c[3]) {
+    double dot = 0, cc = 0;
+    for (int i = 0; i < 3; i++) {
+        dot += (cam->R[i][0] * n[0] + cam->R[i][1] * n[1] + cam->R[i][2] * n[2]) * c[i];
+        cc += c[i] * c[i];
+    }
+    double cosine = fabs(dot) / sqrt(cc);
+    return WS_HIDDEN_TOLERANCE_HEAD_ON < cosine * WS_HIDDEN_TOLERANCE ? WS_HIDDEN_TOLERANCE_HEAD_ON / cosine
+                                                                        : WS_HIDDEN_TOLERANCE;
+}
+
+/* Z of a view into z (H x W): the surface voxels z-buffered as discs; and
+ * into far, Z plus the tolerance of the voxel nearest there (+inf where
+ * none falls). */
+static void depth_map(const ws_scene_hull *h, const ws_camera *cam, float *z, float *far) {
     const int W = cam->width, H = cam->height;
     const double rho = h->hull.voxel * sqrt(3.0) / 2;
-    for (size_t k = 0; k < (size_t)W * H; k++) z[k] = INFINITY;
+    for (size_t k = 0; k < (size_t)W * H; k++) z[k] = far[k] = INFINITY;
     for (int k = 0; k < h->surface.n; k++) {
         double c[3], u, v;
         ws_camera_to_cam(cam, h->surface.p + 3 * k, c);
         double d = ws_camera_project(cam, c, &u, &v);
         if (!(d > rho)) continue;
         double r = fmax(0.5, cam->focal * rho / d);
+        double tolerance = tolerance_voxels(cam, h->surface.normal + 3 * k, c) * h->hull.voxel;
         /* pixel (i, j) when its centre (j + 1/2, i + 1/2) lies within r of (u, v) */
         int j0 = (int)fmax(0, ceil(u - r - WS_PIXEL_CENTER)), j1 = (int)fmin(W - 1, floor(u + r - WS_PIXEL_CENTER));
         int i0 = (int)fmax(0, ceil(v - r - WS_PIXEL_CENTER)), i1 = (int)fmin(H - 1, floor(v + r - WS_PIXEL_CENTER));
         for (int i = i0; i <= i1; i++)
             for (int j = j0; j <= j1; j++) {
                 double dx = j + WS_PIXEL_CENTER - u, dy = i + WS_PIXEL_CENTER - v;
-                float *at = &z[(size_t)i * W + j];
-                if (dx * dx + dy * dy <= r * r && d < *at) *at = (float)d;
+                size_t at = (size_t)i * W + j;
+                if (dx * dx + dy * dy <= r * r && d < z[at]) {
+                    z[at] = (float)d;
+                    far[at] = (float)(z[at] + tolerance);
+                }
             }
     }
 }
@@ -82,16 +103,16 @@ static void window_max(const float *in, float *tmp, float *out, int W, int H) {
         }
 }
 
-/* ws_view_fill of the far limits: Z, its window's largest, plus the
- * tolerance (added here only; +inf, no hull, stays +inf). */
+/* ws_view_fill of the far limits: Z plus each pixel's tolerance, then its
+ * window's largest (the tolerance is added in depth_map only; the window's
+ * largest commutes with float rounding, so a constant tolerance gives the
+ * bits of Zmax + tolerance). */
 static int fill_far(void *ctx, int split, int view, float *slot, ws_status *st) {
     (void)st;
     ws_hidden_lines *hl = ctx;
     const ws_camera *cam = &hl->scene->split[split].views[view].cam;
-    const double tolerance = WS_HIDDEN_TOLERANCE * hl->hull->hull.voxel;
-    depth_map(hl->hull, cam, slot);
+    depth_map(hl->hull, cam, hl->z, slot);
     window_max(slot, hl->z, slot, cam->width, cam->height);
-    for (size_t k = 0; k < (size_t)cam->width * cam->height; k++) slot[k] = (float)(slot[k] + tolerance);
     return WS_OK;
 }
 

@@ -10,20 +10,25 @@
  *              (rho = voxel sqrt(3) / 2, its circumscribed ball) around p's
  *              image point, keeping the smallest d per pixel centre; +inf
  *              where no voxel falls ("no hull there");
- *   Zmax       the largest Z over the (2 WS_HIDDEN_WINDOW + 1)^2 pixels
- *              around each pixel: lenient at depth jumps, so a Gaussian
- *              near a contour (or near a hole) is held against the far
- *              side, and is visible when any pixel of the window has no
- *              hull;
- *   far        Zmax(i, j) + WS_HIDDEN_TOLERANCE x voxel, the far limit of
- *              the splatting (render/splat.h): a Gaussian at depth d whose
- *              centre falls in pixel (i, j) of the image is hidden when
- *              d > far(i, j) (+inf where no hull); one behind the camera
- *              or whose centre falls outside the image is not (the
- *              splatting culls or clips it anyway).
+ *   T (H x W)  Z plus the tolerance of the voxel that gave Z there:
+ *              voxel x min(WS_HIDDEN_TOLERANCE, WS_HIDDEN_TOLERANCE_HEAD_ON
+ *              / |cos a|), a the angle between the ray and the voxel's
+ *              normal (the hull's excess along a ray grows as 1 / cos a;
+ *              a zero normal takes the most);
+ *   far        the largest T over the (2 WS_HIDDEN_WINDOW + 1)^2 pixels
+ *              around each pixel, the far limit of the splatting
+ *              (render/splat.h): lenient at depth jumps, so a Gaussian near
+ *              a contour (or near a hole) is held against the far side. A
+ *              Gaussian at depth d whose centre falls in pixel (i, j) of
+ *              the image is hidden when d > far(i, j) (+inf where any pixel
+ *              of the window has no hull); one behind the camera or whose
+ *              centre falls outside the image is not (the splatting culls
+ *              or clips it anyway).
  * The tolerance and the window were chosen by measurement (README, "Hidden
  * lines"): the visual hull stands proud of the object, most near edges seen
- * at a grazing angle and over faces seen only from above, and a tube's
+ * at a grazing angle and over faces seen only from above (there a tight
+ * head-on tolerance keeps strokes on textured objects from sinking into
+ * the body out of sight), and a tube's
  * axis lies a tube radius behind its hull's surface, while a back edge lies
  * a good part of the solid's size (tens of voxels) behind the front
  * surface. The far map is made once per view, when the view first asks
@@ -40,7 +45,8 @@
 #include "nn/base/status.h"
 
 #define WS_HIDDEN_WINDOW 2        /* px: the window is 5 x 5 */
-#define WS_HIDDEN_TOLERANCE 14.0  /* voxels of the hull */
+#define WS_HIDDEN_TOLERANCE 14.0  /* voxels of the hull, the most (grazing rays) */
+#define WS_HIDDEN_TOLERANCE_HEAD_ON 8.0 /* voxels, where the ray meets the hull head-on */
 
 /* --hidden-lines: none (see-through, the CLIP method's sketch) or hull. */
 typedef enum { WS_HIDDEN_NONE, WS_HIDDEN_HULL } ws_hidden_mode;
