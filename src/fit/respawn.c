@@ -76,7 +76,8 @@ int ws_respawn_create(ws_respawn **out, const ws_scene *scene, ws_view_targets *
         rc = st->code;
     if (!rc) rc = edge_maps(r, targets, st);
     /* The stroke length of the initial spread (surface.h), without its rng. */
-    int k = n_curves < r->hull->surface.n ? n_curves : r->hull->surface.n, *picked = NULL;
+    const int candidates = ws_hull_surface_candidates(&r->hull->surface);
+    int k = n_curves < candidates ? n_curves : candidates, *picked = NULL;
     double spacing = 0;
     ws_rng none;
     ws_rng_seed(&none, 0);

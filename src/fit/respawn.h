@@ -44,12 +44,13 @@
  *   (back-projected) of the middle's (the middle's depth where none is in
  *   the hull), at least 2 x WS_COLLAPSED_EXTENT thicknesses long.
  * When no edge pixel is that far from the sketch (every edge is drawn) the
- * curve goes, as before, to the point of the visual hull's surface
- * farthest from every Gaussian of the curves that stay (and of those
- * already moved), as a stroke of length max(--length, half the spacing of
- * the initial spread) tangent to it along the axis least aligned with the
- * surface normal. Either way its Adam moments are reset. No random draw is
- * made, so a run and its resumption move the same curves.
+ * curve goes, as before, to the placeable point (surface.h) of the
+ * visual hull's surface farthest from every Gaussian of the curves that
+ * stay (and of those already moved), as a stroke of length max(--length,
+ * half the spacing of the initial spread) tangent to it along the axis
+ * least aligned with the surface normal. Either way its Adam moments are
+ * reset. No random draw is made, so a run and its resumption move the
+ * same curves.
  *
  * At the end of a fit (with respawning on), the curves that have collapsed
  * or draw no edge are retired: left out of every output (fit_outputs.h). */

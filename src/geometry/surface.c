@@ -15,7 +15,28 @@ static int on_surface(const ws_hull *h, int x, int y, int z) {
                                    !in_hull(h, x, y, z - 1) || !in_hull(h, x, y, z + 1));
 }
 
-int ws_hull_surface_make(const ws_hull *h, ws_hull_surface *s, ws_status *st) {
+/* The facing of point p with normal nv (see surface.h). */
+static double facing(const double p[3], const double nv[3], const ws_hull_view *views, int nviews) {
+    if (nv[0] == 0 && nv[1] == 0 && nv[2] == 0) return 1;
+    double best = -1;
+    for (int k = 0; k < nviews; k++) {
+        const ws_camera *cam = views[k].cam;
+        double c[3], u, v, pos[3], to[3], len = 0;
+        ws_camera_to_cam(cam, p, c);
+        if (!(ws_camera_project(cam, c, &u, &v) > 0) || !(u >= 0 && v >= 0 && u < cam->width && v < cam->height))
+            continue;
+        ws_camera_position(cam, pos);
+        for (int a = 0; a < 3; a++) {
+            to[a] = pos[a] - p[a];
+            len += to[a] * to[a];
+        }
+        best = fmax(best, (to[0] * nv[0] + to[1] * nv[1] + to[2] * nv[2]) / sqrt(len));
+    }
+    return best;
+}
+
+int ws_hull_surface_make(const ws_hull *h, const ws_hull_view *views, int nviews, ws_hull_surface *s,
+                         ws_status *st) {
     *s = (ws_hull_surface){0};
     long count = 0;
     for (int z = 0; z < h->n[2]; z++)
@@ -23,7 +44,8 @@ int ws_hull_surface_make(const ws_hull *h, ws_hull_surface *s, ws_status *st) {
             for (int x = 0; x < h->n[0]; x++) count += on_surface(h, x, y, z);
     s->p = ws_malloc(sizeof(double) * 3 * (count ? count : 1), "hull surface", st);
     s->normal = s->p ? ws_malloc(sizeof(double) * 3 * (count ? count : 1), "hull surface", st) : NULL;
-    if (!s->normal) {
+    s->facing = s->normal ? ws_malloc(sizeof(double) * (count ? count : 1), "hull surface", st) : NULL;
+    if (!s->facing) {
         ws_hull_surface_free(s);
         return st->code;
     }
@@ -44,6 +66,8 @@ int ws_hull_surface_make(const ws_hull *h, ws_hull_surface *s, ws_status *st) {
                             }
                 double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
                 for (int a = 0; a < 3; a++) nv[a] = len > 0.5 ? nv[a] / len : 0.0;
+                s->facing[s->n] = facing(p, nv, views, nviews);
+                s->placeable += s->facing[s->n] >= WS_SURFACE_MIN_FACING;
                 s->n++;
             }
     return WS_OK;
@@ -52,6 +76,7 @@ int ws_hull_surface_make(const ws_hull *h, ws_hull_surface *s, ws_status *st) {
 void ws_hull_surface_free(ws_hull_surface *s) {
     free(s->p);
     free(s->normal);
+    free(s->facing);
     *s = (ws_hull_surface){0};
 }
 
@@ -64,7 +89,7 @@ int ws_scene_hull_make(const ws_scene *scene, int split, const ws_silhouette *si
     for (int k = 0; k < sp->n && !rc; k++) hv[k] = (ws_hull_view){.cam = &sp->views[k].cam, .sil = &sil[k]};
     if (!rc)
         rc = ws_hull_carve(hv, sp->n, scene->center, resolution, ws_hull_default_tolerance(sp->n), 0, &out->hull, st);
-    if (!rc) rc = ws_hull_surface_make(&out->hull, &out->surface, st);
+    if (!rc) rc = ws_hull_surface_make(&out->hull, hv, sp->n, &out->surface, st);
     if (!rc && out->surface.n == 0)
         rc = ws_fail(st, WS_EINPUT, "%s: the %s views' silhouettes have no common volume (try "
                                     "`wiresketch check %s`)", scene->dir, ws_split_names[split], scene->dir);
@@ -83,10 +108,19 @@ static double dist2(const double *a, const double *b) {
     return dx * dx + dy * dy + dz * dz;
 }
 
+int ws_hull_surface_candidates(const ws_hull_surface *s) {
+    return s->placeable > 0 ? s->placeable : s->n;
+}
+
+static int candidate(const ws_hull_surface *s, int i) {
+    return s->placeable == 0 || s->facing[i] >= WS_SURFACE_MIN_FACING;
+}
+
 int ws_hull_surface_spread(const ws_hull_surface *s, const double *avoid, int navoid, int k,
                            ws_rng *rng, int *picked, double *spacing, ws_status *st) {
-    if (k < 1 || k > s->n)
-        return ws_fail(st, WS_EINTERNAL, "surface: %d points asked of %d", k, s->n);
+    const int candidates = ws_hull_surface_candidates(s);
+    if (k < 1 || k > candidates)
+        return ws_fail(st, WS_EINTERNAL, "surface: %d points asked of %d", k, candidates);
     double *nearest = ws_malloc(sizeof(double) * s->n, "farthest-point distances", st);
     if (!nearest) return st->code;
     for (int i = 0; i < s->n; i++) {
@@ -95,12 +129,14 @@ int ws_hull_surface_spread(const ws_hull_surface *s, const double *avoid, int na
     }
     *spacing = 0;
     for (int m = 0; m < k; m++) {
-        int best = 0;
+        int best = -1;
         if (m == 0 && navoid == 0) {
-            best = (int)ws_rng_below(rng, (uint64_t)s->n);
+            do
+                best = (int)ws_rng_below(rng, (uint64_t)s->n);
+            while (!candidate(s, best));
         } else {
-            for (int i = 1; i < s->n; i++)
-                if (nearest[i] > nearest[best]) best = i;
+            for (int i = 0; i < s->n; i++)
+                if (candidate(s, i) && (best < 0 || nearest[i] > nearest[best])) best = i;
             *spacing = sqrt(nearest[best]);
         }
         picked[m] = best;
@@ -117,7 +153,7 @@ int ws_curves_init_hull(ws_curves *c, const ws_hull_surface *s, int n, double le
      * shape), then every curve moved onto the surface. */
     const double origin[3] = {0, 0, 0};
     if (ws_curves_init_random(c, n, origin, 0, 0, thickness, overlap, rng, st)) return st->code;
-    int k = n < s->n ? n : s->n;
+    int k = n < ws_hull_surface_candidates(s) ? n : ws_hull_surface_candidates(s);
     int *picked = ws_malloc(sizeof(int) * (k ? k : 1), "picked surface points", st);
     double spacing = 0;
     if (!picked || ws_hull_surface_spread(s, NULL, 0, k, rng, picked, &spacing, st)) {

@@ -4,10 +4,26 @@
  * lie on the grid's edge), each as its centre and an outward unit normal:
  * minus the sum of the offsets of its 26 neighbours that are in the hull
  * (any unit direction where that sum vanishes, as inside a one-voxel wire,
- * marked by a zero normal). Spreading picks points by farthest-point
- * sampling: the first uniformly at random, each next the point farthest
- * from every point picked so far and from the `avoid` points (ties to the
- * lowest index), so the result depends on the rng alone. */
+ * marked by a zero normal), and how squarely the cameras see it: its
+ * facing, the largest cosine between its normal and the direction from it
+ * to a camera that has it in its frame (1 for a zero normal, -1 when no
+ * camera has it in its frame).
+ *
+ * Spreading picks placeable points by farthest-point sampling: the first
+ * uniformly at random (drawn among all points until a placeable one comes,
+ * so a first draw that is placeable is what it was without the rule), each
+ * next the placeable point farthest from every point picked so far and
+ * from the `avoid` points (ties to the lowest index), so the result
+ * depends on the rng alone and a spread whose picks were all placeable is
+ * unchanged. The other points neither take a pick nor keep picks away:
+ * edges border them (a solid's lower rim), and strokes must start near
+ * those too. A point is placeable when its facing is at least
+ * WS_SURFACE_MIN_FACING (every point is when none is): no camera sees the
+ * others within 60 degrees of their normal, so a stroke there lies on or
+ * near the object's outline in the few views that see it and behind the
+ * object in the rest, and nothing tells its depth (the hull's underside,
+ * which the cameras above it never carve, and faces turned down from every
+ * camera; docs/METHOD.md section 7 has the measurements). */
 #ifndef WS_SURFACE_H
 #define WS_SURFACE_H
 #include "geometry/hull.h"
@@ -16,14 +32,19 @@
 #include "render/curves.h"
 
 #define WS_HULL_INIT_RESOLUTION 96
+#define WS_SURFACE_MIN_FACING 0.5 /* cos 60 degrees */
 
 typedef struct {
     int n;
     double *p;      /* n x 3 */
     double *normal; /* n x 3, unit or zero */
+    double *facing; /* n */
+    int placeable;  /* points whose facing is at least WS_SURFACE_MIN_FACING */
 } ws_hull_surface;
 
-int ws_hull_surface_make(const ws_hull *h, ws_hull_surface *s, ws_status *st);
+/* The surface of h, its facing seen from the nviews views. */
+int ws_hull_surface_make(const ws_hull *h, const ws_hull_view *views, int nviews, ws_hull_surface *s,
+                         ws_status *st);
 void ws_hull_surface_free(ws_hull_surface *s);
 
 /* The visual hull of a loaded scene's split and its surface, carved once
@@ -42,12 +63,18 @@ int ws_scene_hull_make(const ws_scene *scene, int split, const ws_silhouette *si
                        ws_scene_hull *out, ws_status *st);
 void ws_scene_hull_free(ws_scene_hull *h);
 
-/* picked[0..k): k <= s->n surface points by farthest-point sampling (see
- * above); *spacing: the distance of the last one picked to the others. */
+/* How many points spreading chooses from: s->placeable, or s->n when that
+ * is 0. */
+int ws_hull_surface_candidates(const ws_hull_surface *s);
+
+/* picked[0..k): k <= ws_hull_surface_candidates(s) surface points by
+ * farthest-point sampling (see above); *spacing: the distance of the last
+ * one picked to the others. */
 int ws_hull_surface_spread(const ws_hull_surface *s, const double *avoid, int navoid, int k,
                            ws_rng *rng, int *picked, double *spacing, ws_status *st);
 
-/* n curves on the surface: spread points, each the middle of a straight
+/* n curves on the surface: spread points (as many as there are
+ * candidates, up to n, each taken in turn), each the middle of a straight
  * stroke tangent to the surface (a uniform direction orthogonal to the
  * normal) of length max(length, spacing / 2), so that the strokes start
  * neither as dots nor overlapping. Allocates c. */
