@@ -326,8 +326,11 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
                            "%s: stopped at batch %d, step %d of its epoch, which --batch-size %d and "
                            "--inner-steps %d do not have; resume with the run's own values",
                            path, r->s.batch_in_epoch, r->s.step_in_batch, o->batch_size, o->inner_steps);
-    } else if (!o->no_check && ws_fit_check_scene(&r->scene, r->targets, st)) {
-        return st->code;
+    } else if (!o->no_check) {
+        char warning[WS_CHECK_LINE];
+        if (ws_fit_check_scene(&r->scene, r->targets, warning, st)) return st->code;
+        if (warning[0] && speaks())
+            fprintf(stderr, "wiresketch: warning: %s (a focal estimate alone does not stop a fit)\n", warning);
     }
     int edges_init = !resume && !strcmp(o->init_curves, "edges");
     int hull_init = edges_init || (!resume && !strcmp(o->init_curves, "hull"));

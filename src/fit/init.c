@@ -1,4 +1,5 @@
 /* init.c: initial curves and the scene check of a new fit (see init.h). */
+#include <stdio.h>
 #include <string.h>
 #include "fit/init.h"
 #include "geometry/check.h"
@@ -16,14 +17,19 @@ int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_
     return WS_OK;
 }
 
-int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, ws_status *st) {
+int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char warning[WS_CHECK_LINE],
+                       ws_status *st) {
     const ws_silhouette *sil[WS_NSPLITS];
     for (int s = 0; s < WS_NSPLITS; s++)
         if (ws_view_targets_silhouettes(targets, s, &sil[s], st)) return st->code;
     ws_check_report r;
     if (ws_check_scene(scene, sil, WS_CHECK_RESOLUTION, &r, st)) return st->code;
-    int rc = r.consistent ? WS_OK
-                          : ws_fail(st, WS_EINPUT, "%.900s (or go on anyway with --no-check)", r.line);
+    warning[0] = 0;
+    int rc = WS_OK;
+    if (ws_check_focal_only(&r))
+        snprintf(warning, WS_CHECK_LINE, "%s", r.line);
+    else if (!r.consistent)
+        rc = ws_fail(st, WS_EINPUT, "%.900s (or go on anyway with --no-check)", r.line);
     ws_check_report_free(&r);
     return rc;
 }

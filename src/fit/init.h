@@ -15,6 +15,7 @@
 #ifndef WS_FIT_INIT_H
 #define WS_FIT_INIT_H
 #include "fit/fit_options.h"
+#include "geometry/check.h"
 #include "geometry/surface.h"
 #include "io/scene.h"
 #include "nn/base/rng.h"
@@ -27,8 +28,11 @@ int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_
                        ws_curves *c, ws_status *st);
 
 /* Fails with WS_EINPUT and the check's one line (geometry/check.h), which
- * ends naming --no-check, when the scene is not consistent. It reads the
- * silhouettes of every split from targets. */
-int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, ws_status *st);
+ * ends naming --no-check, when the scene is not consistent; when its only
+ * fault is the focal estimate of consistent splits (ws_check_focal_only)
+ * it succeeds with that line in warning instead ("" otherwise). It reads
+ * the silhouettes of every split from targets. */
+int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char warning[WS_CHECK_LINE],
+                       ws_status *st);
 
 #endif

@@ -360,6 +360,17 @@ int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPL
     return WS_OK;
 }
 
+int ws_check_focal_only(const ws_check_report *r) {
+    if (r->consistent) return 0;
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        const ws_check_split *c = &r->split[s];
+        if (c->n > 0 && c->cause != WS_CAUSE_NONE &&
+            (c->cause != WS_CAUSE_FOCAL || c->mean < WS_CHECK_MEAN_OK || c->ndisagree > 0))
+            return 0;
+    }
+    return 1;
+}
+
 void ws_check_report_free(ws_check_report *r) {
     for (int s = 0; s < WS_NSPLITS; s++) {
         free(r->split[s].agreement);
