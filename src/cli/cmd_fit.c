@@ -77,14 +77,15 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
  * line left them unset (NAN, -1): the original's for CLIP (no silhouette
  * term); for the line loss alone (`--loss edges`) those measured on the
  * solid scenes (README, "Fits on the synthetic scenes"): thin strokes, long
- * initial strokes, a small step and 4 epochs; and the silhouette term at
+ * initial strokes (0.15: at 0.3 a hull-start stroke spans two turns of a
+ * coil, README "Where it stands now"), a small step and 4 epochs; and the silhouette term at
  * weight 3, measured on the shared rose and duck and the synthetic scenes
  * (README, "Silhouettes, the visual hull and `check`"). */
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
     if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;
     if (isnan(opt->thickness)) opt->thickness = lines ? 0.01 : original->thickness;
-    if (isnan(opt->length)) opt->length = lines ? 0.3 : original->length;
+    if (isnan(opt->length)) opt->length = lines ? 0.15 : original->length;
     if (isnan(opt->loss.silhouette_weight))
         opt->loss.silhouette_weight = lines ? 3 : original->loss.silhouette_weight;
     if (opt->epochs == -1) opt->epochs = lines ? 4 : original->epochs;
@@ -120,7 +121,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--n-curves", WS_ARG_INT, &opt->n_curves, 0, "number of curves [25]"},
         {"--thickness", WS_ARG_DOUBLE, &opt->thickness, 0, "Gaussian radius, world units [0.02; 0.01 with --loss edges]"},
         {"--radius", WS_ARG_DOUBLE, &opt->radius, 0, "initialisation sphere radius [0.8]"},
-        {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02; 0.3 with --loss edges]"},
+        {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02; 0.15 with --loss edges]"},
         {"--overlap", WS_ARG_DOUBLE, &opt->overlap, 0, "Gaussian overlap [0.6]"},
         {"--clip-weight", WS_ARG_DOUBLE, &opt->loss.global_weight, 0, "global term weight [1]"},
         {"--clip-conv-loss", WS_ARG_DOUBLE, &opt->loss.conv_weight, 0, "geometric term weight, 0 = off [1]"},
