@@ -4,6 +4,7 @@
  * by default when the weight file exists (the tiny test model), and the
  * errors when a loss's needs are not met or there is nothing to measure. */
 #include <cJSON.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,6 +44,42 @@ static void test_eval(void) {
         CHECK(cJSON_GetObjectItem(j, "views")->valueint == 4, "test views");
         cJSON_Delete(j);
     }
+    /* --per-curve: where surface_mean comes from, curve by curve; the
+     * fixture's first curve moved 1 away from everything adds the most */
+    snprintf(args, sizeof args, "%s/moved.json", tmp);
+    FILE *f = fopen(args, "w");
+    if (f) {
+        fprintf(f, "{\"thickness\": 0.02, \"overlap\": 0.6, \"curves\": ["
+                   "[[0,0,3],[0.1,0,3],[0.2,0,3],[0.3,0,3]], [[0,0,0],[0.1,0,0],[0.2,0,0],[0.3,0,0]]]}\n");
+        fclose(f);
+    }
+    snprintf(args, sizeof args, FIXTURE " --curves %s/moved.json --loss none --per-curve", tmp);
+    j = eval_json("--per-curve", args);
+    if (j) {
+        const cJSON *per = cJSON_GetObjectItem(j, "surface_curves");
+        double adds = 0;
+        int n = 0, beyond = 0;
+        for (int c = 0; c < cJSON_GetArraySize(per); c++) {
+            const cJSON *pc = cJSON_GetArrayItem(per, c);
+            adds += cJSON_GetObjectItem(pc, "adds")->valuedouble;
+            n += cJSON_GetObjectItem(pc, "gaussians")->valueint;
+            beyond += cJSON_GetObjectItem(pc, "beyond_p90")->valueint;
+        }
+        double mean = cJSON_GetObjectItem(j, "surface_mean")->valuedouble;
+        const cJSON *far = cJSON_GetArrayItem(per, 0), *near = cJSON_GetArrayItem(per, 1);
+        CHECK(cJSON_GetArraySize(per) == 2 && n == cJSON_GetObjectItem(j, "gaussians")->valueint &&
+                  fabs(adds - mean) < 1e-8 * mean && beyond <= n / 10,
+              "per-curve sums: %d curves, %d Gaussians, adds %g of %g, %d beyond p90", cJSON_GetArraySize(per), n,
+              adds, mean, beyond);
+        CHECK(far && near &&
+                  cJSON_GetObjectItem(far, "mean")->valuedouble > cJSON_GetObjectItem(near, "mean")->valuedouble,
+              "the moved curve is the farther");
+        cJSON_Delete(j);
+    }
+    int prc = run_cmd(out, sizeof out, "%s eval %s/bare --curves " FIXTURE "/gt_curves.json --loss none --gt-curves "
+                      FIXTURE "/gt_curves.json --per-curve", bin, tmp);
+    CHECK(prc == 2 && !strcmp(out, "wiresketch: --per-curve: no ground-truth point cloud to measure against (give --gt)\n"),
+          "--per-curve without a point cloud: %d %s", prc, out);
     /* --loss edges: computed, no weights needed */
     snprintf(args, sizeof args, FIXTURE " --curves " FIXTURE "/gt_curves.json --loss edges --size 64");
     j = eval_json("--loss edges", args);

@@ -450,6 +450,46 @@ static void test_surface_exact(void) {
           "one gt point: %s", st.msg);
 }
 
+/* Per curve: gt points (0,0,0) and (10,0,0), diagonal 10; curve 0 holds
+ * centres 1 and 2 away, curve 1 centres 3 .. 10 away, curve 2 none. Over
+ * the 10 centres the mean is 55 / 100 and the p90 (nearest rank 9) 9 / 10:
+ * curve 0 adds 3 / 100, curve 1 52 / 100, and only the centre 10 away lies
+ * beyond the p90. */
+static void test_surface_by_curve(void) {
+    double gtp[6] = {0, 0, 0, 10, 0, 0}, mu[30] = {0};
+    int curve[10];
+    for (int i = 0; i < 10; i++) {
+        mu[i * 3 + 1] = 1 + i;
+        curve[i] = i < 2 ? 0 : 1;
+    }
+    ws_pointcloud pc = {.n = 2, .xyz = gtp};
+    ws_gaussians g = {.n = 10, .mu = mu, .curve = curve};
+    ws_surface_gt gt;
+    ws_status st;
+    ws_status_clear(&st);
+    if (ws_surface_gt_init(&gt, &pc, &st)) {
+        CHECK(0, "per-curve gt: %s", st.msg);
+        return;
+    }
+    ws_surface_curve per[3];
+    ws_surface_metrics m;
+    int rc = ws_surface_distance_by_curve(&gt, &g, 3, per, &st) || ws_surface_distance(&gt, &g, &m, &st);
+    CHECK(rc == WS_OK && per[0].n == 2 && per[1].n == 8 && per[2].n == 0, "counts %d %d %d (%s)", per[0].n,
+          per[1].n, per[2].n, st.msg);
+    CHECK(check_close(per[0].adds, 0.03, 1e-15, 0) && check_close(per[1].adds, 0.52, 1e-15, 0) &&
+              per[2].adds == 0 && check_close(per[0].adds + per[1].adds, m.mean, 1e-15, 0),
+          "adds %g %g %g, mean %g", per[0].adds, per[1].adds, per[2].adds, m.mean);
+    CHECK(check_close(per[0].mean, 0.15, 1e-15, 0) && check_close(per[1].mean, 0.65, 1e-15, 0) && per[2].mean == 0,
+          "means %g %g %g", per[0].mean, per[1].mean, per[2].mean);
+    CHECK(per[0].beyond_p90 == 0 && per[1].beyond_p90 == 1 && per[2].beyond_p90 == 0, "beyond p90 %d %d %d",
+          per[0].beyond_p90, per[1].beyond_p90, per[2].beyond_p90);
+    curve[4] = 3;
+    CHECK(ws_surface_distance_by_curve(&gt, &g, 3, per, &st) == WS_EINTERNAL &&
+              !strcmp(st.msg, "surface distance: Gaussian 4 belongs to curve 3 of 3"),
+          "curve out of range: %s", st.msg);
+    ws_surface_gt_free(&gt);
+}
+
 /* A straight curve from a to b, control points at thirds (uniform speed). */
 static void segment(ws_curves *c, int ci, const double a[3], const double b[3]) {
     for (int j = 0; j < 4; j++)
@@ -614,6 +654,7 @@ int main(int argc, char **argv) {
     test_hostile_ply();
     test_nearest_vs_brute();
     test_surface_exact();
+    test_surface_by_curve();
     test_surface_gt();
     test_curve_metrics();
     test_line_metrics();

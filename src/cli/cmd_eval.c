@@ -13,6 +13,7 @@
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
+#include "io/pointcloud.h"
 #include "metrics/quality.h"
 #include "objective/objective.h"
 #include "base/runtime.h"
@@ -24,12 +25,27 @@ static void print_number(const char *key, double v) {
         printf(", \"%s\": null", key);
 }
 
+/* *per (n_curves, allocated): where the surface distance of the Gaussians
+ * g of the n_curves curves comes from (ws_surface_curve). */
+static int surface_by_curve(const char *gt_points, const ws_gaussians *g, int n_curves, ws_surface_curve **per,
+                            ws_status *st) {
+    ws_pointcloud pc = {0};
+    ws_surface_gt gt = {0};
+    *per = ws_malloc((size_t)(n_curves ? n_curves : 1) * sizeof **per, "per-curve distances", st);
+    int rc = *per ? ws_pointcloud_load_ply(gt_points, &pc, st) : st->code;
+    if (!rc) rc = ws_surface_gt_init(&gt, &pc, st);
+    if (!rc) rc = ws_surface_distance_by_curve(&gt, g, n_curves, *per, st);
+    ws_surface_gt_free(&gt);
+    ws_pointcloud_free(&pc);
+    return rc;
+}
+
 /* lo NULL: no loss (the scene's cameras only are read). */
 static int evaluate_sketch(const char *scene_dir, const char *curves_path, const char *split_name,
                            const ws_scene_options *scene_opt, const char *loss_name,
                            const ws_loss_options *lo,
                            const ws_splat_options *so, const char *gt_points, const char *gt_curves,
-                           ws_status *st) {
+                           int per_curve, ws_status *st) {
     int split = ws_split_index(split_name);
     if (split < 0) return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     ws_scene scene = {0};
@@ -46,6 +62,8 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && lo) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
+    ws_surface_curve *per = NULL;
+    if (!rc && per_curve) rc = surface_by_curve(gt_points, &g, curves.n, &per, st);
     if (!rc) {
         printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
                "\"loss_kind\": \"%s\"",
@@ -56,6 +74,13 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
             print_number("surface_p90", q.surface.p90);
             print_number("surface_precision", q.surface_strays.precision);
             printf(", \"surface_stray_curves\": %d", q.surface_strays.stray_curves);
+            if (per) {
+                printf(", \"surface_curves\": [");
+                for (int ci = 0; ci < curves.n; ci++)
+                    printf("%s{\"gaussians\": %d, \"mean\": %.9g, \"adds\": %.9g, \"beyond_p90\": %d}",
+                           ci ? ", " : "", per[ci].n, per[ci].mean, per[ci].adds, per[ci].beyond_p90);
+                printf("]");
+            }
         }
         if (q.have_curves) {
             print_number("chamfer", q.curves.chamfer);
@@ -69,6 +94,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         }
         printf("}\n");
     }
+    free(per);
     ws_objective_free(obj);
     ws_gaussians_free(&g);
     ws_curves_free(&curves);
@@ -83,7 +109,7 @@ int cmd_eval(int argc, char **argv) {
     const char *edge_maps = NULL, *geometric = "blocks", *hidden = NULL;
     const char *gt_points = NULL, *gt_curves = NULL;
     double edges_weight = 1.0;
-    int size = 224, threads = 0;
+    int size = 224, threads = 0, per_curve = 0;
     ws_arg_list layers = {0};
     ws_loss_options lo;
     ws_loss_options_default(&lo);
@@ -108,6 +134,8 @@ int cmd_eval(int argc, char **argv) {
         {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
         {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
         {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = all cores [0]"},
+        {"--per-curve", WS_ARG_FLAG, &per_curve, 0,
+         "also surface_curves: per curve, its Gaussians, their mean distance, what they add to surface_mean and how many lie beyond surface_p90"},
     };
     ws_command_spec spec = {"eval SCENE --curves C.json [--gt POINTS.ply] [--gt-curves C.json] [options]",
                             "test loss and distance to the ground truth of a sketch, as JSON", args,
@@ -141,9 +169,13 @@ int cmd_eval(int argc, char **argv) {
                 lo.weights_path);
         return ws_cli_fail(&st);
     }
+    if (per_curve && !(gt_points && *gt_points)) {
+        ws_fail(&st, WS_EUSAGE, "--per-curve: no ground-truth point cloud to measure against (give --gt)");
+        return ws_cli_fail(&st);
+    }
     if (ws_runtime_init(threads, &st)) return ws_cli_fail(&st);
     if (evaluate_sketch(pos[0], curves_path, split_name, &sopt, loss_name, with_loss ? &lo : NULL,
-                        &so, gt_points, gt_curves, &st))
+                        &so, gt_points, gt_curves, per_curve, &st))
         return ws_cli_fail(&st);
     return 0;
 }

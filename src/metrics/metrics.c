@@ -5,6 +5,7 @@
  * thread count. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "metrics/metrics.h"
 
 int ws_surface_gt_init(ws_surface_gt *gt, const ws_pointcloud *pc, ws_status *st) {
@@ -38,17 +39,58 @@ static double mean_of(const double *v, int n) {
     return sum / n;
 }
 
+/* *d (g->n, allocated): each centre's distance to the nearest ground-truth point. */
+static int surface_distances(const ws_surface_gt *gt, const ws_gaussians *g, double **d, ws_status *st) {
+    if (check_points(g->mu, g->n, "surface distance: Gaussian centres", st)) return st->code;
+    if (!(*d = ws_malloc((size_t)g->n * sizeof(double), "surface distances", st))) return st->code;
+    ws_nearest_query(&gt->tree, g->mu, g->n, *d, NULL);
+    return WS_OK;
+}
+
+/* The nearest-rank 90th percentile of the n distances d, sorted in place. */
+static double p90_of(double *d, int n) {
+    qsort(d, (size_t)n, sizeof(double), compare_double);
+    long long rank = (9LL * n + 9) / 10; /* ceil(0.9 n), 1-based */
+    return d[rank - 1];
+}
+
 int ws_surface_distance(const ws_surface_gt *gt, const ws_gaussians *g, ws_surface_metrics *m,
                         ws_status *st) {
-    if (check_points(g->mu, g->n, "surface distance: Gaussian centres", st)) return st->code;
-    double *d = ws_malloc((size_t)g->n * sizeof(double), "surface distances", st);
-    if (!d) return st->code;
-    ws_nearest_query(&gt->tree, g->mu, g->n, d, NULL);
+    double *d;
+    if (surface_distances(gt, g, &d, st)) return st->code;
     m->n = g->n;
     m->mean = mean_of(d, g->n) / gt->diagonal;
-    qsort(d, (size_t)g->n, sizeof(double), compare_double);
-    long long rank = (9LL * g->n + 9) / 10; /* ceil(0.9 n), 1-based */
-    m->p90 = d[rank - 1] / gt->diagonal;
+    m->p90 = p90_of(d, g->n) / gt->diagonal;
+    free(d);
+    return WS_OK;
+}
+
+int ws_surface_distance_by_curve(const ws_surface_gt *gt, const ws_gaussians *g, int n_curves,
+                                 ws_surface_curve *out, ws_status *st) {
+    for (int k = 0; k < g->n; k++)
+        if (g->curve[k] < 0 || g->curve[k] >= n_curves)
+            return ws_fail(st, WS_EINTERNAL, "surface distance: Gaussian %d belongs to curve %d of %d", k,
+                           g->curve[k], n_curves);
+    double *d, *sorted = NULL;
+    if (surface_distances(gt, g, &d, st)) return st->code;
+    if (!(sorted = ws_malloc((size_t)g->n * sizeof(double), "surface distances", st))) {
+        free(d);
+        return st->code;
+    }
+    memcpy(sorted, d, (size_t)g->n * sizeof(double));
+    double p90 = p90_of(sorted, g->n);
+    memset(out, 0, (size_t)n_curves * sizeof *out);
+    for (int k = 0; k < g->n; k++) {
+        ws_surface_curve *c = &out[g->curve[k]];
+        c->n++;
+        c->adds += d[k];
+        c->beyond_p90 += d[k] > p90;
+    }
+    for (int ci = 0; ci < n_curves; ci++) {
+        out[ci].mean = out[ci].n ? out[ci].adds / (out[ci].n * gt->diagonal) : 0;
+        out[ci].adds /= g->n * gt->diagonal;
+    }
+    free(sorted);
     free(d);
     return WS_OK;
 }

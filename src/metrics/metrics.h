@@ -55,6 +55,20 @@ typedef struct {
 int ws_surface_distance(const ws_surface_gt *gt, const ws_gaussians *g, ws_surface_metrics *m,
                         ws_status *st);
 
+/* Where the surface distance comes from, curve by curve (eval --per-curve). */
+typedef struct {
+    int n;          /* Gaussians of the curve */
+    double mean;    /* their mean distance / D (0 for a curve without any) */
+    double adds;    /* their distances' sum / (all Gaussians x D): what the
+                       curve adds to ws_surface_metrics.mean (they sum to it) */
+    int beyond_p90; /* how many lie farther than ws_surface_metrics.p90 */
+} ws_surface_curve;
+
+/* out (n_curves): per curve of g (g->curve in [0, n_curves)); the same
+ * distances as ws_surface_distance, and its failures. */
+int ws_surface_distance_by_curve(const ws_surface_gt *gt, const ws_gaussians *g, int n_curves,
+                                 ws_surface_curve *out, ws_status *st);
+
 typedef struct {
     double diagonal;    /* D (world units) */
     double spacing;     /* h = D / 1000: the dense sampling step */
