@@ -1,6 +1,8 @@
 /* cmd_check.c: `wiresketch check SCENE`: whether every view's photo agrees
- * with its camera (geometry/check.h): a table per split, then one line
- * saying what is wrong and how to fix it. Exit 0 when consistent, 1 not. */
+ * with its camera (geometry/check.h): a table per split (with each split's
+ * agreement with the reference split's hull), then one line saying what is
+ * wrong and how to fix it. Exit 0 when consistent, 1 not. */
+#include <math.h>
 #include <stdio.h>
 #include "cli/args.h"
 #include "cli/cli_view.h"
@@ -9,16 +11,22 @@
 #include "objective/view_targets.h"
 
 static void print_table(const ws_scene *scene, const ws_check_report *r) {
-    printf("%-6s %5s %6s %6s %6s %6s  %s\n", "split", "views", "mean", "worst", "focal", "gain",
+    char vs[16] = "vs -";
+    if (r->reference >= 0) snprintf(vs, sizeof vs, "vs %s", ws_split_names[r->reference]);
+    printf("%-6s %5s %6s %6s %6s %6s %8s  %s\n", "split", "views", "mean", "worst", "focal", "gain", vs,
            "views that disagree (agreement)");
     for (int s = 0; s < WS_NSPLITS; s++) {
         const ws_check_split *c = &r->split[s];
         if (c->n == 0) continue;
         printf("%-6s %5d %6.3f %6.3f ", ws_split_names[s], c->n, c->mean, c->worst);
         if (c->tight_fixed > 0) /* estimated (check.h) */
-            printf("%6.3f %6.4f  ", c->focal_estimate, c->tight_fixed - c->tight_mean);
+            printf("%6.3f %6.4f ", c->focal_estimate, c->tight_fixed - c->tight_mean);
         else
-            printf("%6s %6s  ", "-", "-");
+            printf("%6s %6s ", "-", "-");
+        if (!isnan(c->cross)) /* measured against the reference (check.h) */
+            printf("%8.3f  ", c->cross);
+        else
+            printf("%8s  ", "-");
         for (int d = 0; d < c->ndisagree && d < 12; d++)
             printf("%s%s (%.2f)", d ? ", " : "", scene->split[s].views[c->disagree[d]].name,
                    c->agreement[c->disagree[d]]);
@@ -37,7 +45,8 @@ int cmd_check(int argc, char **argv) {
     };
     const ws_command_spec spec = {
         "check SCENE [options]",
-        "Check that every view's silhouette agrees with the visual hull of the other views.",
+        "Check that every view's silhouette agrees with the visual hull of the other views of its split, and\n"
+        "the views of the other splits with the hull of the split with the most views (column \"vs train\").",
         args, sizeof args / sizeof args[0], 1, 1};
     const char *pos[1];
     int npos, help;

@@ -61,6 +61,69 @@ static int make_camera(const ws_camera *listed, const hypothesis *h, ws_camera *
     return ws_camera_init(out, c2w, angle, listed->width, listed->height, "check", st);
 }
 
+/* The views of split s under hypothesis h (a view of each image that has
+ * a camera under it, every h->every-th; with `bad`, the bad frames of that
+ * verdict left out): hv[m], image[m] its index in the split, a[m] its
+ * agreement once measured. */
+typedef struct {
+    ws_camera *cams;
+    ws_hull_view *hv;
+    int *image;
+    double *a;
+    int m;
+} view_set;
+
+static void view_set_free(view_set *v) {
+    free(v->cams);
+    free(v->hv);
+    free(v->image);
+    free(v->a);
+}
+
+static int view_set_make(const ws_scene *scene, int s, const ws_silhouette *sil, const hypothesis *h,
+                         const ws_check_split *bad, view_set *v, ws_status *st) {
+    const ws_split *sp = &scene->split[s];
+    *v = (view_set){0};
+    v->cams = ws_malloc(sizeof *v->cams * sp->n, "check cameras", st);
+    v->hv = v->cams ? ws_malloc(sizeof *v->hv * sp->n, "check views", st) : NULL;
+    v->image = v->hv ? ws_malloc(sizeof *v->image * sp->n, "check pairs", st) : NULL;
+    v->a = v->image ? ws_malloc(sizeof *v->a * sp->n, "check agreement", st) : NULL;
+    int rc = v->a ? WS_OK : st->code;
+    for (int k = 0, d = 0; k < sp->n && !rc; k++) {
+        if (bad && d < bad->ndisagree && bad->disagree[d] == k) {
+            d++;
+            continue;
+        }
+        const ws_camera *listed = listed_camera(scene, s, sp->views[k].frame + h->shift);
+        if (!listed || k % h->every) continue;
+        rc = make_camera(listed, h, &v->cams[v->m], st);
+        v->hv[v->m] = (ws_hull_view){.cam = &v->cams[v->m], .sil = &sil[k]};
+        v->image[v->m++] = k;
+    }
+    if (rc) view_set_free(v);
+    return rc;
+}
+
+/* The mean agreement of a view set measured: over its views, 0 for none. */
+static double view_set_mean(const view_set *v) {
+    double mean = 0;
+    for (int k = 0; k < v->m; k++) mean += v->a[k] / v->m;
+    return mean;
+}
+
+/* Carves the hull of a view set (empty: no hull) and measures each view's
+ * agreement with the hull of the others into v->a. */
+static int carve_measure(const ws_scene *scene, view_set *v, int resolution, int tight, ws_hull *hull,
+                         ws_status *st) {
+    *hull = (ws_hull){0};
+    int rc = WS_OK;
+    if (v->m > 0)
+        rc = ws_hull_carve(v->hv, v->m, scene->center, resolution, ws_hull_default_tolerance(v->m), tight, hull,
+                           st);
+    if (!rc && v->m > 0) rc = ws_hull_agreement(v->hv, v->m, 1, hull, v->a, st);
+    return rc;
+}
+
 /* Agreement of every image of split s with the others under hypothesis
  * h, on a conservative or a tight hull (hull.h); images without a camera
  * under it get NAN. Returns the mean over the images that have one in
@@ -68,33 +131,16 @@ static int make_camera(const ws_camera *listed, const hypothesis *h, ws_camera *
 static int agreement_under(const ws_scene *scene, int s, const ws_silhouette *sil, int resolution,
                            const hypothesis *h, int tight, double *agreement, double *mean,
                            ws_status *st) {
-    const ws_split *sp = &scene->split[s];
-    ws_camera *cams = ws_malloc(sizeof *cams * sp->n, "check cameras", st);
-    ws_hull_view *hv = cams ? ws_malloc(sizeof *hv * sp->n, "check views", st) : NULL;
-    double *a = hv ? ws_malloc(sizeof *a * sp->n, "check agreement", st) : NULL;
-    int *image = a ? ws_malloc(sizeof *image * sp->n, "check pairs", st) : NULL;
-    ws_hull hull = {0};
-    int m = 0, rc = image ? WS_OK : st->code;
-    for (int k = 0; k < sp->n && !rc; k++) {
-        agreement[k] = NAN;
-        const ws_camera *listed = listed_camera(scene, s, sp->views[k].frame + h->shift);
-        if (!listed || k % h->every) continue;
-        rc = make_camera(listed, h, &cams[m], st);
-        hv[m] = (ws_hull_view){.cam = &cams[m], .sil = &sil[k]};
-        image[m++] = k;
-    }
-    if (!rc && m > 0) rc = ws_hull_carve(hv, m, scene->center, resolution, ws_hull_default_tolerance(m), tight, &hull, st);
-    if (!rc && m > 0) rc = ws_hull_agreement(hv, m, &hull, a, st);
-    *mean = 0;
-    for (int k = 0; k < m && !rc; k++) {
-        agreement[image[k]] = a[k];
-        *mean += a[k] / m;
-    }
+    view_set v;
+    ws_hull hull;
+    int rc = view_set_make(scene, s, sil, h, NULL, &v, st);
+    if (rc) return rc;
+    rc = carve_measure(scene, &v, resolution, tight, &hull, st);
+    for (int k = 0; k < scene->split[s].n; k++) agreement[k] = NAN;
+    for (int k = 0; k < v.m && !rc; k++) agreement[v.image[k]] = v.a[k];
+    *mean = rc ? 0 : view_set_mean(&v);
     ws_hull_free(&hull);
-    free(cams);
-    free(hv);
-    free(a);
-    free(image);
+    view_set_free(&v);
     return rc;
 }
 
@@ -205,13 +251,32 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
 
 /* One line for the first inconsistent split. It names the split's file
  * (ws_scene_file) and its frames by their index there; where that file
- * holds every split (nerfstudio), it also names the split. */
-static void explain(const ws_scene *scene, int s, const ws_check_split *r, char *line, size_t size) {
+ * holds every split (nerfstudio), it also names the split. A cause the
+ * cross-split test found is told by the agreement it measured: that of the
+ * other splits' views with the split's hull (the reference), or of the
+ * split's views with the reference's hull. */
+static void explain(const ws_scene *scene, const ws_check_report *rep, int s, char *line, size_t size) {
+    const ws_check_split *r = &rep->split[s];
     const char *split = ws_split_names[s], *file = ws_scene_file(scene, s);
     char views[32] = "", whose[32] = ""; /* "train ", "the train views' " */
     if (scene->layout == WS_LAYOUT_NERFSTUDIO) {
         snprintf(views, sizeof views, "%s ", split);
         snprintf(whose, sizeof whose, "the %s views' ", split);
+    }
+    char measure[96], tight[96] = "tight-hull agreement", who[48] = "";
+    int digits = 2; /* of the agreement; 3 for the cross-split test's, whose threshold is finer */
+    double before = r->mean, after = r->fixed_mean, tight_before = r->tight_mean, tight_after = r->tight_fixed;
+    snprintf(measure, sizeof measure, "%sagreement", whose);
+    if (r->by_cross) {
+        for (int t = 0, n = 0, at = 0; t < WS_NSPLITS && s == rep->reference; t++)
+            if (t != s && rep->split[t].n > 0)
+                at += snprintf(who + at, sizeof who - at, "%s%s", n++ ? " and " : "", ws_split_names[t]);
+        snprintf(measure, sizeof measure, "the %s views' agreement with the %s views' hull",
+                 s == rep->reference ? who : split, ws_split_names[rep->reference]);
+        memcpy(tight, measure, sizeof tight);
+        digits = 3;
+        before = tight_before = r->cross_before;
+        after = tight_after = r->cross_after;
     }
     switch (r->cause) {
     case WS_CAUSE_NONE:
@@ -220,25 +285,25 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
     case WS_CAUSE_SHIFT:
         snprintf(line, size,
                  "%.300s/%s: the image of frame k belongs to the camera listed for frame k%+d "
-                 "(%sagreement %.2f, re-paired %.2f); write a corrected copy with "
+                 "(%s %.*f, re-paired %.*f); write a corrected copy with "
                  "`wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, file, r->shift, whose, r->mean, r->fixed_mean, scene->dir);
+                 scene->dir, file, r->shift, measure, digits, before, digits, after, scene->dir);
         break;
     case WS_CAUSE_OPENCV:
         snprintf(line, size,
                  "%.300s/%s: the cameras are in the OpenCV convention (y down, z "
-                 "forward; %sagreement %.2f, flipped %.2f); negate the second and third columns of "
+                 "forward; %s %.*f, flipped %.*f); negate the second and third columns of "
                  "every transform_matrix, or write a corrected copy with "
                  "`wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, file, whose, r->mean, r->fixed_mean, scene->dir);
+                 scene->dir, file, measure, digits, before, digits, after, scene->dir);
         break;
     case WS_CAUSE_FOCAL: {
         if (scene->layout == WS_LAYOUT_NERFSTUDIO) { /* focal lengths in pixels, one file */
             snprintf(line, size,
                      "%.300s/%s: fl_x and fl_y do not fit the %s images; about %.3g times "
-                     "them does (tight-hull agreement %.3f, corrected %.3f); multiply fl_x and fl_y "
+                     "them does (%s %.3f, corrected %.3f); multiply fl_x and fl_y "
                      "by %.3g, or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                     scene->dir, file, split, r->focal_scale, r->tight_mean, r->tight_fixed,
+                     scene->dir, file, split, r->focal_scale, tight, tight_before, tight_after,
                      r->focal_scale, scene->dir);
             break;
         }
@@ -247,9 +312,9 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
         double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
         snprintf(line, size,
                  "%.300s/%s: camera_angle_x %.4g does not fit the images; about %.4g "
-                 "does (focal x%.3g; tight-hull agreement %.3f, corrected %.3f); fix camera_angle_x, "
+                 "does (focal x%.3g; %s %.3f, corrected %.3f); fix camera_angle_x, "
                  "or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, file, listed, fixed, r->focal_scale, r->tight_mean, r->tight_fixed,
+                 scene->dir, file, listed, fixed, r->focal_scale, tight, tight_before, tight_after,
                  scene->dir);
         break;
     }
@@ -269,11 +334,18 @@ static void explain(const ws_scene *scene, int s, const ws_check_split *r, char 
         break;
     }
     case WS_CAUSE_UNKNOWN:
-        snprintf(line, size,
-                 "%.300s/%s: the %sviews do not agree with each other (mean agreement "
-                 "%.2f, worst %.2f) and no frame shift, OpenCV flip or field of view explains it; "
-                 "check the cameras and the images",
-                 scene->dir, file, views, r->mean, r->worst);
+        if (r->by_cross)
+            snprintf(line, size,
+                     "%.300s/%s: the %s views do not agree with the hull of the %s views (mean agreement "
+                     "%.3f, worst %.3f) and no frame shift, OpenCV flip or field of view of either file "
+                     "explains it; check the cameras and the images",
+                     scene->dir, file, split, ws_split_names[rep->reference], r->cross, r->cross_worst);
+        else
+            snprintf(line, size,
+                     "%.300s/%s: the %sviews do not agree with each other (mean agreement "
+                     "%.2f, worst %.2f) and no frame shift, OpenCV flip or field of view explains it; "
+                     "check the cameras and the images",
+                     scene->dir, file, views, r->mean, r->worst);
         break;
     }
 }
@@ -283,29 +355,23 @@ static int hypothesis_cause(ws_check_cause cause) {
     return cause == WS_CAUSE_SHIFT || cause == WS_CAUSE_OPENCV || cause == WS_CAUSE_FOCAL;
 }
 
-/* A cause found in one split is usually in every split, though not every
- * split shows it: a split whose cameras form a regular orbit or spiral
+/* In a nerfstudio scene one file holds every split, and its frame order,
+ * convention and focal are those of all of them, though not every split
+ * shows a fault: a split whose cameras form a regular orbit or spiral
  * cannot show a shift (shifting such cameras by a frame turns them all
  * alike, which keeps them consistent), and a split of a few views can
- * agree under more than one hypothesis. So the hypothesis of one split,
- * *from, is measured on the others:
- * - each split its own file (NeRF-synthetic): the first split's shift, on
- *   the consistent splits, which the fix re-pairs when they agree as well
- *   re-paired;
- * - one file for every split (nerfstudio): that of the split with the most
- *   views whose cause is a hypothesis, on every split with another cause:
- *   one that agrees under it has that cause (a consistent one keeps its
- *   verdict, and a shift re-pairs it too), since the file's frame order,
- *   convention and focal are those of all its splits. */
+ * agree under more than one hypothesis. So the hypothesis of the split
+ * with the most views whose cause is one, *from, is measured on every
+ * split with another cause: one that agrees under it has that cause (a
+ * consistent one keeps its verdict, and a shift re-pairs it too). (Where
+ * each split has its own file, the cross-split test below weighs each
+ * file's hypotheses instead.) */
 static int cause_elsewhere(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
                            ws_check_report *r, int *from, ws_status *st) {
-    const int one_file = scene->layout == WS_LAYOUT_NERFSTUDIO;
     *from = -1;
-    for (int s = 0; s < WS_NSPLITS; s++) {
+    for (int s = 0; s < WS_NSPLITS && scene->layout == WS_LAYOUT_NERFSTUDIO; s++) {
         const ws_check_split *c = &r->split[s];
-        if (one_file ? hypothesis_cause(c->cause) && (*from < 0 || c->n > r->split[*from].n)
-                     : c->cause == WS_CAUSE_SHIFT && *from < 0)
-            *from = s;
+        if (hypothesis_cause(c->cause) && (*from < 0 || c->n > r->split[*from].n)) *from = s;
     }
     if (*from < 0) return WS_OK;
     const ws_check_split *e = &r->split[*from];
@@ -313,8 +379,9 @@ static int cause_elsewhere(const ws_scene *scene, const ws_silhouette *const sil
                           e->cause == WS_CAUSE_FOCAL ? e->focal_scale : 1.0, 1};
     for (int s = 0; s < WS_NSPLITS; s++) {
         ws_check_split *c = &r->split[s];
-        const int same = c->cause == e->cause && c->shift == e->shift && c->focal_scale == e->focal_scale;
-        if (s == *from || c->n == 0 || (one_file ? same : c->cause != WS_CAUSE_NONE)) continue;
+        if (s == *from || c->n == 0 ||
+            (c->cause == e->cause && c->shift == e->shift && c->focal_scale == e->focal_scale))
+            continue;
         double *trial = ws_malloc(sizeof *trial * c->n, "check agreement", st);
         int rc = trial ? WS_OK : st->code;
         double mean = 0;
@@ -334,6 +401,214 @@ static int cause_elsewhere(const ws_scene *scene, const ws_silhouette *const sil
     return WS_OK;
 }
 
+/* The fix the check has found for a split, as a hypothesis of the
+ * cross-split test: its shift or flip; the focal as listed, since the test
+ * cannot weigh a focal (nth_hypothesis) and each split's own verdict on it
+ * stands. */
+static hypothesis fix_of(const ws_check_split *c) {
+    return (hypothesis){c->repair_shift, c->cause == WS_CAUSE_OPENCV, 1.0, 1};
+}
+
+/* The hypotheses of the cross-split test for a split whose found fix is
+ * `found`, in a fixed order (ties keep the first): the cameras as listed,
+ * shifts -MAX_SHIFT .. MAX_SHIFT, the OpenCV flip, each but the found fix.
+ * No focal: the agreement is the share of a silhouette the hull covers,
+ * and a focal that enlarges the hull covers more of any view, so the
+ * cross test cannot weigh one (each split's tight-hull estimate does).
+ * *h: hypothesis `i`; returns 0 past the last. */
+static int nth_hypothesis(const hypothesis *found, int i, hypothesis *h) {
+    static const hypothesis all[] = {{0, 0, 1.0, 1}, {-2, 0, 1.0, 1}, {-1, 0, 1.0, 1}, {1, 0, 1.0, 1},
+                                     {2, 0, 1.0, 1}, {0, 1, 1.0, 1}};
+    for (int k = 0, n = 0; k < (int)(sizeof all / sizeof all[0]); k++) {
+        if (all[k].shift == found->shift && all[k].flip == found->flip) continue;
+        if (n++ == i) {
+            *h = all[k];
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Split t's agreement with the hull `ref` of another split, its views
+ * under ht (bad: the bad frames of its verdict left out): *mean, *worst. */
+static int held_out(const ws_scene *scene, int t, const ws_silhouette *sil, const hypothesis *ht,
+                    const ws_check_split *bad, const ws_hull *ref, double *mean, double *worst,
+                    ws_status *st) {
+    view_set v;
+    int rc = view_set_make(scene, t, sil, ht, bad, &v, st);
+    if (!rc && v.m > 0 && ref->outside) rc = ws_hull_agreement(v.hv, v.m, 0, ref, v.a, st);
+    if (!rc && v.m > 0 && !ref->outside)
+        for (int k = 0; k < v.m; k++) v.a[k] = 0; /* an empty hull covers nothing */
+    *mean = rc ? 0 : view_set_mean(&v);
+    *worst = 1;
+    for (int k = 0; k < v.m && !rc; k++) *worst = fmin(*worst, v.a[k]);
+    view_set_free(&v);
+    return rc;
+}
+
+/* One assignment of fixes the cross-split test weighs: the reference's
+ * hypothesis and each other split's, how many of those splits no
+ * hypothesis brings to agree, how many fixes differ from the found ones,
+ * and the other splits' agreement pooled over their views. */
+typedef struct {
+    hypothesis h[WS_NSPLITS];
+    int changed[WS_NSPLITS];
+    double before[WS_NSPLITS], worst[WS_NSPLITS]; /* mean and worst agreement under the found fix */
+    double after[WS_NSPLITS];                      /* mean agreement under h */
+    int disagrees[WS_NSPLITS];                     /* under every hypothesis tried */
+    int unexplained, changes;
+    double pooled, self;
+} assignment;
+
+/* Fewer splits left disagreeing, then fewer changes, then the higher
+ * pooled agreement (a frame shift either way along an orbit can agree
+ * nearly as well: the synthetic cube's train views shifted by one give
+ * 1.0000 re-paired the right way and 0.9961 the wrong one). */
+static int better(const assignment *a, const assignment *b) {
+    if (a->unexplained != b->unexplained) return a->unexplained < b->unexplained;
+    if (a->changes != b->changes) return a->changes < b->changes;
+    return a->pooled > b->pooled;
+}
+
+/* Applies hypothesis h to split c as the cross test's verdict. */
+static void apply_cross(ws_check_split *c, const hypothesis *h, double before, double after) {
+    c->by_cross = 1;
+    c->cross_before = before;
+    c->cross_after = after;
+    c->repair_shift = h->shift;
+    if (h->shift || h->flip) {
+        c->cause = h->shift ? WS_CAUSE_SHIFT : WS_CAUSE_OPENCV;
+        c->shift = h->shift;
+        c->focal_scale = 1;
+        c->fixed_mean = NAN;
+    } else if (hypothesis_cause(c->cause)) {
+        c->cause = WS_CAUSE_NONE; /* the cameras as listed agree across the splits */
+    }
+}
+
+/* Whether views of another split agree with the reference hull: as the
+ * reference's own views do (a mean WS_CHECK_MEAN_OK, no view below
+ * WS_CHECK_VIEW_OK), and on average no less than the reference's own
+ * views agree with it (`self`) by more than WS_CHECK_CROSS_GAP: a near-
+ * symmetric solid on turned cameras still covers most of a view. */
+static int agrees_across(double mean, double worst, double self) {
+    return mean >= WS_CHECK_MEAN_OK && worst >= WS_CHECK_VIEW_OK && mean >= self - WS_CHECK_CROSS_GAP;
+}
+
+/* The other splits against the reference hull `hull` (carved under
+ * a->h[R], whose own views agree with it a->self): each split's found fix
+ * first, then where that disagrees the other hypotheses of its file (none
+ * in a nerfstudio file: R's hypothesis is every split's there). */
+static int weigh(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], const ws_check_report *r,
+                 int R, int one_file, const ws_hull *hull, assignment *a, ws_status *st) {
+    int rc = WS_OK, views = 0;
+    a->pooled = 0;
+    for (int t = 0; t < WS_NSPLITS && !rc; t++) {
+        const ws_check_split *c = &r->split[t];
+        if (t == R || c->n == 0) continue;
+        const hypothesis found = one_file && a->changed[R] ? a->h[R] : fix_of(c);
+        double mean, worst;
+        rc = held_out(scene, t, sil[t], &found, c->cause == WS_CAUSE_BAD_FRAMES ? c : NULL, hull, &mean, &worst, st);
+        a->h[t] = found;
+        a->changed[t] = 0;
+        a->before[t] = a->after[t] = mean;
+        a->worst[t] = worst;
+        double best = mean + WS_CHECK_GAIN;
+        const int agrees = agrees_across(mean, worst, a->self);
+        hypothesis h;
+        for (int i = 0; !rc && !agrees && !one_file && nth_hypothesis(&found, i, &h); i++) {
+            rc = held_out(scene, t, sil[t], &h, NULL, hull, &mean, &worst, st);
+            if (!rc && agrees_across(mean, worst, a->self) && mean > best)
+                best = a->after[t] = mean, a->h[t] = h, a->changed[t] = 1;
+        }
+        a->disagrees[t] = !agrees && !a->changed[t] && c->cause != WS_CAUSE_FOCAL; /* its own line explains it */
+        a->unexplained += a->disagrees[t];
+        a->changes += a->changed[t];
+        a->pooled += a->after[t] * c->n;
+        views += c->n;
+    }
+    a->pooled /= views;
+    return rc;
+}
+
+/* The cross-split test (check.h): every other split's views against the
+ * hull of the reference split R, each split with the fix found for it.
+ * Where one disagrees, R's hull is carved again under each hypothesis of
+ * its file (nth_hypothesis; in a nerfstudio file, whose frame order and
+ * convention are every split's, for every split alike) under which R
+ * still agrees with itself, and each other split that disagrees with a
+ * hull tries the hypotheses of its own file. The assignment that leaves
+ * the fewest splits disagreeing, then changes the fewest fixes, then
+ * agrees best wins; a split it leaves disagreeing has an unknown cause. */
+static int cross_check(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
+                       ws_check_report *r, ws_status *st) {
+    const int one_file = scene->layout == WS_LAYOUT_NERFSTUDIO;
+    int R = -1, others = 0;
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        r->split[s].cross = r->split[s].cross_worst = NAN;
+        if (r->split[s].n > 0 && (R < 0 || r->split[s].n > r->split[R].n)) R = s;
+    }
+    for (int s = 0; s < WS_NSPLITS; s++) others += s != R && r->split[s].n > 0;
+    r->reference = others ? R : -1;
+    if (!others) return WS_OK;
+    ws_check_split *ref = &r->split[R];
+    const hypothesis found = fix_of(ref);
+    assignment best = {0}, trial;
+    best.h[R] = found;
+    /* how the reference's own views agree under that fix */
+    best.self = ref->cause == WS_CAUSE_SHIFT || ref->cause == WS_CAUSE_OPENCV || ref->cause == WS_CAUSE_BAD_FRAMES
+                    ? ref->fixed_mean
+                    : ref->mean;
+    view_set v;
+    ws_hull hull = {0};
+    int rc = view_set_make(scene, R, sil[R], &found, ref->cause == WS_CAUSE_BAD_FRAMES ? ref : NULL, &v, st);
+    if (!rc) {
+        if (v.m > 0)
+            rc = ws_hull_carve(v.hv, v.m, scene->center, resolution, ws_hull_default_tolerance(v.m), 0, &hull, st);
+        view_set_free(&v);
+    }
+    if (!rc) rc = weigh(scene, sil, r, R, one_file, &hull, &best, st);
+    ws_hull_free(&hull);
+    for (int t = 0; t < WS_NSPLITS && !rc; t++)
+        if (t != R && r->split[t].n > 0) r->split[t].cross = best.before[t], r->split[t].cross_worst = best.worst[t];
+    const int settled = !rc && !best.unexplained && !best.changes;
+    hypothesis h;
+    for (int i = 0; !rc && !settled && nth_hypothesis(&found, i, &h); i++) {
+        trial = (assignment){.changes = 1};
+        trial.h[R] = h;
+        trial.changed[R] = 1;
+        rc = view_set_make(scene, R, sil[R], &h, NULL, &v, st);
+        if (rc) break;
+        rc = carve_measure(scene, &v, resolution, 0, &hull, st);
+        trial.self = rc ? 0 : view_set_mean(&v);
+        view_set_free(&v);
+        if (!rc && trial.self >= WS_CHECK_MEAN_OK && hull.outside) rc = weigh(scene, sil, r, R, one_file, &hull, &trial, st);
+        if (!rc && trial.self >= WS_CHECK_MEAN_OK && hull.outside && better(&trial, &best)) best = trial;
+        ws_hull_free(&hull);
+    }
+    if (rc) return rc;
+    double pooled_before = 0;
+    int views = 0;
+    for (int t = 0; t < WS_NSPLITS; t++)
+        if (t != R && r->split[t].n > 0) pooled_before += r->split[t].cross * r->split[t].n, views += r->split[t].n;
+    if (best.changed[R]) {
+        apply_cross(ref, &best.h[R], pooled_before / views, best.pooled);
+        ref->fixed_mean = best.self;
+    }
+    for (int t = 0; t < WS_NSPLITS; t++) {
+        ws_check_split *c = &r->split[t];
+        if (t == R || c->n == 0) continue;
+        if (best.changed[t] || (one_file && best.changed[R]))
+            apply_cross(c, &best.h[t], c->cross, best.after[t]);
+        else if (best.disagrees[t] && c->cause == WS_CAUSE_NONE) {
+            c->cause = WS_CAUSE_UNKNOWN;
+            c->by_cross = 1;
+            c->cross_before = c->cross_after = c->cross;
+        }
+    }
+    return WS_OK;
+}
+
 int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,
                    ws_check_report *r, ws_status *st) {
     memset(r, 0, sizeof *r);
@@ -345,18 +620,20 @@ int ws_check_scene(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPL
         if (r->split[s].cause == WS_CAUSE_SHIFT) r->split[s].repair_shift = r->split[s].shift;
     }
     int from;
-    if (cause_elsewhere(scene, sil, resolution, r, &from, st)) {
+    if (cause_elsewhere(scene, sil, resolution, r, &from, st) || cross_check(scene, sil, resolution, r, st)) {
         ws_check_report_free(r);
         return st->code;
     }
     /* The line explains the first inconsistent split; in one file, the
-     * split whose cause the others were measured under. */
+     * split whose cause the others were measured under; the reference
+     * split where the cross-split test found its cause. */
     r->explained = -1;
     for (int s = WS_NSPLITS - 1; s >= 0; s--)
         if (r->split[s].cause != WS_CAUSE_NONE) r->explained = s;
     if (scene->layout == WS_LAYOUT_NERFSTUDIO && from >= 0) r->explained = from;
+    if (r->reference >= 0 && r->split[r->reference].by_cross) r->explained = r->reference;
     r->consistent = r->explained < 0;
-    if (!r->consistent) explain(scene, r->explained, &r->split[r->explained], r->line, sizeof r->line);
+    if (!r->consistent) explain(scene, r, r->explained, r->line, sizeof r->line);
     return WS_OK;
 }
 

@@ -122,12 +122,13 @@ void ws_hull_free(ws_hull *h) {
     h->kept = 0;
 }
 
-/* The hull less view `self` drawn into view `self`'s image: voxels seen
- * outside by at most tolerance views other than it. Only the pixels set in
+/* The hull drawn into view `self`'s image: less that view where the hull
+ * was carved from `views` (voxels seen outside by at most tolerance views
+ * other than it), else whole (a view it has not seen). Only the pixels set in
  * `todo` (H x W) are drawn, each at most once: drawing clears it, so a
  * solid hull's many voxels behind the first skip their pixels' disc test.
  * Returns the pixels drawn. */
-static long project_others(const ws_hull_view *views, int self, const ws_hull *h, uint8_t *todo) {
+static long project_others(const ws_hull_view *views, int self, int carved, const ws_hull *h, uint8_t *todo) {
     const ws_hull_view *v = &views[self];
     const ws_camera *cam = v->cam;
     const int W = cam->width, H = cam->height;
@@ -137,10 +138,10 @@ static long project_others(const ws_hull_view *views, int self, const ws_hull *h
         for (int y = 0; y < h->n[1]; y++)
             for (int x = 0; x < h->n[0]; x++) {
                 int count = h->outside[ws_hull_index(h, x, y, z)];
-                if (count > h->tolerance + 1) continue;
+                if (count > h->tolerance + carved) continue;
                 double p[3], c[3], u, w;
                 ws_hull_voxel_center(h, x, y, z, p);
-                if (count == h->tolerance + 1 && !ws_hull_sees_outside(v, p, rho, h->tight)) continue;
+                if (count > h->tolerance && !ws_hull_sees_outside(v, p, rho, h->tight)) continue;
                 ws_camera_to_cam(cam, p, c);
                 double d = ws_camera_project(cam, c, &u, &w);
                 if (!(d > inscribed)) continue;
@@ -161,8 +162,8 @@ static long project_others(const ws_hull_view *views, int self, const ws_hull *h
     return drawn;
 }
 
-int ws_hull_agreement(const ws_hull_view *views, int nviews, const ws_hull *h, double *agreement,
-                      ws_status *st) {
+int ws_hull_agreement(const ws_hull_view *views, int nviews, int carved, const ws_hull *h,
+                      double *agreement, ws_status *st) {
     int W = 0, H = 0;
     for (int k = 0; k < nviews; k++) {
         W = W > views[k].cam->width ? W : views[k].cam->width;
@@ -185,7 +186,7 @@ int ws_hull_agreement(const ws_hull_view *views, int nviews, const ws_hull *h, d
             memcpy(mine, s->in, npix);
         else
             memset(mine, 1, npix);
-        long both = project_others(views, k, h, mine);
+        long both = project_others(views, k, carved != 0, h, mine);
         agreement[k] = s->area ? (double)both / s->area : (both ? 0.0 : 1.0);
     }
     free(drawn);

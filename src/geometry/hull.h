@@ -71,12 +71,14 @@ void ws_hull_voxel_center(const ws_hull *h, int x, int y, int z, double p[3]);
  * tight: the tight test). */
 int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho, int tight);
 
-/* Agreement of every view with the others: agreement[k] is the IoU of view
- * k's silhouette and the projection of the hull carved from the other
- * views (the voxels seen outside by at most `tolerance` views other than
- * k), each voxel drawn as the disc of its inscribed ball (an empty
- * silhouette and an empty projection agree: 1). */
-int ws_hull_agreement(const ws_hull_view *views, int nviews, const ws_hull *h, double *agreement,
-                      ws_status *st);
+/* Agreement of every view with the hull: agreement[k] is the share of
+ * view k's silhouette covered by the projection of the hull, each voxel
+ * drawn as the disc of its inscribed ball (an empty silhouette and an
+ * empty projection agree: 1). carved: h was carved from `views`, and view
+ * k is judged against the hull of the other views (the voxels seen outside
+ * by at most `tolerance` views other than k); 0: views h has not seen
+ * (another split's), judged against the whole hull. */
+int ws_hull_agreement(const ws_hull_view *views, int nviews, int carved, const ws_hull *h,
+                      double *agreement, ws_status *st);
 
 #endif
