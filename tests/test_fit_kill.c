@@ -81,7 +81,7 @@ static int temporaries(void) {
 
 /* Starts a fit of at most `steps` steps that checkpoints after every step
  * (resume: `fit --resume DIR`, which keeps the stored settings). Its
- * schedule (1000 epochs of 6 views x 30 steps) is longer than any fit here
+ * schedule (1000 epochs of 6 views x 5 steps) is longer than any fit here
  * runs, so a resume always has a next step, however fast the machine. */
 static pid_t start_fit(int resume, const char *steps) {
     char scene[300];

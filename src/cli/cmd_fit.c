@@ -78,7 +78,11 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
  * term); for the line loss alone (`--loss edges`) those measured on the
  * solid scenes (README, "Fits on the synthetic scenes"): thin strokes, long
  * initial strokes (0.15: at 0.3 a hull-start stroke spans two turns of a
- * coil, README "Where it stands now"), a small step and 4 epochs; and the silhouette term at
+ * coil, README "Where it stands now"), a small step, and 5 steps per batch
+ * over 24 epochs (the 4 x 30 of before in as many steps: 30 steps on one
+ * view fit each view's own errors, such as the one line its line target
+ * draws where two wires of the flat clip merge, and moved whole wires off
+ * their place; README "Where it stands now"); and the silhouette term at
  * weight 3, measured on the shared rose and duck and the synthetic scenes
  * (README, "Silhouettes, the visual hull and `check`"). */
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
@@ -88,7 +92,8 @@ static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     if (isnan(opt->length)) opt->length = lines ? 0.15 : original->length;
     if (isnan(opt->loss.silhouette_weight))
         opt->loss.silhouette_weight = lines ? 3 : original->loss.silhouette_weight;
-    if (opt->epochs == -1) opt->epochs = lines ? 4 : original->epochs;
+    if (opt->epochs == -1) opt->epochs = lines ? 24 : original->epochs;
+    if (opt->inner_steps == -1) opt->inner_steps = lines ? 5 : original->inner_steps;
 }
 
 /* Parses the fit's own arguments (those of a new run, or those a checkpoint
@@ -99,7 +104,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const ws_fit_options original = *opt;
     /* unset: loss_defaults */
     opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
-    opt->epochs = -1;
+    opt->epochs = opt->inner_steps = -1;
     const char *loss_name = "clip", *background = "black", *geometric = "blocks", *hidden = NULL;
     double edges_weight = 1.0;
     int seed = 0;
@@ -115,8 +120,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
          "weight of the silhouette term over the training views [0; 3 with --loss edges]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
-        {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10; 4 with --loss edges]"},
-        {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30]"},
+        {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10; 24 with --loss edges]"},
+        {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30; 5 with --loss edges]"},
         {"--learning-rate", WS_ARG_DOUBLE, &opt->learning_rate, 0, "Adam step size [0.005; 0.0003 with --loss edges]"},
         {"--n-curves", WS_ARG_INT, &opt->n_curves, 0, "number of curves [25]"},
         {"--thickness", WS_ARG_DOUBLE, &opt->thickness, 0, "Gaussian radius, world units [0.02; 0.01 with --loss edges]"},
