@@ -1,7 +1,9 @@
 /* test_fit_settings.c: report.html's settings table shows every option of
  * `fit` (each option `fit --help` lists, but --resume) with the value the
  * run used: given values as given, defaults as defaults, and the same
- * table after --resume. A short edge-loss fit of the committed fixture. */
+ * table after --resume. A short edge-loss fit of the committed fixture;
+ * then the schedule a loss takes when --epochs and --inner-steps are left
+ * unset. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,6 +76,22 @@ int main(void) {
     CHECK(rc == 0, "resume: %s", out);
     read_report(run_dir);
     CHECK(has_row("max-steps", "3") && has_row("radius", "0.7"), "resumed table: stored and overridden");
+    /* left unset, the line loss takes 5 steps per view over 24 epochs (30
+     * steps on one view fit its own errors: README, "Where it stands
+     * now"), another loss the original's 30 over 10 */
+    static const char *const loss_defaults[][3] = {{"edges", "24", "5"}, {"l2", "10", "30"}};
+    for (int k = 0; k < 2; k++) {
+        rc = run_cmd(out, sizeof out,
+                     "%s fit tests/fixtures/scene_small --out %s/unset --loss %s --size 64 --max-steps 1 "
+                     "--threads 1 --quiet",
+                     bin, tmp, loss_defaults[k][0]);
+        CHECK(rc == 0, "fit --loss %s: %s", loss_defaults[k][0], out);
+        snprintf(run_dir, sizeof run_dir, "%s/unset", tmp);
+        read_report(run_dir);
+        CHECK(has_row("epochs", loss_defaults[k][1]) && has_row("inner-steps", loss_defaults[k][2]),
+              "--loss %s: epochs %s, inner-steps %s", loss_defaults[k][0], loss_defaults[k][1],
+              loss_defaults[k][2]);
+    }
     run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }
