@@ -2,13 +2,14 @@
 # Quality against wall time (METHOD.md sections 7 and 8; issue 10): fits the
 # shared scenes rose and duck with the weight-free line loss and its
 # defaults (README, "fit") from the visual hull and from the original's
-# random sphere, side by side, at three budgets of schedule (1, 4 and 8
-# epochs of 96 views x 30 steps; 4 is the line loss's default), and
+# random sphere, side by side, at three budgets of schedule (6, 24 and 48
+# epochs of 96 views x 5 steps: 2,880, 11,520 and 23,040 steps; 24 is the
+# line loss's default), and
 # tabulates the fit's wall time against the test loss, the surface distance
 # (mean and 90th percentile over the ground truth's diagonal), the share of
 # Gaussian centres within 1% of it and the stray curves (metrics.json).
 #
-# usage: bash tools/quality_vs_time.sh [EPOCHS ...]     (default: 1 4 8)
+# usage: bash tools/quality_vs_time.sh [EPOCHS ...]     (default: 6 24 48)
 # env:   BUILD (build), SCENES (../shared/scenes), OUT (build/quality),
 #        FIT_ARGS (extra fit options, e.g. "--threads 1" or
 #        "--silhouette-weight 0")
@@ -20,7 +21,7 @@ ws=${BUILD:-build}/wiresketch
 scenes=${SCENES:-../shared/scenes}
 out=${OUT:-build/quality}
 budgets=("$@")
-[ ${#budgets[@]} -gt 0 ] || budgets=(1 4 8)
+[ ${#budgets[@]} -gt 0 ] || budgets=(6 24 48)
 mkdir -p "$out"
 table="$out/table.md"
 {
