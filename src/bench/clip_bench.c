@@ -2,9 +2,7 @@
 #include <cblas.h>
 #include <math.h>
 #include <omp.h>
-#include <stdio.h>
 #include <stdlib.h>
-#include <sys/resource.h>
 #include <time.h>
 #include "bench/clip_bench.h"
 #include "nn/matmul.h"
@@ -125,9 +123,6 @@ int ws_clip_bench_run(const clip_model *m, int batch, int rounds, ws_clip_bench_
         res->op_backward[tape->ops[i].kind] += op_best[tape->nops + i];
     }
     res->arena_bytes = clip_run_bytes(run);
-    struct rusage ru;
-    res->peak_rss_kb = getrusage(RUSAGE_SELF, &ru) ? -1 : ru.ru_maxrss;
-    snprintf(res->blas_core, sizeof res->blas_core, "%s", openblas_get_corename());
     res->nn_parallel = nn_fork((size_t)-1);
 done:
     clip_run_free(run);

@@ -23,8 +23,6 @@ typedef struct {
      * bits do not depend on the thread count */
     double floor_openblas;
     size_t arena_bytes;                           /* the run's activations */
-    long peak_rss_kb;                             /* of the whole process */
-    char blas_core[32];                           /* OpenBLAS's kernel set */
     int nn_parallel;                              /* nn ops fork OpenMP teams */
     /* seconds per kind of op (nn_op_kind), each op's best round, summed */
     double op_forward[NN_OP_KINDS], op_backward[NN_OP_KINDS];
