@@ -60,7 +60,16 @@ static void shuffle(int *order, int n, ws_rng *rng) {
     }
 }
 
-static long schedule_steps(const fit_run *r);
+/* The batches of an epoch, the last one possibly short. */
+static int batches_per_epoch(const fit_run *r) {
+    int n = r->scene.split[WS_TRAIN].n, bs = r->opt->batch_size;
+    return (n + bs - 1) / bs;
+}
+
+/* The steps of the epochs' schedule. */
+static long schedule_steps(const fit_run *r) {
+    return (long)r->opt->epochs * batches_per_epoch(r) * r->opt->inner_steps;
+}
 
 /* One Adam step on the views of a batch. A non-finite loss or gradient is
  * reported and the step refused: the control points and moments stay. */
@@ -120,12 +129,6 @@ static int evaluate(fit_run *r, int split, double *mean, double *per_view, ws_st
     return WS_OK;
 }
 
-/* The steps of the epochs' schedule. */
-static long schedule_steps(const fit_run *r) {
-    int n = r->scene.split[WS_TRAIN].n, bs = r->opt->batch_size;
-    return (long)r->opt->epochs * ((n + bs - 1) / bs) * r->opt->inner_steps;
-}
-
 static long total_steps(const fit_run *r) {
     long steps = schedule_steps(r);
     return r->opt->max_steps > 0 && r->opt->max_steps < steps ? r->opt->max_steps : steps;
@@ -154,9 +157,8 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
                 tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
         return;
     }
-    int nb = (r->scene.split[WS_TRAIN].n + r->opt->batch_size - 1) / r->opt->batch_size;
     fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
-            tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1, nb,
+            tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1, batches_per_epoch(r),
             r->s.global_step, total_steps(r), loss, rate, spent, left, tty ? "   " : "\n");
     fflush(stderr);
 }
@@ -167,8 +169,9 @@ static int init_state(fit_run *r, ws_status *st) {
     ws_fit_state *s = &r->s;
     ws_rng_seed(&s->rng, o->seed);
     if (ws_fit_init_curves(o, &r->scene, &r->hull, &s->rng, &s->curves, st)) return st->code;
-    /* Both sample: a loaded file's curves were measured by the loader, and
-     * random ones lie within the bounded --radius and --length. */
+    /* No sampling check here: a loaded file's curves were measured by the
+     * loader, and the random, hull and edge starts are strokes of bounded
+     * size (the options' bounds, fit/init.h). */
     s->n_train = r->scene.split[WS_TRAIN].n;
     s->order = ws_malloc((size_t)s->n_train * sizeof(int), "view order", st);
     if (!s->order || ws_adam_init(&s->adam, s->curves.n * WS_CURVE_FLOATS, o->learning_rate, st))
@@ -211,8 +214,7 @@ static int advance(fit_run *r, double loss, ws_status *st) {
         if (o->eval_every > 0 && s->global_batch % o->eval_every == 0 &&
             evaluate(r, WS_VAL, &row.val_loss, NULL, st))
             return st->code;
-        int nb = (s->n_train + o->batch_size - 1) / o->batch_size;
-        if (s->batch_in_epoch == nb) {
+        if (s->batch_in_epoch == batches_per_epoch(r)) {
             s->batch_in_epoch = 0;
             s->epoch++;
             if (s->epoch < o->epochs) shuffle(s->order, s->n_train, &s->rng);
@@ -228,9 +230,8 @@ static int advance(fit_run *r, double loss, ws_status *st) {
 static int respawn(fit_run *r, ws_status *st) {
     const ws_fit_options *o = r->opt;
     ws_fit_state *s = &r->s;
-    long schedule = (long)o->epochs * ((s->n_train + o->batch_size - 1) / o->batch_size) * o->inner_steps;
     if (!r->respawn || o->respawn_every == 0 || s->global_step % o->respawn_every != 0 ||
-        4 * s->global_step > 3 * schedule)
+        4 * s->global_step > 3 * schedule_steps(r))
         return WS_OK;
     int moved;
     if (ws_respawn_step(r->respawn, &s->curves, &s->adam, &moved, st)) return st->code;
@@ -320,8 +321,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
         if (r->s.n_train != r->scene.split[WS_TRAIN].n)
             return ws_fail(st, WS_EINPUT, "%s: made for %d training views, the scene has %d", path,
                            r->s.n_train, r->scene.split[WS_TRAIN].n);
-        int nb = (r->s.n_train + o->batch_size - 1) / o->batch_size;
-        if (r->s.epoch < o->epochs && (r->s.batch_in_epoch >= nb || r->s.step_in_batch >= o->inner_steps))
+        if (r->s.epoch < o->epochs &&
+            (r->s.batch_in_epoch >= batches_per_epoch(r) || r->s.step_in_batch >= o->inner_steps))
             return ws_fail(st, WS_EUSAGE,
                            "%s: stopped at batch %d, step %d of its epoch, which --batch-size %d and "
                            "--inner-steps %d do not have; resume with the run's own values",
