@@ -13,7 +13,7 @@
 #include "io/image.h"
 #include "render/curves.h"
 
-static char bin[512], tmp[256];
+static char bin[512], tmp[256], cwd[1024];
 static char out[1 << 16];
 
 #define SWEEP "%s sweep tests/fixtures/scene_small --out %s/sw --vary n_curves=3,5 --vary thickness=0.02,0.03 " \
@@ -55,6 +55,7 @@ int main(void) {
     const char *build = getenv("BUILD");
     snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_sweep.%ld", (long)getpid());
+    if (!getcwd(cwd, sizeof cwd)) cwd[0] = '\0';
     run_cmd(out, sizeof out, "mkdir -p %s", tmp);
     int rc = run_cmd(out, sizeof out, SWEEP, bin, tmp);
     CHECK(rc == 0 && strstr(out, "sweep: run 4 of 4 (n_curves=5,thickness=0.03)"), "sweep: %s", out);
@@ -102,6 +103,19 @@ int main(void) {
     rc = run_cmd(out, sizeof out, SWEEP, bin, tmp);
     CHECK(rc == 0 && strstr(out, "run 2 of 4 (n_curves=3,thickness=0.03): resumed"), "resume: %s", out);
     CHECK(same_file(path, other), "the resumed run ends with the same curves");
+    /* a value may hold any byte but '/' and control characters: a curve
+     * file "a#1.json" (relative to the working directory) makes the run
+     * "init=a#1.json", whose links must reach it, not "init=a" with a
+     * fragment */
+    run_cmd(out, sizeof out, "mkdir -p %s/hash && cp '%s' '%s/hash/a#1.json'", tmp, path, tmp);
+    rc = run_cmd(out, sizeof out,
+                 "exe=$(realpath %s) && cd %s/hash && $exe sweep %s/tests/fixtures/scene_small --out sw "
+                 "--vary 'init=a#1.json' --loss edges --size 48 --max-steps 1 --quiet --threads 1 --sheet-cell 32",
+                 bin, tmp, cwd);
+    snprintf(other, sizeof other, "%s/hash/sw/index.html", tmp);
+    CHECK(rc == 0 && count_in(other, "<a href=\"init%3Da%231.json/report.html\">init=a#1.json</a>") == 1 &&
+              count_in(other, "src=\"init%3Da%231.json/test/r_0.png\"") == 1,
+          "index.html links a run named with '#': %s", out);
     /* usage errors */
     rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/e --vary n_curves", bin, tmp);
     CHECK(rc == 2 && strstr(out, "wiresketch: --vary: 'n_curves' is not NAME=V1,V2,...\n"), "bad --vary: %s", out);

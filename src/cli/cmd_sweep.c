@@ -25,6 +25,7 @@
 #include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "io/html.h"
 #include "io/image.h"
 #include "nn/base/bytes.h"
 
@@ -263,16 +264,6 @@ static double metric(const cJSON *m, const char *key) {
     return cJSON_IsNumber(x) ? x->valuedouble : NAN;
 }
 
-static void put_html(FILE *f, const char *s) {
-    for (; *s; s++) {
-        if (*s == '<') fputs("&lt;", f);
-        else if (*s == '>') fputs("&gt;", f);
-        else if (*s == '&') fputs("&amp;", f);
-        else if (*s == '"') fputs("&quot;", f);
-        else fputc(*s, f);
-    }
-}
-
 static void put_number(FILE *f, double v, const char *fmt) {
     if (isfinite(v))
         fprintf(f, fmt, v);
@@ -322,7 +313,7 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
           "<style>body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}"
           "td,th{border:1px solid #ccc;padding:4px;vertical-align:top;font-size:13px}"
           "img{display:block}</style></head><body>\n<h1>wiresketch sweep</h1>\n<p>scene ", h);
-    put_html(h, p->scene);
+    ws_html_text(h, p->scene);
     fprintf(h, "; contact sheet: <a href=\"contact_sheet.png\">contact_sheet.png</a> (row 1: the photos, "
                "then one row per run in this order)</p>\n<table>\n<tr><th>run</th><th>test loss</th>"
                "<th>Chamfer / diag.</th><th>F-score</th><th>surface mean / diag.</th><th>steps</th>"
@@ -332,7 +323,7 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
         snprintf(path, sizeof path, "%s/test/%s_photo.png", first, view);
         paste(&sheet, path, 0, v, cell);
         fprintf(h, "<th>%s<br><img src=\"", view);
-        put_html(h, name);
+        ws_html_url(h, name);
         fprintf(h, "/test/%s_photo.png\" width=\"%d\"></th>", view, cell);
     }
     fputs("</tr>\n", h);
@@ -349,9 +340,9 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
                        : NULL;
         free(bytes);
         fputs("<tr><td><a href=\"", h);
-        put_html(h, name);
+        ws_html_url(h, name);
         fputs("/report.html\">", h);
-        put_html(h, name);
+        ws_html_text(h, name);
         fputs("</a></td>", h);
         /* the columns of the header, from the run's metrics.json */
         static const char *const columns[][2] = {{"test_loss", "%.5g"}, {"chamfer", "%.4f"},
@@ -368,7 +359,7 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
             snprintf(path, sizeof path, "%s/test/%s.png", dir, view);
             paste(&sheet, path, k + 1, v, cell);
             fputs("<td><img src=\"", h);
-            put_html(h, name);
+            ws_html_url(h, name);
             fprintf(h, "/test/%s.png\" width=\"%d\"></td>", view, cell);
         }
         fputs("</tr>\n", h);

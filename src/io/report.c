@@ -1,53 +1,17 @@
 /* report.c: report.html (see report.h). */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 #include "base/outfile.h"
+#include "io/html.h"
 #include "io/report.h"
-
-/* ---- escaping -------------------------------------------------------- */
-
-/* Text and attribute values: the five HTML specials as entities, control
- * characters (not allowed in HTML text) as U+FFFD. */
-static void put_text(FILE *f, const char *s) {
-    for (; s && *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        switch (ch) {
-        case '&': fputs("&amp;", f); break;
-        case '<': fputs("&lt;", f); break;
-        case '>': fputs("&gt;", f); break;
-        case '"': fputs("&quot;", f); break;
-        case '\'': fputs("&#39;", f); break;
-        default:
-            if ((ch < 0x20 && ch != '\t' && ch != '\n') || ch == 0x7f)
-                fputs("&#xFFFD;", f);
-            else
-                fputc(ch, f);
-        }
-    }
-}
-
-/* A relative path as a URL: every byte but unreserved ones and '/' is
- * percent-encoded, so that '#', '?', ':' or a space in a file name cannot
- * change what the browser loads, and nothing needs HTML escaping. */
-static void put_url(FILE *f, const char *s) {
-    for (; s && *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if ((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
-            strchr("-._~/", ch))
-            fputc(ch, f);
-        else
-            fprintf(f, "%%%02X", ch);
-    }
-}
 
 static void put_table(FILE *f, const ws_report_item *items, int n) {
     fputs("<table>\n", f);
     for (int k = 0; k < n; k++) {
         fputs("<tr><th>", f);
-        put_text(f, items[k].key);
+        ws_html_text(f, items[k].key);
         fputs("</th><td>", f);
-        put_text(f, items[k].value);
+        ws_html_text(f, items[k].value);
         fputs("</td></tr>\n", f);
     }
     fputs("</table>\n", f);
@@ -302,9 +266,9 @@ static int put_loss_plot(FILE *f, const ws_report *r, ws_status *st) {
 
 static void put_img(FILE *f, const char *path, const char *alt) {
     fputs("<img src=\"", f);
-    put_url(f, path);
+    ws_html_url(f, path);
     fputs("\" alt=\"", f);
-    put_text(f, alt);
+    ws_html_text(f, alt);
     fputs("\">", f);
 }
 
@@ -320,7 +284,7 @@ static void put_tests(FILE *f, const ws_report *r) {
         put_img(f, v->render_path, "sketch render");
         if (v->photo_path) put_img(f, v->photo_path, "photo");
         fputs("</div><figcaption>", f);
-        put_text(f, v->name);
+        ws_html_text(f, v->name);
         if (isfinite(v->loss)) fprintf(f, " &middot; loss %.4g", v->loss);
         fputs("</figcaption></figure>\n", f);
     }
@@ -333,7 +297,7 @@ static void put_images(FILE *f, const ws_report *r) {
         fputs("<figure>", f);
         put_img(f, r->images[k].path, r->images[k].caption);
         fputs("<figcaption>", f);
-        put_text(f, r->images[k].caption);
+        ws_html_text(f, r->images[k].caption);
         fputs("</figcaption></figure>\n", f);
     }
     fputs("</div>\n", f);
@@ -529,13 +493,13 @@ int ws_report_write(const char *path, const ws_report *r, ws_status *st) {
     const char *title = r->title ? r->title : "wiresketch fit";
     fputs("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
           "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>", f);
-    put_text(f, title);
+    ws_html_text(f, title);
     fprintf(f, "</title>\n<style>\n%s</style>\n</head>\n<body>\n<main>\n<h1>", report_css);
-    put_text(f, title);
+    ws_html_text(f, title);
     fputs("</h1>\n", f);
     if (r->scene_path) {
         fputs("<p class=\"sub\">Scene <code>", f);
-        put_text(f, r->scene_path);
+        ws_html_text(f, r->scene_path);
         fputs("</code></p>\n", f);
     }
     if (isfinite(r->wall_seconds)) {
