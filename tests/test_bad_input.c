@@ -459,6 +459,31 @@ static void test_curve_files(void) {
     CHECK(no_partial_outputs(out), "outputs after a bad curve file");
 }
 
+/* What is wrong with the ground truth eval measures against, or with a
+ * sketch that has nothing to measure, names the file. */
+static void test_ground_truth_files(void) {
+    char sketch[400], gt[400];
+    snprintf(sketch, sizeof sketch, "%s/scene/gt_curves.json", tmp);
+    snprintf(gt, sizeof gt, "%s/gt.json", tmp);
+    write_text(gt, "{\"thickness\": 0.02, \"overlap\": 0.6, \"curves\": []}");
+    int rc = run("eval %s/scene --curves %s --loss none --gt-curves %s", tmp, sketch, gt);
+    CHECK(ANSWER(1, rc, "%s: curve metrics: the ground truth has no curves", gt), "eval: ground truth without curves");
+    write_text(gt, "{\"thickness\": 0.02, \"overlap\": 0.6, \"curves\": [[[1, 1, 1], [1, 1, 1], [1, 1, 1], [1, 1, 1]]]}");
+    rc = run("eval %s/scene --curves %s --loss none --gt-curves %s", tmp, sketch, gt);
+    CHECK(ANSWER(1, rc, "%s: curve metrics: the ground-truth curves have a zero-diagonal bounding box", gt),
+          "eval: ground-truth curves without extent");
+    snprintf(gt, sizeof gt, "%s/gt.ply", tmp);
+    write_text(gt, "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                   "property float z\nend_header\n1 1 1\n1 1 1\n");
+    rc = run("eval %s/scene --curves %s --loss none --gt %s", tmp, sketch, gt);
+    CHECK(ANSWER(1, rc, "%s: ground-truth points: the bounding box has a zero diagonal", gt),
+          "eval: ground-truth points without extent");
+    snprintf(sketch, sizeof sketch, "%s/empty.json", tmp);
+    write_text(sketch, "{\"thickness\": 0.02, \"overlap\": 0.6, \"curves\": []}");
+    rc = run("eval %s/scene --curves %s --loss none", tmp, sketch);
+    CHECK(ANSWER(1, rc, "%s: no curves to measure against the ground truth", sketch), "eval: sketch without curves");
+}
+
 /* The layout of a checkpoint (checkpoint.h): the offsets of the curve
  * count and the first control point, after the stored arguments. */
 static void checkpoint_offsets(const unsigned char *c, size_t *curves_at, size_t *points_at) {
@@ -783,6 +808,7 @@ int main(void) {
     test_special_files();
     test_weights();
     test_curve_files();
+    test_ground_truth_files();
     test_checkpoints();
     test_output_faults();
     test_numeric_faults();

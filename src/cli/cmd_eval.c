@@ -57,6 +57,8 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     double mean = NAN;
     ws_quality q;
     int rc = ws_curves_load(curves_path, &curves, st);
+    if (!rc && curves.n == 0 && ((gt_points && *gt_points) || (gt_curves && *gt_curves)))
+        rc = ws_fail(st, WS_EINPUT, "%s: no curves to measure against the ground truth", curves_path);
     if (!rc) rc = ws_scene_load(&scene, scene_dir, &sopt, st);
     if (!rc) rc = ws_curves_sample(&curves, &g, st);
     if (!rc && lo) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);

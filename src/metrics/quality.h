@@ -20,7 +20,9 @@ typedef struct {
 } ws_quality;
 
 /* Distances of the sketch c to gt_points (a PLY point cloud) and gt_curves
- * (a curve file); either may be NULL. */
+ * (a curve file); either may be NULL. What is wrong with a ground-truth
+ * file (no curves, no extent) is reported naming it; a sketch without
+ * curves is refused first (the caller knows its file). */
 int ws_quality_measure(const ws_curves *c, const char *gt_points, const char *gt_curves,
                        ws_quality *q, ws_status *st);
 
