@@ -12,17 +12,9 @@ static void polyline_point(const ws_curves *c, int ci, int k, double p[3]) {
     ws_curve_point(c, ci, (double)k / WS_EXPORT_SEGMENTS, p);
 }
 
-static int check_finite(const char *path, const ws_curves *c, ws_status *st) {
-    for (size_t k = 0; k < (size_t)c->n * WS_CURVE_FLOATS; k++)
-        if (!isfinite(c->P[k]))
-            return ws_fail(st, WS_ENUMERIC, "%s: curve %zu has a non-finite control point", path,
-                           k / WS_CURVE_FLOATS);
-    return WS_OK;
-}
-
 int ws_export_obj(const char *path, const ws_curves *c, ws_status *st) {
     ws_outfile f;
-    if (check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
+    if (ws_curves_check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp, "# wiresketch: %d cubic Bezier curves as polylines of %d segments\n", c->n,
             WS_EXPORT_SEGMENTS);
     for (int ci = 0; ci < c->n; ci++)
@@ -41,7 +33,7 @@ int ws_export_obj(const char *path, const ws_curves *c, ws_status *st) {
 
 int ws_export_ply(const char *path, const ws_curves *c, ws_status *st) {
     ws_outfile f;
-    if (check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
+    if (ws_curves_check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp,
             "ply\nformat ascii 1.0\ncomment wiresketch: %d cubic Bezier curves as polylines\n"
             "element vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
@@ -80,7 +72,7 @@ static double stroke_width_in_sigmas(const ws_curves *c) {
 
 int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, ws_status *st) {
     ws_outfile f;
-    if (check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
+    if (ws_curves_check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp,
             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "

@@ -310,13 +310,17 @@ int ws_curves_load(const char *path, ws_curves *c, ws_status *st) {
     return rc;
 }
 
-int ws_curves_save(const char *path, const ws_curves *c, ws_status *st) {
+int ws_curves_check_finite(const char *path, const ws_curves *c, ws_status *st) {
     for (size_t k = 0; k < (size_t)c->n * WS_CURVE_FLOATS; k++)
         if (!isfinite(c->P[k]))
             return ws_fail(st, WS_ENUMERIC, "%s: curve %zu has a non-finite control point", path,
                            k / WS_CURVE_FLOATS);
+    return WS_OK;
+}
+
+int ws_curves_save(const char *path, const ws_curves *c, ws_status *st) {
     ws_outfile f;
-    if (ws_outfile_open(&f, path, st)) return st->code;
+    if (ws_curves_check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp, "{\n  \"thickness\": %.17g,\n  \"overlap\": %.17g,\n  \"curves\": [", c->thickness,
             c->overlap);
     for (int ci = 0; ci < c->n; ci++) {

@@ -67,6 +67,10 @@ void ws_random_direction(ws_rng *rng, const double normal[3], double out[3]);
  * points are refused (WS_ENUMERIC). */
 int ws_curves_load(const char *path, ws_curves *c, ws_status *st);
 int ws_curves_save(const char *path, const ws_curves *c, ws_status *st);
+/* What every writer of a sketch checks first (curve files, OBJ, PLY, SVG):
+ * WS_ENUMERIC "PATH: curve K has a non-finite control point" for the first
+ * such curve. */
+int ws_curves_check_finite(const char *path, const ws_curves *c, ws_status *st);
 
 /* The cubic Bernstein weights B_j(t) = C(3,j) t^j (1-t)^(3-j). */
 void ws_bernstein(double t, double B[4]);
