@@ -117,12 +117,16 @@ int ws_objective_sample(ws_objective *o, const ws_curves *c, ws_status *st) {
     return ws_curves_sample(c, &o->gaussians, st);
 }
 
+/* The capacity only once the buffer is there: after a failed allocation the
+ * next call tries again instead of writing through NULL. */
 static int grow_dmu(ws_objective *o, ws_status *st) {
     if (o->gaussians.n <= o->dmu_cap) return WS_OK;
     free(o->dmu);
+    o->dmu_cap = 0;
+    o->dmu = ws_malloc((size_t)o->gaussians.n * 2 * 3 * sizeof(double), "Gaussian gradients", st);
+    if (!o->dmu) return st->code;
     o->dmu_cap = o->gaussians.n * 2;
-    o->dmu = ws_malloc((size_t)o->dmu_cap * 3 * sizeof(double), "Gaussian gradients", st);
-    return o->dmu ? WS_OK : st->code;
+    return WS_OK;
 }
 
 static int splat_view(ws_objective *o, const ws_curves *c, int split, int view, ws_status *st) {
