@@ -55,7 +55,7 @@ int main(void) {
         {"loss", "edges"},    {"size", "64"},         {"max-steps", "2"},      {"radius", "0.7"},
         {"length", "0.05"},   {"epochs", "3"},        {"inner-steps", "2"},    {"n-curves", "7"},
         {"thickness", "0.03"}, {"learning-rate", "0.0125"}, {"cutoff", "inf"}, {"seed", "9"},
-        {"quiet", "yes"},     {"overlap", "0.6"},     {"batch-size", "1"},     {"eval-every", "10"},
+        {"quiet", "yes"},     {"overlap", "0.6"},     {"batch-size", "1"},     {"eval-every", "60"},
         {"clip-conv-layer-weights", "0 0 1 1 0"},     {"init", "hull"},
     };
     for (size_t k = 0; k < sizeof given / sizeof given[0]; k++)
@@ -78,8 +78,9 @@ int main(void) {
     CHECK(has_row("max-steps", "3") && has_row("radius", "0.7"), "resumed table: stored and overridden");
     /* left unset, the line loss takes 5 steps per view over 24 epochs (30
      * steps on one view fit its own errors: README, "Where it stands
-     * now"), another loss the original's 30 over 10 */
-    static const char *const loss_defaults[][3] = {{"edges", "24", "5"}, {"l2", "10", "30"}};
+     * now"), validated every 60 batches, another loss the original's 30
+     * over 10, every 10 */
+    static const char *const loss_defaults[][4] = {{"edges", "24", "5", "60"}, {"l2", "10", "30", "10"}};
     for (int k = 0; k < 2; k++) {
         rc = run_cmd(out, sizeof out,
                      "%s fit tests/fixtures/scene_small --out %s/unset --loss %s --size 64 --max-steps 1 "
@@ -88,9 +89,10 @@ int main(void) {
         CHECK(rc == 0, "fit --loss %s: %s", loss_defaults[k][0], out);
         snprintf(run_dir, sizeof run_dir, "%s/unset", tmp);
         read_report(run_dir);
-        CHECK(has_row("epochs", loss_defaults[k][1]) && has_row("inner-steps", loss_defaults[k][2]),
-              "--loss %s: epochs %s, inner-steps %s", loss_defaults[k][0], loss_defaults[k][1],
-              loss_defaults[k][2]);
+        CHECK(has_row("epochs", loss_defaults[k][1]) && has_row("inner-steps", loss_defaults[k][2]) &&
+                  has_row("eval-every", loss_defaults[k][3]),
+              "--loss %s: epochs %s, inner-steps %s, eval-every %s", loss_defaults[k][0], loss_defaults[k][1],
+              loss_defaults[k][2], loss_defaults[k][3]);
     }
     run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
