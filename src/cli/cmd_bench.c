@@ -148,7 +148,10 @@ int cmd_bench(int argc, char **argv) {
         if (only < 0 || only == i) rc = parts[i].run(&ctx, out, &st);
     if (!rc && ctx.json) {
         char *text = cJSON_Print(out);
-        if (text) printf("%s\n", text);
+        if (text)
+            printf("%s\n", text);
+        else
+            rc = ws_fail(&st, WS_ENOMEM, "bench: out of memory printing the results as JSON");
         free(text);
     }
     cJSON_Delete(out);
