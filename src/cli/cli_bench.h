@@ -1,6 +1,6 @@
 /* cli_bench.h: the parts of `wiresketch bench` (cmd_bench.c runs them).
  *
- * Each part measures through the library (bench/clip_bench.h, src/bench.h),
+ * Each part measures through the library (bench/clip_bench.h, bench/bench.h),
  * prints its table (Markdown, so that it pastes into the README) unless
  * JSON was asked for, and adds its results to one JSON object under its
  * own key. Inputs are made once and shared, so that every part of one run

@@ -1,5 +1,5 @@
 /* cmd_bench_approx.c: `wiresketch bench approx`: the error-against-run-time
- * table of every approximation that buys speed (src/bench.h). */
+ * table of every approximation that buys speed (bench/bench.h). */
 #include <math.h>
 #include <stdio.h>
 #include <unistd.h>

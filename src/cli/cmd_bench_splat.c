@@ -1,6 +1,6 @@
 /* cmd_bench_splat.c: `wiresketch bench splat`: splatting forward and
  * backward for 1k, 10k and 100k Gaussians at each cut-off, time and error
- * against the exact sum (src/bench.h). */
+ * against the exact sum (bench/bench.h). */
 #include <math.h>
 #include <stdio.h>
 #include "cli/cli_bench.h"

@@ -1,5 +1,5 @@
 /* cmd_bench_step.c: `wiresketch bench step`: where the time of one default
- * training step goes, against the GEMM floor of its CLIP work (src/bench.h). */
+ * training step goes, against the GEMM floor of its CLIP work (bench/bench.h). */
 #include <stdio.h>
 #include "cli/cli_bench.h"
 
