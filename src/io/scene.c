@@ -480,6 +480,13 @@ static void threshold_mask(ws_image *m) {
     for (size_t p = 0; p < (size_t)m->width * m->height; p++) m->data[p] = m->data[p] >= 0.5f;
 }
 
+/* The first plane (red, or gray) of a planar image; the rest is let go
+ * (kept allocated should the shrinking realloc fail). */
+static ws_image first_plane(ws_image img) {
+    float *first = realloc(img.data, (size_t)img.width * img.height * sizeof *first);
+    return (ws_image){img.width, img.height, 1, first ? first : img.data};
+}
+
 /* The view's edge map read like its photo: resampled to the image file's
  * size w x h, its first channel kept, cropped, resampled to the working size. */
 static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, ws_status *st) {
@@ -487,8 +494,7 @@ static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, 
     ws_image rgb = {0}, part = {0};
     int rc = ws_png_read(v->edge_path, w, h, black, &rgb, st);
     if (rc) return rc;
-    float *first = realloc(rgb.data, (size_t)w * h * sizeof *first);
-    ws_image gray = {rgb.width, rgb.height, 1, first ? first : rgb.data};
+    ws_image gray = first_plane(rgb);
     const int *k = v->crop;
     if (k[2]) {
         rc = ws_image_crop(&gray, k[0], k[1], k[2], k[3], &part, st);
@@ -527,9 +533,8 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
         ws_image_free(&alpha);
         ws_image rgb;
         rc = ws_png_read(v->mask_path, full.width, full.height, black, &rgb, st);
-        if (!rc) { /* the first plane (red, or gray) is the mask; the rest is let go */
-            float *first = realloc(rgb.data, plane * sizeof *first);
-            alpha = (ws_image){rgb.width, rgb.height, 1, first ? first : rgb.data};
+        if (!rc) { /* the first plane is the mask */
+            alpha = first_plane(rgb);
             for (size_t p = 0; p < plane; p++)
                 if (alpha.data[p] < 0.5f)
                     for (int c = 0; c < 3; c++) full.data[c * plane + p] = bg[c];
