@@ -119,6 +119,10 @@ int main(void) {
     /* usage errors */
     rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/e --vary n_curves", bin, tmp);
     CHECK(rc == 2 && strstr(out, "wiresketch: --vary: 'n_curves' is not NAME=V1,V2,...\n"), "bad --vary: %s", out);
+    rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/late --vary out=a,b --loss edges", bin,
+                 tmp);
+    CHECK(rc == 2 && !strcmp(out, "wiresketch: --vary out: the sweep sets every run's --out (DIR/NAME=V,...)\n"),
+          "--vary out: %s", out);
     rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --vary n_curves=2", bin);
     CHECK(rc == 2 && strstr(out, "wiresketch: --out: required (see --help)\n"), "no --out: %s", out);
     rc = run_cmd(out, sizeof out, "%s sweep tests/fixtures/scene_small --out %s/e --vary bogus=1 --loss edges", bin, tmp);

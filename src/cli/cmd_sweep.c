@@ -81,6 +81,10 @@ static int parse_vary(const char *text, vary_axis *a, ws_status *st) {
     for (const char *c = a->name; *c; c++)
         if (!(*c == '_' || *c == '-' || (*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9')))
             return ws_fail(st, WS_EUSAGE, "--vary: '%s' is not an option name", a->name);
+    /* the sweep's own: a run's output directory is DIR/NAME=V,..., where
+     * its sweep.done and the summary look for it */
+    if (ws_arg_same_name(a->name, "out"))
+        return ws_fail(st, WS_EUSAGE, "--vary %s: the sweep sets every run's --out (DIR/NAME=V,...)", a->name);
     a->n = 0;
     for (const char *v = eq + 1; *v;) {
         size_t n = strcspn(v, ",");
