@@ -3,10 +3,8 @@
  * default on a full-size ViT-B/32 with random weights, for the batch of a
  * default step (the unaugmented stroke image and 4 augmentations). */
 #include <stdio.h>
-#include <stdlib.h>
 #include "cli/cli_bench.h"
 #include "bench/clip_bench.h"
-#include "cli/commands.h"
 
 /* Where the time goes, op by op, against the GEMM floor: matmul includes
  * its GEMMs, so its excess over the floor is the share of its biases. */
@@ -62,18 +60,4 @@ int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     printf("\nactivation arena %.1f MB\n", r.arena_bytes / 1e6);
     print_ops(&r);
     return WS_OK;
-}
-
-/* `bench clip ...` as it was before the parts shared their options. */
-int cmd_bench_clip(int argc, char **argv) {
-    char **args = calloc((size_t)argc + 2, sizeof *args);
-    if (!args) {
-        fprintf(stderr, "wiresketch: out of memory\n");
-        return 1;
-    }
-    args[0] = "clip";
-    for (int i = 0; i < argc; i++) args[i + 1] = argv[i];
-    int rc = cmd_bench(argc + 1, args);
-    free(args);
-    return rc;
 }
