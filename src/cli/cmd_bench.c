@@ -136,7 +136,14 @@ int cmd_bench(int argc, char **argv) {
     }
     if (ws_runtime_init(ctx.threads, &st)) return ws_cli_fail(&st);
     cJSON *out = cJSON_CreateObject(), *m = machine();
-    cJSON_AddItemToObject(out, "machine", m);
+    /* the header below reads these two fields back: without them there is no result to fill */
+    if (!out || !cJSON_GetObjectItem(m, "cpu") || !cJSON_GetObjectItem(m, "load_average") ||
+        !cJSON_AddItemToObject(out, "machine", m)) {
+        cJSON_Delete(out);
+        cJSON_Delete(m);
+        ws_fail(&st, WS_ENOMEM, "bench: out of memory building the results");
+        return ws_cli_fail(&st);
+    }
     if (!ctx.json)
         printf("machine: %s, %d cores, %d threads; %s; kernels %s (OpenBLAS chose %s: %s); load average "
                "%.2f at the start\n",

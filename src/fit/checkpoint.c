@@ -1,4 +1,5 @@
 /* checkpoint.c: saving and restoring a fit (see checkpoint.h). */
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,8 +63,12 @@ int ws_checkpoint_save(const char *path, const ws_fit_state *s, int argc,
     ws_outfile f;
     int rc = ws_outfile_open(&f, path, st);
     if (!rc) {
-        fwrite(w.data, 1, w.len, f.fp);
-        rc = ws_outfile_commit(&f, st);
+        if (fwrite(w.data, 1, w.len, f.fp) == w.len)
+            rc = ws_outfile_commit(&f, st);
+        else {
+            ws_outfile_abort(&f);
+            rc = ws_fail(st, WS_EIO, "%s: cannot write the checkpoint: %s", path, strerror(errno));
+        }
     }
     ws_bytes_writer_free(&w);
     return rc;
