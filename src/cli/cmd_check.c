@@ -1,13 +1,19 @@
 /* cmd_check.c: `wiresketch check SCENE`: whether every view's photo agrees
  * with its camera (geometry/check.h): a table per split (with each split's
  * agreement with the reference split's hull), then one line saying what is
- * wrong and how to fix it. Exit 0 when consistent, 1 not. */
+ * wrong and how to fix it. Exit 0 when consistent, 1 not. Where the scene
+ * has a gt_points.ply, also how much of the silhouettes it leaves
+ * uncovered (geometry/gt_coverage.h) and, where it misses a part, a warning
+ * line; that leaves the exit status alone, as the ground truth does not
+ * enter a fit (README "check"). */
 #include <math.h>
 #include <stdio.h>
 #include "cli/args.h"
+#include "cli/cli_gt.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "geometry/check.h"
+#include "metrics/quality.h"
 #include "objective/view_targets.h"
 
 static void print_table(const ws_scene *scene, const ws_check_report *r) {
@@ -80,6 +86,21 @@ int cmd_check(int argc, char **argv) {
     } else {
         printf("%s\n", r.line);
         fprintf(stderr, "wiresketch: %s\n", r.line);
+    }
+    char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
+    ws_scene_ground_truth(pos[0], gt_points, gt_curves);
+    ws_gt_coverage cov;
+    if (gt_points[0] && ws_cli_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
+        code = ws_cli_fail(&st);
+    } else if (gt_points[0]) {
+        printf("\n");
+        ws_cli_gt_coverage_table(stdout, &scene, &cov);
+        if (cov.flagged) {
+            printf("%s\n", cov.line);
+            fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
+        } else {
+            printf("%s: the ground truth covers the silhouettes\n", gt_points);
+        }
     }
     if (!r.consistent && fixed_dir) {
         if (ws_check_write_fixed(&scene, &r, fixed_dir, &st))

@@ -1,6 +1,9 @@
 /* cmd_eval.c: `wiresketch eval SCENE --curves C.json`: the test loss of a
  * sketch (item 0, no augmentation) and its distance to the ground truth
- * (METHOD.md section 8), as one JSON object on stdout. The loss is computed
+ * (METHOD.md section 8), as one JSON object on stdout; with a ground-truth
+ * point cloud also how much of the photos' silhouettes it leaves uncovered
+ * (geometry/gt_coverage.h, field gt_coverage), and where it misses a part
+ * the check's line as a warning on stderr. The loss is computed
  * only when asked for (--loss NAME) or, by default, when it can be: the
  * CLIP loss when the CLIP weight file exists; distances need no weights. */
 #include <math.h>
@@ -10,6 +13,7 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "cli/args.h"
+#include "cli/cli_gt.h"
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
@@ -50,10 +54,13 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (split < 0) return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     ws_scene scene = {0};
     ws_scene_options sopt = *scene_opt;
-    sopt.load_images = lo != NULL;
+    const int coverage = gt_points && *gt_points;
+    sopt.load_images = lo != NULL || coverage; /* the silhouettes the ground truth is checked against */
     ws_curves curves = {0};
     ws_gaussians g = {0};
     ws_objective *obj = NULL;
+    ws_view_targets *targets = NULL;
+    ws_gt_coverage cov;
     double mean = NAN;
     ws_quality q;
     int rc = ws_curves_load(curves_path, &curves, st);
@@ -66,6 +73,8 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     ws_surface_curve *per = NULL;
     if (!rc && per_curve) rc = surface_by_curve(gt_points, &g, curves.n, &per, st);
+    if (!rc && coverage) rc = ws_view_targets_create(&targets, &scene, st);
+    if (!rc && coverage) rc = ws_cli_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, st);
     if (!rc) {
         printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
                "\"loss_kind\": \"%s\"",
@@ -94,9 +103,15 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
             printf(", ");
             ws_line_metrics_json(stdout, &q.lines);
         }
+        if (coverage) {
+            printf(", ");
+            ws_cli_gt_coverage_json(stdout, &cov);
+        }
         printf("}\n");
+        if (coverage && cov.flagged) fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
     }
     free(per);
+    ws_view_targets_free(targets);
     ws_objective_free(obj);
     ws_gaussians_free(&g);
     ws_curves_free(&curves);
