@@ -155,6 +155,22 @@ int main(void) {
               cJSON_GetArraySize(cJSON_GetObjectItem(g, "region_centroid")) == 3,
           "eval's gt_coverage: %s", out);
     cJSON_Delete(j);
+    /* without a photo the sketch is still measured (the cameras are all a
+     * measure needs), with a warning in place of the coverage */
+    char bare[400]; /* the cut copy's files copied, not linked, one photo removed */
+    snprintf(bare, sizeof bare, "%s/bare", tmp);
+    run(out, sizeof out, "cp -rL %s %s && rm %s/rgb/train/r_0.png", cut, bare, bare);
+    rc = run(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>&1 >/dev/null", bin, bare);
+    snprintf(want, sizeof want,
+             "wiresketch: warning: %s/transforms_train.json: frame 0: image not found (tried %s/train/r_0.png, "
+             "%s/rgb/train/r_0.png); the ground truth's coverage of the photos is not measured\n",
+             bare, bare, bare);
+    CHECK(rc == 0 && !strcmp(out, want), "eval without a photo: exit %d, stderr %s", rc, out);
+    rc = run(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>/dev/null", bin, bare);
+    j = rc == 0 ? cJSON_Parse(out) : NULL;
+    CHECK(cJSON_IsNumber(cJSON_GetObjectItem(j, "surface_mean")) && !cJSON_GetObjectItem(j, "gt_coverage"),
+          "eval without a photo measures the sketch and leaves gt_coverage out: %s", out);
+    cJSON_Delete(j);
     run(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -52,10 +52,10 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
                            int per_curve, ws_status *st) {
     int split = ws_split_index(split_name);
     if (split < 0) return ws_fail(st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
-    ws_scene scene = {0};
+    ws_scene scene = {0}, photos = {0}; /* photos: the scene with its images, for the coverage */
     ws_scene_options sopt = *scene_opt;
-    const int coverage = gt_points && *gt_points;
-    sopt.load_images = lo != NULL || coverage; /* the silhouettes the ground truth is checked against */
+    int coverage = gt_points && *gt_points;
+    sopt.load_images = lo != NULL;
     ws_curves curves = {0};
     ws_gaussians g = {0};
     ws_objective *obj = NULL;
@@ -73,8 +73,22 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     ws_surface_curve *per = NULL;
     if (!rc && per_curve) rc = surface_by_curve(gt_points, &g, curves.n, &per, st);
-    if (!rc && coverage) rc = ws_view_targets_create(&targets, &scene, st);
-    if (!rc && coverage) rc = ws_cli_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, st);
+    /* The coverage needs the photos, which a measure of the cameras alone
+     * does not: a scene whose photos cannot be read is still measured,
+     * with a warning in place of the coverage. */
+    const ws_scene *seen = lo ? &scene : &photos;
+    if (!rc && coverage && !lo) {
+        ws_status photo_st;
+        ws_status_clear(&photo_st);
+        sopt.load_images = 1;
+        if (ws_scene_load(&photos, scene_dir, &sopt, &photo_st)) {
+            fprintf(stderr, "wiresketch: warning: %s; the ground truth's coverage of the photos is not measured\n",
+                    photo_st.msg);
+            coverage = 0;
+        }
+    }
+    if (!rc && coverage) rc = ws_view_targets_create(&targets, seen, st);
+    if (!rc && coverage) rc = ws_cli_gt_coverage(seen, targets, gt_points, gt_curves, &cov, st);
     if (!rc) {
         printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
                "\"loss_kind\": \"%s\"",
@@ -115,6 +129,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     ws_objective_free(obj);
     ws_gaussians_free(&g);
     ws_curves_free(&curves);
+    ws_scene_free(&photos);
     ws_scene_free(&scene);
     return rc;
 }
