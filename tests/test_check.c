@@ -7,13 +7,13 @@
  * whose focal alone is off: a warning). */
 #include <cJSON.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "base/paths.h"
 #include "check.h"
+#include "cli_run.h"
 #include "geometry/check.h"
 #include "geometry/hull.h"
 #include "geometry/silhouette.h"
@@ -24,22 +24,6 @@
 #include "scene_load.h"
 
 static char tmp[256];
-
-/* Runs a shell command; its stdout and stderr in out. */
-static int run(char *out, size_t size, const char *fmt, ...) {
-    char cmd[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    char full[WS_PATH_MAX];
-    snprintf(full, sizeof full, "%s 2>&1", cmd);
-    FILE *p = popen(full, "r");
-    size_t n = p ? fread(out, 1, size - 1, p) : 0;
-    out[n] = 0;
-    int status = p ? pclose(p) : -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 static void test_silhouette(void) {
     ws_status st;
@@ -187,7 +171,7 @@ static void broken_copy(const char *from, const char *to, edit_fn edit) {
     static const char *const files[4] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
                                          "transforms.json"};
     char out[4096];
-    run(out, sizeof out, "rm -rf %s && mkdir -p %s && ln -s $(realpath %s)/rgb %s/rgb", to, to, from, to);
+    run_cmd(out, sizeof out, "rm -rf %s && mkdir -p %s && ln -s $(realpath %s)/rgb %s/rgb", to, to, from, to);
     for (int s = 0; s < 4; s++) {
         char path[600];
         snprintf(path, sizeof path, "%s/%s", from, files[s]);
@@ -284,7 +268,7 @@ static void check_cause(const char *bin, const char *dir, int size, ws_check_cau
     ws_view_targets_free(targets);
     ws_scene_free(&scene);
     static char out[1 << 16];
-    int rc = run(out, sizeof out, "%s check %s --size %d", bin, dir, size);
+    int rc = run_cmd(out, sizeof out, "%s check %s --size %d", bin, dir, size);
     CHECK(rc == (want == WS_CAUSE_NONE ? 0 : 1) && strstr(out, phrase), "%s: exit %d, output:\n%s", label,
           rc, out);
 }
@@ -359,14 +343,14 @@ static void test_cross_split(const char *bin, const char *dir) {
         snprintf(fixed, sizeof fixed, "%s_fixed", broken);
         broken_copy(dir, broken, ways[w].edit);
         snprintf(line, sizeof line, "\n%s/%s: %s%s --write-fixed DIR`\n", broken, ways[w].file, ways[w].line, broken);
-        int rc = run(out, sizeof out, "%s check %s --size 64 --write-fixed %s", bin, broken, fixed);
+        int rc = run_cmd(out, sizeof out, "%s check %s --size 64 --write-fixed %s", bin, broken, fixed);
         CHECK(rc == 1 && strstr(out, line) && strstr(out, "wrote a corrected copy"), "%s: exit %d: %s", ways[w].name,
               rc, out);
         int n[WS_NSPLITS];
         frame_counts(fixed, n);
         CHECK(!memcmp(n, ways[w].frames, sizeof n), "%s, corrected: %d / %d / %d frames, want %d / %d / %d",
               ways[w].name, n[0], n[1], n[2], ways[w].frames[0], ways[w].frames[1], ways[w].frames[2]);
-        rc = run(out, sizeof out, "%s check %s --size 64", bin, fixed);
+        rc = run_cmd(out, sizeof out, "%s check %s --size 64", bin, fixed);
         CHECK(rc == 0 && strstr(out, "consistent"), "%s, corrected: exit %d: %s", ways[w].name, rc, out);
     }
 }
@@ -388,7 +372,7 @@ static void test_nerfstudio_focal(const char *bin) {
         CHECK(0, "wide trefoil: %s", st.msg);
         return;
     }
-    run(out, sizeof out, "rm -rf %s && mkdir -p %s && ln -s $(realpath %s)/rgb %s/rgb", broken, broken, dir, broken);
+    run_cmd(out, sizeof out, "rm -rf %s && mkdir -p %s && ln -s $(realpath %s)/rgb %s/rgb", broken, broken, dir, broken);
     snprintf(path, sizeof path, "%s/transforms.json", dir);
     FILE *f = fopen(path, "rb");
     static char text[1 << 20];
@@ -408,7 +392,7 @@ static void test_nerfstudio_focal(const char *bin) {
     fclose(f);
     free(printed);
     cJSON_Delete(root);
-    int rc = run(out, sizeof out, "%s check %s", bin, dir);
+    int rc = run_cmd(out, sizeof out, "%s check %s", bin, dir);
     CHECK(rc == 0 && strstr(out, "consistent"), "wide trefoil: exit %d: %s", rc, out);
     char line[2048], fixed[416];
     snprintf(line, sizeof line,
@@ -417,10 +401,10 @@ static void test_nerfstudio_focal(const char *bin) {
              "corrected copy with `wiresketch check %s --write-fixed DIR`\n",
              broken, broken);
     snprintf(fixed, sizeof fixed, "%s_fixed", broken);
-    rc = run(out, sizeof out, "%s check %s --write-fixed %s", bin, broken, fixed);
+    rc = run_cmd(out, sizeof out, "%s check %s --write-fixed %s", bin, broken, fixed);
     CHECK(rc == 1 && strstr(out, line) && strstr(out, "wrote a corrected copy"),
           "wide trefoil, vertical angle for horizontal: exit %d: %s", rc, out);
-    rc = run(out, sizeof out, "%s check %s", bin, fixed);
+    rc = run_cmd(out, sizeof out, "%s check %s", bin, fixed);
     CHECK(rc == 0 && strstr(out, "consistent"), "wide trefoil, corrected focal: exit %d: %s", rc, out);
 }
 
@@ -539,10 +523,10 @@ static void test_nerfstudio_check(const char *bin) {
         broken_copy(dir, broken, broken_ways[b].edit);
         snprintf(line, sizeof line, "\n%s/transforms.json: %s%s", broken, broken_ways[b].line,
                  broken_ways[b].cause == WS_CAUSE_BAD_FRAMES ? "" : broken);
-        int rc = run(out, sizeof out, "%s check %s --size 64 --write-fixed %s", bin, broken, fixed);
+        int rc = run_cmd(out, sizeof out, "%s check %s --size 64 --write-fixed %s", bin, broken, fixed);
         CHECK(rc == 1 && strstr(out, line) && strstr(out, "wrote a corrected copy"), "%s: exit %d: %s",
               broken_ways[b].name, rc, out);
-        rc = run(out, sizeof out, "%s check %s --size 64", bin, fixed);
+        rc = run_cmd(out, sizeof out, "%s check %s --size 64", bin, fixed);
         CHECK(rc == 0 && strstr(out, "consistent"), "%s, corrected: exit %d: %s", broken_ways[b].name, rc, out);
         if (broken_ways[b].dropped >= 0) check_kept_splits(broken, fixed, broken_ways[b].dropped, broken_ways[b].name);
     }
@@ -554,7 +538,7 @@ int main(void) {
     snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_check.%ld", (long)getpid());
     char out[1 << 16], dir[400], broken[400], fixed[400];
-    run(out, sizeof out, "mkdir -p %s", tmp);
+    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
     test_silhouette();
     snprintf(dir, sizeof dir, "%s/trefoil", tmp);
     if (make_scene("trefoil", dir, 64, 24, 6, 6)) return check_summary();
@@ -596,34 +580,34 @@ int main(void) {
                     broken_ways[b].phrase);
         if (!broken_ways[b].fix) continue;
         snprintf(fixed, sizeof fixed, "%s/%s_fixed", tmp, broken_ways[b].name);
-        int rc = run(out, sizeof out, "%s check %s --size %d --write-fixed %s", bin, broken,
+        int rc = run_cmd(out, sizeof out, "%s check %s --size %d --write-fixed %s", bin, broken,
                      broken_ways[b].size, fixed);
         CHECK(rc == 1 && strstr(out, "wrote a corrected copy"), "%s --write-fixed: %s", broken_ways[b].name, out);
         check_cause(bin, fixed, broken_ways[b].size, WS_CAUSE_NONE, "corrected copy", "consistent");
     }
-    int bad = run(out, sizeof out, "%s check %s --resolution 4", bin, dir);
+    int bad = run_cmd(out, sizeof out, "%s check %s --resolution 4", bin, dir);
     CHECK(bad == 2 && strstr(out, "--resolution: 4 is not in [8, 512]"), "bad --resolution: %d %s", bad, out);
-    bad = run(out, sizeof out, "%s check %s/nowhere", bin, tmp);
+    bad = run_cmd(out, sizeof out, "%s check %s/nowhere", bin, tmp);
     CHECK(bad == 1 && strstr(out, "nowhere"), "missing scene: %d %s", bad, out);
     test_nerfstudio_focal(bin);
     test_nerfstudio_check(bin);
     /* fit refuses a broken scene, naming --no-check, and fits it with it */
     snprintf(broken, sizeof broken, "%s/shift", tmp);
-    int rc = run(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet",
+    int rc = run_cmd(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet",
                  bin, broken, tmp);
     CHECK(rc == 1 && strstr(out, "belongs to the camera listed") && strstr(out, "--no-check"),
           "fit of a shifted scene: exit %d: %s", rc, out);
-    rc = run(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet --no-check",
+    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet --no-check",
              bin, broken, tmp);
     CHECK(rc == 0, "fit --no-check: exit %d: %s", rc, out);
     /* ... but only warns where the focal estimate of consistent splits is
      * all that is wrong (it is biased on thin wire objects: README) */
     snprintf(broken, sizeof broken, "%s/fov125", tmp);
-    rc = run(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 224 --max-steps 1 --n-curves 3 --quiet",
+    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 224 --max-steps 1 --n-curves 3 --quiet",
              bin, broken, tmp);
     CHECK(rc == 0 && strstr(out, "wiresketch: warning: ") && strstr(out, "about 0.7149 does") &&
               strstr(out, "(a focal estimate alone does not stop a fit)"),
           "fit of a scene whose focal alone is off: exit %d: %s", rc, out);
-    run(out, sizeof out, "rm -rf %s", tmp);
+    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }
