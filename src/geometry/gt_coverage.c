@@ -9,6 +9,7 @@
 #include "geometry/gt_coverage.h"
 #include "geometry/hull.h"
 #include "metrics/nearest.h"
+#include "base/sort.h"
 
 /* The spacing is measured on every SPACING_EVERY-th point (at least
  * SPACING_QUERIES of them where the cloud has that many) against the
@@ -16,11 +17,6 @@
  * changes a point's nearest neighbour rarely enough that the median stays. */
 #define SPACING_EVERY 8
 #define SPACING_QUERIES 4096
-
-static int compare_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static int median_spacing(const ws_pointcloud *gt, double *spacing, ws_status *st) {
     *spacing = 0;
@@ -39,7 +35,7 @@ static int median_spacing(const ws_pointcloud *gt, double *spacing, ws_status *s
     }
     if (!rc) {
         ws_nearest_query(&tree, q, nq, dist, NULL);
-        qsort(dist, nq, sizeof *dist, compare_double);
+        ws_sort_doubles(dist, (size_t)nq);
         *spacing = dist[nq / 2];
     }
     ws_nearest_free(&tree);

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "metrics/metrics.h"
+#include "base/sort.h"
 
 int ws_surface_gt_init(ws_surface_gt *gt, const ws_pointcloud *pc, ws_status *st) {
     gt->diagonal = ws_points_diagonal(pc->xyz, pc->n);
@@ -28,11 +29,6 @@ static int check_points(const double *xyz, int n, const char *what, ws_status *s
     return WS_OK;
 }
 
-static int compare_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static double mean_of(const double *v, int n) {
     double sum = 0;
     for (int i = 0; i < n; i++) sum += v[i];
@@ -49,7 +45,7 @@ static int surface_distances(const ws_surface_gt *gt, const ws_gaussians *g, dou
 
 /* The nearest-rank 90th percentile of the n distances d, sorted in place. */
 static double p90_of(double *d, int n) {
-    qsort(d, (size_t)n, sizeof(double), compare_double);
+    ws_sort_doubles(d, (size_t)n);
     long long rank = (9LL * n + 9) / 10; /* ceil(0.9 n), 1-based */
     return d[rank - 1];
 }

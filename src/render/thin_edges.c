@@ -8,13 +8,9 @@
 #include "render/pyramid.h"
 #include "render/thin_edges.h"
 #include "nn/parallel.h"
+#include "base/sort.h"
 
 static int clampi(int x, int n) { return x < 0 ? 0 : x >= n ? n - 1 : x; }
-
-static int compare_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st) {
     const size_t n = (size_t)W * H;
@@ -83,7 +79,7 @@ int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st) 
         if (ridge[k]) s[count++] = m[k];
     memset(edge, 0, n * sizeof *edge);
     if (count > 0) {
-        qsort(s, count, sizeof *s, compare_double);
+        ws_sort_doubles(s, count);
         size_t rank = (size_t)ceil(WS_THIN_HIGH * count); /* nearest rank, 1-based */
         double high = s[rank > 0 ? rank - 1 : 0], low = WS_THIN_LOW * high;
         /* hysteresis: flood from the strong ridge pixels through the weak ones */
