@@ -11,6 +11,7 @@
 # `make test-mpi` builds that and checks that fits on 1, 2 and 3 ranks agree.
 # `make fuzz` builds tests/fuzz/fuzz_*.c with clang's libFuzzer into
 # build/fuzz and runs each target FUZZ_SECONDS (60) on its seed corpus.
+# Build lines are short ("CC file"); V=1 prints the whole commands.
 
 CC       ?= cc
 OPT      ?= -O2
@@ -38,6 +39,18 @@ CFLAGS   += -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer 
 endif
 BUILD    ?= build
 
+# The compiler writes each object's header dependencies beside it (-MMD),
+# with a phony target per header (-MP) so that a removed header does not
+# stop the build: touching a header rebuilds only the files that include it.
+CFLAGS   += -MMD -MP
+ifeq ($(V),1)
+Q        :=
+quiet     = @:
+else
+Q        := @
+quiet     = @printf '  %-6s %s\n'
+endif
+
 LIB_SRC   := $(filter-out src/cli/%,$(wildcard src/*/*.c)) $(wildcard nn/*.c nn/*/*.c)
 CLI_SRC   := $(wildcard src/cli/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
@@ -53,23 +66,30 @@ all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example
 # them; plain x86-64 code has no FMA, so elsewhere this changes nothing.
 $(BUILD)/obj/nn/%.o: CFLAGS += -ffp-contract=fast
 
-$(BUILD)/obj/%.o: %.c $(HEADERS) Makefile
+$(BUILD)/obj/%.o: %.c Makefile
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -c $< -o $@
+	$(quiet) CC $<
+	$(Q)$(CC) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/libwiresketch.a: $(LIB_OBJ)
 	@mkdir -p $(dir $@)
-	rm -f $@ && ar rcs $@ $^
+	$(quiet) AR $@
+	$(Q)rm -f $@ && ar rcs $@ $^
 
 $(BUILD)/wiresketch: $(CLI_OBJ) $(BUILD)/libwiresketch.a
-	$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
+	$(quiet) LINK $@
+	$(Q)$(CC) $(CFLAGS) $^ -o $@ $(LDLIBS)
 
-$(BUILD)/embed_example: tools/embed_example.c $(BUILD)/libwiresketch.a $(HEADERS)
-	$(CC) $(CFLAGS) $< $(BUILD)/libwiresketch.a -o $@ $(LDLIBS)
+$(BUILD)/embed_example: tools/embed_example.c $(BUILD)/libwiresketch.a Makefile
+	$(quiet) LINK $@
+	$(Q)$(CC) $(CFLAGS) -MF $@.d -MT $@ $< $(BUILD)/libwiresketch.a -o $@ $(LDLIBS)
 
-$(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a $(HEADERS)
+$(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a Makefile
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -Itests $< $(BUILD)/libwiresketch.a -o $@ $(LDLIBS)
+	$(quiet) TEST $@
+	$(Q)$(CC) $(CFLAGS) -MF $@.d -MT $@ -Itests $< $(BUILD)/libwiresketch.a -o $@ $(LDLIBS)
+
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(BUILD)/embed_example.d
 
 # `make install PREFIX=/usr/local DESTDIR=` installs the program, the static
 # and the shared library (soname libwiresketch.so.SOVERSION), the headers
