@@ -87,12 +87,12 @@ int ws_loss_uses_clip(const ws_loss_options *opt);
 
 typedef struct ws_loss ws_loss;
 
-/* For the scene's views at its working resolution, which must equal the CLIP
- * model's input resolution when CLIP is used. */
 /* Every option in its range (WS_EUSAGE naming the option otherwise):
  * augmentation counts, the geometric variant, and term weights >= 0.
  * ws_loss_create checks too. */
 int ws_loss_options_check(const ws_loss_options *opt, ws_status *st);
+/* For the scene's views at its working resolution, which must equal the CLIP
+ * model's input resolution when CLIP is used. */
 int ws_loss_create(ws_loss **loss, const ws_loss_options *opt, const ws_scene *scene,
                    ws_status *st);
 void ws_loss_free(ws_loss *loss);
