@@ -1,3 +1,4 @@
+/* slow test */
 /* test_bad_input.c: the README's table "Bad input and faults", asserted.
  *
  * Drives the wiresketch binary ($BUILD/wiresketch) through every class of

@@ -1,3 +1,4 @@
+/* slow test */
 /* test_check.c: silhouettes, the visual hull and `wiresketch check` on
  * scenes the program makes itself: the intact scenes pass, and copies
  * broken the usual ways (images shifted by one frame, cameras in the OpenCV

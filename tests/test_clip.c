@@ -1,3 +1,4 @@
+/* slow test */
 /* test_clip.c: CLIP's image tower (clip.h) on seeded random weights.
  *
  * A small model (width 64, 2 blocks, 4 heads, patch 16, 64 x 64, output

@@ -1,3 +1,4 @@
+/* slow test */
 /* test_convert.c: runs tools/test_convert.py, the checks of the weight
  * converter (tools/convert_weights.py: good inputs in every format, unknown
  * formats, hostile pickles, missing and mis-shaped tensors; deep JSON and

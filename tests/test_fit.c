@@ -1,3 +1,4 @@
+/* slow test */
 /* test_fit.c: `wiresketch fit` end to end through the command line, on a
  * small synthetic scene with the weight-free loss: the loss goes down, every
  * output is written, a resumed run (after --max-steps or after SIGINT) ends

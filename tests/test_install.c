@@ -1,3 +1,4 @@
+/* slow test */
 /* test_install.c: `make install` into a temporary prefix serves a program
  * that embeds wiresketch through pkg-config alone: tools/embed_example.c,
  * copied away from the source tree, compiles with `pkg-config --cflags
