@@ -157,7 +157,7 @@ test-mpi: all
 	$(MAKE) MPI=1 build/mpi/wiresketch
 	@bash tests/mpi/run.sh build/mpi/wiresketch
 
-# `make bench-mpi`: the README's MPI tables (measured steps on 1 and 2
+# `make bench-mpi`: the MPI tables of docs/RESULTS.md (measured steps on 1 and 2
 # ranks, per-image costs, the model for 1..64 ranks).
 bench-mpi: all weights/random-f32.bin
 	$(MAKE) MPI=1 build/mpi/wiresketch
@@ -194,7 +194,7 @@ fuzz: fuzz-build
 demo: all
 	@BUILD=$(BUILD) bash tools/demo.sh
 
-# `make bench`: every benchmark table of the README's "Speed and accuracy"
+# `make bench`: every benchmark table of docs/RESULTS.md, "Speed and accuracy"
 # (wiresketch bench). The f16 row and the peak-memory part need a ViT-B/32
 # with random weights as f32 and f16 files: made once (about a minute).
 bench: all weights/random-f32.bin weights/random-f16.bin

@@ -14,7 +14,7 @@
  * columns: a multiple of every kernel's tile (8, 16, 32 columns), 4, 12
  * and 16 blocks for CLIP's products (768, 2304, 3072 columns: even shares
  * on 2 and 4 threads), and few enough that repacking A (M x K) for each
- * call costs 2-5% (README, "Speed and accuracy"). */
+ * call costs 2-5% (docs/RESULTS.md, "Speed and accuracy"). */
 enum { NN_GEMM_COLUMNS = 192 };
 
 /* Columns [j0, j0 + n) of rows of c = bias + res (either may be NULL, not

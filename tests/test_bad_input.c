@@ -1,5 +1,5 @@
 /* slow test */
-/* test_bad_input.c: the README's table "Bad input and faults", asserted.
+/* test_bad_input.c: the table "Bad input and faults" of docs/USAGE.md, asserted.
  *
  * Drives the wiresketch binary ($BUILD/wiresketch) through every class of
  * bad input: truncated files, wrong magic, wrong shapes, NaN and Inf values,

@@ -566,7 +566,7 @@ int main(void) {
         {"opencv", edit_opencv, dir, 64, WS_CAUSE_OPENCV, "OpenCV convention", 1},
         {"replace", edit_replace, dir, 64, WS_CAUSE_BAD_FRAMES, "frame 5 (r_5", 1},
         {"fov", edit_fov, full, 224, WS_CAUSE_FOCAL, "camera_angle_x 1.248 does not fit the images; about 0.6911", 1},
-        /* focal off by 10%, the least the check claims (README), and by 25% */
+        /* focal off by 10%, the least the check claims (docs/RESULTS.md), and by 25% */
         {"fov09", edit_fov_09, full, 224, WS_CAUSE_FOCAL,
          "transforms_test.json: camera_angle_x 0.761 does not fit the images; about 0.6756 does (focal "
          "x1.14; tight-hull agreement 0.987, corrected 0.994); fix camera_angle_x", 0},
@@ -602,7 +602,7 @@ int main(void) {
              bin, broken, tmp);
     CHECK(rc == 0, "fit --no-check: exit %d: %s", rc, out);
     /* ... but only warns where the focal estimate of consistent splits is
-     * all that is wrong (it is biased on thin wire objects: README) */
+     * all that is wrong (it is biased on thin wire objects: docs/METHOD.md section 12) */
     snprintf(broken, sizeof broken, "%s/fov125", tmp);
     rc = run_cmd(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 224 --max-steps 1 --n-curves 3 --quiet",
              bin, broken, tmp);

@@ -3,7 +3,7 @@
  * small synthetic scene with the weight-free loss: the loss goes down, every
  * output is written, a resumed run (after --max-steps or after SIGINT) ends
  * bit-identical to an uninterrupted one, a short fit reaches the Chamfer
- * distance the README states, --init edges starts nearer the truth than
+ * distance docs/RESULTS.md states ("The demo"), --init edges starts nearer the truth than
  * --init hull, the embedding example runs, a non-finite gradient never moves
  * the curves, and bad input gets its message and exit code. */
 #include <math.h>
@@ -120,7 +120,7 @@ static double json_number(const char *path, const char *key) {
     return p ? atof(p + strlen(pattern)) : NAN;
 }
 
-/* The README's promise: --max-steps 300 on this 64 px trefoil (the
+/* docs/RESULTS.md's promise ("The demo"): --max-steps 300 on this 64 px trefoil (the
  * schedule of FIT ends it at 120 steps) brings the curve Chamfer distance
  * from about 0.075 of the diagonal (after the first step from the hull
  * start) to below 0.04 (measured 0.026 with the line loss, its silhouette
@@ -132,7 +132,7 @@ static void test_quality(void) {
     CHECK(run(args) == 0, "300-step fit failed");
     snprintf(path, sizeof path, "%s/q/metrics.json", tmp);
     double chamfer = json_number(path, "chamfer");
-    CHECK(chamfer < 0.04, "Chamfer after 300 steps %g, the README promises < 0.04", chamfer);
+    CHECK(chamfer < 0.04, "Chamfer after 300 steps %g, docs/RESULTS.md promises < 0.04", chamfer);
     snprintf(args, sizeof args, "%s/scene %s/q/curves.json", tmp, tmp);
     char cmd[2400];
     snprintf(cmd, sizeof cmd, "%s/embed_example %s > %s/stdout.txt 2>&1", dirname_of_bin, args, tmp);

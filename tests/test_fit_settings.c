@@ -77,7 +77,7 @@ int main(void) {
     read_report(run_dir);
     CHECK(has_row("max-steps", "3") && has_row("radius", "0.7"), "resumed table: stored and overridden");
     /* left unset, the line loss takes 5 steps per view over 24 epochs (30
-     * steps on one view fit its own errors: README, "Where it stands
+     * steps on one view fit its own errors: docs/RESULTS.md, "Where it stands
      * now"), validated every 60 batches, another loss the original's 30
      * over 10, every 10 */
     static const char *const loss_defaults[][4] = {{"edges", "24", "5", "60"}, {"l2", "10", "30", "10"}};

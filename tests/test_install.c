@@ -61,6 +61,8 @@ static void check_man(const char *man) {
     }
     CHECK(ncommands >= 9 && noptions > 60 && missing == 0, "man page: %d commands, %d options, %d missing",
           ncommands, noptions, missing);
+    /* roff's e-acute is \('e; an escaped backslash before it (\e) prints "B\('ezier" */
+    CHECK(file_has(man, "B\\('ezier") && !file_has(man, "\\e("), "man page: Bezier not written as B\\('ezier");
 }
 
 int main(void) {

@@ -1,7 +1,7 @@
 /* cli_bench.h: the parts of `wiresketch bench` (cmd_bench.c runs them).
  *
  * Each part measures through the library (bench/clip_bench.h, bench/bench.h),
- * prints its table (Markdown, so that it pastes into the README) unless
+ * prints its table (Markdown, so that it pastes into docs/RESULTS.md) unless
  * JSON was asked for, and adds its results to one JSON object under its
  * own key. Inputs are made once and shared, so that every part of one run
  * measures the same scene, sketch and model. */

@@ -5,7 +5,7 @@
  * has a gt_points.ply, also how much of the silhouettes it leaves
  * uncovered (geometry/gt_coverage.h) and, where it misses a part, a warning
  * line; that leaves the exit status alone, as the ground truth does not
- * enter a fit (README "check"). */
+ * enter a fit (docs/METHOD.md section 12). */
 #include <math.h>
 #include <stdio.h>
 #include "cli/args.h"

@@ -240,7 +240,7 @@ static int respawn(fit_run *r, ws_status *st) {
 }
 
 /* On several ranks, unless quiet: the bytes all ranks sent each other per
- * step since `before` (this rank's count then), for the README's scaling
+ * step since `before` (this rank's count then), for docs/RESULTS.md's scaling
  * table. */
 static void report_traffic(const fit_run *r, size_t before, long steps) {
     int N = ws_dist_size();

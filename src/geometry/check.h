@@ -53,7 +53,7 @@
  * noisy) still has a wrong focal when the estimate is off 1 by more than a
  * factor WS_CHECK_FOCAL_OFF and lifts the tight mean agreement by more
  * than WS_CHECK_FOCAL_GAIN over the listed focal (correct scenes stay
- * below: README). */
+ * below: docs/RESULTS.md). */
 #ifndef WS_GEOMETRY_CHECK_H
 #define WS_GEOMETRY_CHECK_H
 #include "geometry/silhouette.h"
@@ -122,7 +122,7 @@ void ws_check_report_free(ws_check_report *r);
  * conservative hull finds consistent (mean agreement at least
  * WS_CHECK_MEAN_OK, no view below WS_CHECK_VIEW_OK): the weakest evidence
  * the check has, since the tight hull that estimates the focal is biased
- * on thin wire objects (a correct coil reads x0.84; README "check"). `fit`
+ * on thin wire objects (a correct coil reads x0.84; docs/METHOD.md section 12). `fit`
  * warns with the line then instead of refusing the scene. */
 int ws_check_focal_only(const ws_check_report *r);
 

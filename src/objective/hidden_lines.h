@@ -24,7 +24,7 @@
  *              of the window has no hull); one behind the camera or whose
  *              centre falls outside the image is not (the splatting culls
  *              or clips it anyway).
- * The tolerance and the window were chosen by measurement (README, "Hidden
+ * The tolerance and the window were chosen by measurement (docs/RESULTS.md, "Hidden
  * lines"): the visual hull stands proud of the object, most near edges seen
  * at a grazing angle and over faces seen only from above (there a tight
  * head-on tolerance keeps strokes on textured objects from sinking into

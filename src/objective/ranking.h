@@ -1,4 +1,4 @@
-/* ranking.h: what an objective must rank (README "Rankings"): the ground
+/* ranking.h: what an objective must rank (docs/METHOD.md section 6, "Rankings"): the ground
  * truth against sketches that are worse in known ways, each scored as the
  * mean loss over the views of a split (item 0, no augmentation).
  *
