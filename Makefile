@@ -92,9 +92,10 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a Makefile
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(BUILD)/embed_example.d
 
 # `make install PREFIX=/usr/local DESTDIR=` installs the program, the static
-# and the shared library (soname libwiresketch.so.SOVERSION), the headers
-# under include/wiresketch/ (their folders kept: #include "wiresketch.h"
-# with -I PREFIX/include/wiresketch), wiresketch.pc and the man page
+# and the shared library (soname libwiresketch.so.SOVERSION), the public
+# headers under include/wiresketch/ (src/wiresketch.h and the headers it
+# includes, as the compiler finds them, their folders kept: #include
+# "wiresketch.h" with -I PREFIX/include/wiresketch), wiresketch.pc and the man page
 # (made from the program's --help by tools/make_man.sh); `make uninstall`
 # with the same PREFIX and DESTDIR removes them.
 VERSION   := 0.1.0
@@ -102,7 +103,6 @@ SOVERSION := 0
 PREFIX    ?= /usr/local
 DESTDIR   ?=
 SHLIB     := libwiresketch.so.$(VERSION)
-INST_HEADERS := $(filter-out tests/%,$(HEADERS))
 ROOT      := $(DESTDIR)$(PREFIX)
 
 $(BUILD)/$(SHLIB): $(LIB_OBJ)
@@ -110,6 +110,12 @@ $(BUILD)/$(SHLIB): $(LIB_OBJ)
 
 $(BUILD)/wiresketch.1: $(BUILD)/wiresketch tools/make_man.sh
 	bash tools/make_man.sh $(BUILD)/wiresketch $(VERSION) > $@.tmp && mv $@.tmp $@
+
+# The public headers, one a line: wiresketch.h's closure under #include.
+$(BUILD)/public_headers: $(HEADERS) Makefile
+	@mkdir -p $(dir $@)
+	$(CC) $(filter-out -MMD -MP,$(CFLAGS)) -MM -MT public src/wiresketch.h | tr -s ' \\' '\n\n' | \
+	    grep '\.h$$' | sort -u > $@.tmp && mv $@.tmp $@
 
 $(BUILD)/wiresketch.pc: Makefile
 	@mkdir -p $(dir $@)
@@ -119,14 +125,14 @@ $(BUILD)/wiresketch.pc: Makefile
 	    'Libs: -L$${libdir} -lwiresketch' 'Libs.private: -lgif -lm -fopenmp' \
 	    'Cflags: -I$${includedir}/wiresketch -D_POSIX_C_SOURCE=200809L' > $@
 
-install: all $(BUILD)/$(SHLIB) $(BUILD)/wiresketch.1 $(BUILD)/wiresketch.pc
+install: all $(BUILD)/$(SHLIB) $(BUILD)/wiresketch.1 $(BUILD)/wiresketch.pc $(BUILD)/public_headers
 	install -d $(ROOT)/bin $(ROOT)/lib/pkgconfig $(ROOT)/include/wiresketch $(ROOT)/share/man/man1
 	install -m 755 $(BUILD)/wiresketch $(ROOT)/bin/wiresketch
 	install -m 644 $(BUILD)/libwiresketch.a $(ROOT)/lib/libwiresketch.a
 	install -m 755 $(BUILD)/$(SHLIB) $(ROOT)/lib/$(SHLIB)
 	ln -sf $(SHLIB) $(ROOT)/lib/libwiresketch.so.$(SOVERSION)
 	ln -sf libwiresketch.so.$(SOVERSION) $(ROOT)/lib/libwiresketch.so
-	for h in $(INST_HEADERS); do \
+	for h in $$(cat $(BUILD)/public_headers); do \
 	    install -D -m 644 $$h $(ROOT)/include/wiresketch/$${h#src/} || exit 1; done
 	sed 's|^prefix=.*|prefix=$(PREFIX)|' $(BUILD)/wiresketch.pc > $(ROOT)/lib/pkgconfig/wiresketch.pc
 	install -m 644 $(BUILD)/wiresketch.1 $(ROOT)/share/man/man1/wiresketch.1

@@ -13,6 +13,8 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "fit/fit.h"
+#include "io/report.h"
+#include "objective/hidden_lines.h"
 #include "base/distributed.h"
 #include "base/runtime.h"
 

@@ -3,9 +3,10 @@
 #ifndef WS_FIT_OPTIONS_H
 #define WS_FIT_OPTIONS_H
 #include <stdint.h>
-#include "io/report.h"
 #include "nn/base/status.h"
 #include "objective/loss.h"
+
+struct ws_report_item;
 
 typedef struct {
     const char *scene_dir;
@@ -29,7 +30,7 @@ typedef struct {
     const char *edge_maps;     /* NULL, or the directory of the views' edge maps (scene.h) */
     /* report.html's settings table: every option of the run with its value
      * (the command line derives it from its option list); NULL: none */
-    const ws_report_item *settings;
+    const struct ws_report_item *settings;
     int n_settings;
 } ws_fit_options;
 

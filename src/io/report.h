@@ -14,7 +14,7 @@
 #include "render/curves.h"
 #include "nn/base/status.h"
 
-typedef struct {
+typedef struct ws_report_item {
     const char *key, *value;
 } ws_report_item;
 

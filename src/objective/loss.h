@@ -45,9 +45,10 @@
 #include "io/scene.h"
 #include "nn/base/status.h"
 #include "base/timing.h"
-#include "objective/hidden_lines.h"
+#include "objective/hidden_mode.h"
 
 struct clip_model;
+struct ws_scene_hull;
 struct ws_view_targets;
 
 #define WS_LOSS_MAX_LAYERS 64
@@ -69,7 +70,7 @@ typedef struct {
     double l2_weight;
     double silhouette_weight;  /* the training batch's silhouette term (objective.h) */
     ws_hidden_mode hidden_lines; /* the stroke images' hidden-line removal (objective.h) */
-    const ws_scene_hull *hull; /* borrowed: the training views' hull for it; NULL: carved when needed */
+    const struct ws_scene_hull *hull; /* borrowed: the training views' hull for it; NULL: carved when needed */
     int num_aug;               /* A */
     int aug_bank;              /* N fixed transforms per training view (0: fresh every step) */
     int pass_items;            /* G: stroke images per CLIP pass, 1..1+A (0: 1 + A) */

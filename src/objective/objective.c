@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "base/distributed.h"
+#include "objective/hidden_lines.h"
 #include "objective/objective.h"
 #include "objective/silhouette_loss.h"
 #include "objective/unit_plan.h"
