@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/json_number.h"
 #include "base/paths.h"
 #include "metrics/quality.h"
 #include "io/export.h"
@@ -55,7 +56,7 @@ static int write_tests(const char *out, const ws_scene *scene, const ws_curves *
     if (test->n == 0) return WS_OK;
     char dir[PATH_BYTES], path[PATH_BYTES];
     join(dir, out, "test");
-    if (ws_mkdir(dir, st)) return st->code;
+    if (ws_mkdir_inside(dir, st)) return st->code;
     for (int v = 0; v < test->n; v++) {
         const ws_view *view = &test->views[v];
         snprintf(paths[v][0], 300, "test/%s.png", view->name);
@@ -94,16 +95,21 @@ static int write_metrics(const char *path, const ws_fit_state *s, int retired, d
     fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
             "\"seconds\": %.3f", s->global_step, s->skipped_steps, s->respawned, retired, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
-    if (q->have_surface)
-        fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g, \"surface_precision\": %.9g, "
-                "\"surface_stray_curves\": %d", q->surface.mean, q->surface.p90,
-                q->surface_strays.precision, q->surface_strays.stray_curves);
-    if (q->have_curves)
-        fprintf(f.fp, ", \"chamfer\": %.9g, \"fscore\": %.9g, \"recall\": %.9g, \"gaussian_precision\": %.9g, "
-                "\"stray_curves\": %d", q->curves.chamfer, q->curves.fscore, q->curves.recall,
-                q->curve_strays.precision, q->curve_strays.stray_curves);
+    const char *const surface_keys[3] = {"surface_mean", "surface_p90", "surface_precision"};
+    const double surface[3] = {q->surface.mean, q->surface.p90, q->surface_strays.precision};
+    for (int k = 0; k < 3 && q->have_surface; k++) {
+        fputs(", ", f.fp);
+        ws_json_number(f.fp, surface_keys[k], surface[k], 9);
+    }
+    if (q->have_surface) fprintf(f.fp, ", \"surface_stray_curves\": %d", q->surface_strays.stray_curves);
+    const char *const curve_keys[4] = {"chamfer", "fscore", "recall", "gaussian_precision"};
+    const double curve[4] = {q->curves.chamfer, q->curves.fscore, q->curves.recall, q->curve_strays.precision};
+    for (int k = 0; k < 4 && q->have_curves; k++) {
+        fputs(", ", f.fp);
+        ws_json_number(f.fp, curve_keys[k], curve[k], 9);
+    }
     if (q->have_curves) {
-        fprintf(f.fp, ", ");
+        fprintf(f.fp, ", \"stray_curves\": %d, ", q->curve_strays.stray_curves);
         ws_line_metrics_json(f.fp, &q->lines);
     }
     fprintf(f.fp, "}\n");
