@@ -83,18 +83,22 @@ typedef struct {
 static input_id inputs[WS_OUTFILE_MAX_INPUTS];
 static int ninputs;
 
-int ws_outfile_protect(const char *const *paths, int n, ws_status *st) {
+/* A file input named as a folder (a wrong --init) protects only itself:
+ * its reader refuses it, and what lies inside is no input. */
+int ws_outfile_protect(const char *const *files, int nfiles, const char *const *folders, int nfolders,
+                       ws_status *st) {
     ninputs = 0;
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < nfiles + nfolders; k++) {
+        const char *path = k < nfiles ? files[k] : folders[k - nfiles];
         struct stat sb;
-        if (!paths[k] || stat(paths[k], &sb) != 0) continue;
+        if (!path || stat(path, &sb) != 0) continue;
         if (ninputs == WS_OUTFILE_MAX_INPUTS)
-            return ws_fail(st, WS_EUSAGE, "%s: more than %d inputs", paths[k], WS_OUTFILE_MAX_INPUTS);
+            return ws_fail(st, WS_EUSAGE, "%s: more than %d inputs", path, WS_OUTFILE_MAX_INPUTS);
         input_id *in = &inputs[ninputs++];
         in->dev = sb.st_dev;
         in->ino = sb.st_ino;
-        in->is_dir = S_ISDIR(sb.st_mode);
-        snprintf(in->path, sizeof in->path, "%s", paths[k]);
+        in->is_dir = k >= nfiles && S_ISDIR(sb.st_mode);
+        snprintf(in->path, sizeof in->path, "%s", path);
     }
     return WS_OK;
 }

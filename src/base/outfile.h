@@ -28,13 +28,14 @@ typedef struct {
     int live; /* its slot in the registry of live temporary files, or -1 */
 } ws_outfile;
 
-/* The inputs of the command (files or folders; NULL entries and paths that
- * do not exist are skipped), replacing those of an earlier call: from now
- * on ws_outfile_open and ws_mkdir refuse an output that is one of them or
- * lies inside one of the folders, with one line naming both. At most
- * WS_OUTFILE_MAX_INPUTS. */
+/* The inputs of the command, its files and its folders (NULL entries and
+ * paths that do not exist are skipped), replacing those of an earlier
+ * call: from now on ws_outfile_open and ws_mkdir refuse an output that is
+ * one of them or lies inside one of the folders, with one line naming
+ * both. At most WS_OUTFILE_MAX_INPUTS in all. */
 #define WS_OUTFILE_MAX_INPUTS 16
-int ws_outfile_protect(const char *const *paths, int n, ws_status *st);
+int ws_outfile_protect(const char *const *files, int nfiles, const char *const *folders, int nfolders,
+                       ws_status *st);
 /* The same refusal for an output file or folder named on the command line,
  * checked before the work starts, so that a refused output costs nothing. */
 int ws_outfile_check(const char *path, ws_status *st);

@@ -66,8 +66,7 @@ int cmd_check(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--resolution: %d is not in [8, 512]", resolution);
         return ws_cli_fail(&st);
     }
-    const char *inputs[] = {pos[0]};
-    if (fixed_dir && (ws_outfile_protect(inputs, 1, &st) || ws_outfile_check(fixed_dir, &st)))
+    if (fixed_dir && (ws_outfile_protect(NULL, 0, pos, 1, &st) || ws_outfile_check(fixed_dir, &st)))
         return ws_cli_fail(&st);
     ws_scene scene = {0};
     ws_scene_options opt;

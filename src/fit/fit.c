@@ -320,9 +320,10 @@ static int check_checkpoint_size(const fit_run *r, const char *const *argv, int 
 static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int argc, ws_status *st) {
     const ws_fit_options *o = r->opt;
     /* what the fit reads, which no output may replace (base/outfile.h) */
-    const char *inputs[] = {o->scene_dir, o->edge_maps, o->init_curves,
-                            ws_loss_uses_clip(&o->loss) ? o->loss.weights_path : NULL};
-    if (ws_fit_options_check(o, st) || ws_outfile_protect(inputs, 4, st) || ws_outfile_check(o->out_dir, st))
+    const char *files[] = {o->init_curves, ws_loss_uses_clip(&o->loss) ? o->loss.weights_path : NULL};
+    const char *folders[] = {o->scene_dir, o->edge_maps};
+    if (ws_fit_options_check(o, st) || ws_outfile_protect(files, 2, folders, 2, st) ||
+        ws_outfile_check(o->out_dir, st))
         return st->code;
     ws_scene_options so;
     ws_scene_options_default(&so);
