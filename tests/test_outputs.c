@@ -93,6 +93,11 @@ static void test_inputs_never_replaced(void) {
     rc = run_cmd(out, sizeof out, "%s render %s --scene %s --out %s/link --size 32", bin, curves, scene, tmp);
     CHECK(rc == 2 && said("%s/link: is %s, which this command reads; choose another output", tmp, scene),
           "render --out LINK-TO-SCENE: exit %d", rc);
+    sh("ln -s %s/rgb %s/rgb_link", scene, tmp);
+    rc = run_cmd(out, sizeof out, "%s render %s --scene %s --out %s/rgb_link --size 32", bin, curves, scene, tmp);
+    CHECK(rc == 2 && said("%s/rgb_link: lies inside %s, which this command reads; choose an output outside it", tmp,
+                          scene),
+          "render --out LINK-TO-SCENE/rgb: exit %d", rc);
     rc = run_cmd(out, sizeof out, "%s check %s --size 32 --write-fixed %s/fixed", bin, scene, scene);
     CHECK(rc == 2 && said("%s/fixed: lies inside %s, which this command reads; choose an output outside it", scene,
                           scene),

@@ -116,19 +116,27 @@ static void parent_of(const char *path, char *dir, size_t size) {
 }
 
 /* Refuses `path` as an output when it is an input (a file or folder of
- * ws_outfile_protect) or lies inside an input folder: its parent and every
- * folder above it (PARENT/.., PARENT/../.., ... as the kernel resolves
- * them, up to the root) are compared with the input folders by identity. */
+ * ws_outfile_protect) or lies inside an input folder: the folder its files
+ * go to (the folder itself, a link to one followed; for a file, the folder
+ * that holds its name) and every folder above it (F/.., F/../.., ... as the
+ * kernel resolves them, up to the root) are compared with the input
+ * folders by identity. */
 int ws_outfile_check(const char *path, ws_status *st) {
     if (!ninputs) return WS_OK;
     struct stat sb;
-    if (stat(path, &sb) == 0)
+    int is_dir = 0;
+    if (stat(path, &sb) == 0) {
         for (int k = 0; k < ninputs; k++)
             if (sb.st_dev == inputs[k].dev && sb.st_ino == inputs[k].ino)
                 return ws_fail(st, WS_EUSAGE, "%s: is %s, which this command reads; choose another output",
                                path, inputs[k].path);
+        is_dir = S_ISDIR(sb.st_mode);
+    }
     static _Thread_local char walk[4 * WS_PATH_MAX];
-    parent_of(path, walk, sizeof walk);
+    if (is_dir)
+        snprintf(walk, sizeof walk, "%s/..", path);
+    else
+        parent_of(path, walk, sizeof walk);
     dev_t last_dev = 0;
     ino_t last_ino = 0;
     for (int depth = 0; stat(walk, &sb) == 0; depth++) {
