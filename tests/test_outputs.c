@@ -258,6 +258,13 @@ static void test_fit_bounds(void) {
     CHECK(rc == 0, "fit at the largest weights failed: %s", out);
     rc = run_cmd(out, sizeof out, "%s fit --resume %s/f7 --max-steps 2", bin, tmp);
     CHECK(rc == 0, "its --resume failed: %s", out);
+    /* a new fit into that folder from its curves: refused before it starts, not while writing */
+    sh("cp %s/f7/metrics.json %s/metrics_before.json", tmp, tmp);
+    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/f7 " FIT " --init %s/f7/curves.json", bin, scene, tmp, tmp);
+    CHECK(rc == 2 && said("%s/f7/curves.json: is %s/f7/curves.json, which this command reads; choose another output",
+                          tmp, tmp),
+          "fit --init OUT/curves.json: exit %d", rc);
+    CHECK(sh("cmp -s %s/f7/metrics.json %s/metrics_before.json", tmp, tmp), "the refused fit rewrote metrics.json");
     /* Adam refuses a state it cannot keep finite (the caller undoes it) */
     ws_adam adam;
     ws_status st;

@@ -323,7 +323,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     const char *files[] = {o->init_curves, ws_loss_uses_clip(&o->loss) ? o->loss.weights_path : NULL};
     const char *folders[] = {o->scene_dir, o->edge_maps};
     if (ws_fit_options_check(o, st) || ws_outfile_protect(files, 2, folders, 2, st) ||
-        ws_outfile_check(o->out_dir, st))
+        ws_outfile_check(o->out_dir, st) || ws_fit_outputs_check(o->out_dir, st))
         return st->code;
     ws_scene_options so;
     ws_scene_options_default(&so);

@@ -14,6 +14,11 @@
 #include "io/report.h"
 #include "io/turntable.h"
 
+/* The files of the output directory, by what they hold. */
+enum { OUT_METRICS, OUT_CURVES, OUT_OBJ, OUT_PLY, OUT_LOG, OUT_EVOLUTION, OUT_TURNTABLE, OUT_REPORT, OUT_FILES };
+static const char *const output_files[OUT_FILES] = {"metrics.json", "curves.json", "curves.obj",   "curves.ply",
+                                                    "log.csv",      "evolution.gif", "turntable.gif", "report.html"};
+
 #define TURNTABLE_FRAMES 72
 #define EVOLUTION_DELAY_CS 10
 
@@ -168,7 +173,8 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
         metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 1% of the largest side", text[17]};
         metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 2% of the largest side", text[18]};
     }
-    ws_report_image images[] = {{"turntable", "turntable.gif"}, {"evolution during the fit", "evolution.gif"}};
+    ws_report_image images[] = {{"turntable", output_files[OUT_TURNTABLE]},
+                                {"evolution during the fit", output_files[OUT_EVOLUTION]}};
     ws_report rep = {0};
     rep.title = "wiresketch fit";
     rep.scene_path = scene->dir;
@@ -211,6 +217,13 @@ static int final_sketch(const ws_curves *c, const int *retire, ws_curves *sketch
     return WS_OK;
 }
 
+int ws_fit_outputs_check(const char *out_dir, ws_status *st) {
+    char path[PATH_BYTES];
+    for (int k = 0; k < OUT_FILES; k++)
+        if (ws_outfile_check(join(path, out_dir, output_files[k]), st)) return st->code;
+    return WS_OK;
+}
+
 int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
                          const int *retire, const double *test_losses, double test_loss, ws_status *st) {
     const char *out = opt->out_dir;
@@ -232,18 +245,18 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
     ws_quality q;
     if (!rc) rc = ws_quality_measure(&c, gt_points, gt_curves, &q, st);
-    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, retired, test_loss, &q, st);
-    if (!rc) rc = ws_curves_save(join(path, out, "curves.json"), &c, st);
-    if (!rc) rc = ws_export_obj(join(path, out, "curves.obj"), &c, st);
-    if (!rc) rc = ws_export_ply(join(path, out, "curves.ply"), &c, st);
-    if (!rc) rc = write_log(join(path, out, "log.csv"), s, st);
+    if (!rc) rc = write_metrics(join(path, out, output_files[OUT_METRICS]), s, retired, test_loss, &q, st);
+    if (!rc) rc = ws_curves_save(join(path, out, output_files[OUT_CURVES]), &c, st);
+    if (!rc) rc = ws_export_obj(join(path, out, output_files[OUT_OBJ]), &c, st);
+    if (!rc) rc = ws_export_ply(join(path, out, output_files[OUT_PLY]), &c, st);
+    if (!rc) rc = write_log(join(path, out, output_files[OUT_LOG]), s, st);
     if (!rc) rc = write_tests(out, scene, &c, &r, test_losses, views, paths, st);
-    if (!rc) rc = write_evolution(join(path, out, "evolution.gif"), scene, s, &r, st);
+    if (!rc) rc = write_evolution(join(path, out, output_files[OUT_EVOLUTION]), scene, s, &r, st);
     if (!rc)
-        rc = ws_turntable_gif(join(path, out, "turntable.gif"), &c, scene->center, distance,
+        rc = ws_turntable_gif(join(path, out, output_files[OUT_TURNTABLE]), &c, scene->center, distance,
                               scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
     if (!rc)
-        rc = write_report(join(path, out, "report.html"), opt, scene, s, &c, retired, ntest ? views : NULL,
+        rc = write_report(join(path, out, output_files[OUT_REPORT]), opt, scene, s, &c, retired, ntest ? views : NULL,
                           test_loss, &q, st);
     free(views);
     free(paths);
