@@ -158,14 +158,15 @@ int ws_outfile_check(const char *path, ws_status *st) {
 /* ---------------------------------------------------------------- stale */
 
 /* The PID of one of this program's temporary names,
- * .wiresketch.tmp.PID.N.NAME; 0 if `name` is not one. */
+ * .wiresketch.tmp.PID.N.NAME (a PID of at most 9 digits fits a pid_t); 0
+ * if `name` is not one. */
 static long tmp_pid(const char *name) {
     size_t prefix = strlen(TMP_PREFIX);
     if (strncmp(name, TMP_PREFIX, prefix)) return 0;
     const char *c = name + prefix;
     long pid = 0;
     int digits = 0;
-    for (; *c >= '0' && *c <= '9' && digits < 10; c++, digits++) pid = 10 * pid + (*c - '0');
+    for (; *c >= '0' && *c <= '9' && digits < 9; c++, digits++) pid = 10 * pid + (*c - '0');
     if (!digits || *c++ != '.') return 0;
     for (digits = 0; *c >= '0' && *c <= '9'; c++) digits++;
     return digits && c[0] == '.' && c[1] ? pid : 0;
