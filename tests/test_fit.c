@@ -76,7 +76,7 @@ static void test_outputs_and_loss(void) {
     for (size_t i = 0; i < sizeof outputs / sizeof outputs[0]; i++)
         CHECK(exists(dir, outputs[i]), "output %s missing", outputs[i]);
     char cmd[600];
-    snprintf(cmd, sizeof cmd, "ls %s | grep -q '\\.tmp\\.'", dir);
+    snprintf(cmd, sizeof cmd, "ls -A %s | grep -q '\\.tmp\\.'", dir);
     CHECK(system(cmd) != 0, "a temporary file was left in %s", dir);
     /* The training loss falls: the mean of the last 10 steps is below the
      * mean of the first 10. */

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "check.h"
+#include "cli_run.h"
 #include "io/gif.h"
 #include "io/report.h"
 #include "io/turntable.h"
@@ -44,9 +45,10 @@ static int count(const char *s, const char *what) {
 
 /* No file and no temporary file beside it. */
 static int left_nothing(const char *path) {
-    char tmp[WS_PATH_MAX];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-    return access(path, F_OK) != 0 && access(tmp, F_OK) != 0;
+    char dir[WS_PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    return access(path, F_OK) != 0 && temporaries_in(dir, slash + 1) == 0;
 }
 
 static GifFileType *slurp(const char *path) {

@@ -39,6 +39,8 @@ int ws_cli_bench_approx(ws_cli_bench *ctx, cJSON *out, ws_status *st);
 int ws_cli_bench_memory(ws_cli_bench *ctx, cJSON *out, ws_status *st);
 
 /* A JSON number, null when not finite (JSON has no NaN). */
-cJSON *ws_cli_bench_number(double x);
+/* Adds KEY: x to o, or for a non-finite x KEY: null and beside it KEY_why,
+ * the reason (JSON has no NaN or infinity; base/json_number.h). */
+void ws_cli_bench_add(cJSON *o, const char *key, double x);
 
 #endif

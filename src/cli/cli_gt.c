@@ -1,5 +1,6 @@
 /* cli_gt.c: the ground-truth coverage for `check` and `eval` (cli_gt.h). */
 #include <math.h>
+#include "base/json_number.h"
 #include "cli/cli_gt.h"
 #include "geometry/check.h"
 #include "render/curves.h"
@@ -35,15 +36,29 @@ void ws_cli_gt_coverage_table(FILE *fp, const ws_scene *scene, const ws_gt_cover
 }
 
 void ws_cli_gt_coverage_json(FILE *fp, const ws_gt_coverage *c) {
-    fprintf(fp, "\"gt_coverage\": {\"spacing\": %.9g, \"flagged\": %s, \"region_voxels\": %ld", c->spacing,
-            c->flagged ? "true" : "false", c->region_voxels);
-    for (int s = 0; s < WS_NSPLITS; s++)
-        if (c->split[s].n)
-            fprintf(fp, ", \"%s_uncovered\": %.9g, \"%s_uncovered_worst\": %.9g", ws_split_names[s],
-                    c->split[s].mean, ws_split_names[s], c->split[s].worst);
-    if (c->region_voxels)
-        fprintf(fp, ", \"region_centroid\": [%.9g, %.9g, %.9g], \"region_lo\": [%.9g, %.9g, %.9g], "
-                "\"region_hi\": [%.9g, %.9g, %.9g]", c->centroid[0], c->centroid[1], c->centroid[2], c->lo[0],
-                c->lo[1], c->lo[2], c->hi[0], c->hi[1], c->hi[2]);
-    fprintf(fp, "}");
+    fputs("\"gt_coverage\": {", fp);
+    ws_json_number(fp, "spacing", c->spacing, 9);
+    fprintf(fp, ", \"flagged\": %s, \"region_voxels\": %ld", c->flagged ? "true" : "false", c->region_voxels);
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        char key[2][40];
+        snprintf(key[0], sizeof key[0], "%s_uncovered", ws_split_names[s]);
+        snprintf(key[1], sizeof key[1], "%s_uncovered_worst", ws_split_names[s]);
+        for (int j = 0; j < 2 && c->split[s].n; j++) {
+            fputs(", ", fp);
+            ws_json_number(fp, key[j], j ? c->split[s].worst : c->split[s].mean, 9);
+        }
+    }
+    const char *const region[3] = {"region_centroid", "region_lo", "region_hi"};
+    const double *corner[3] = {c->centroid, c->lo, c->hi};
+    for (int k = 0; k < 3 && c->region_voxels; k++) {
+        fprintf(fp, ", \"%s\": [", region[k]);
+        int bad = 0;
+        for (int j = 0; j < 3; j++) {
+            fputs(j ? ", " : "", fp);
+            bad += ws_json_value(fp, corner[k][j], 9);
+        }
+        fputc(']', fp);
+        if (bad) fprintf(fp, ", \"%s_why\": \"%d of its values are not finite, which JSON cannot hold\"", region[k], bad);
+    }
+    fputc('}', fp);
 }

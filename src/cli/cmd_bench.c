@@ -25,7 +25,17 @@ static const struct {
 };
 enum { NPARTS = sizeof parts / sizeof parts[0] };
 
-cJSON *ws_cli_bench_number(double x) { return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull(); }
+void ws_cli_bench_add(cJSON *o, const char *key, double x) {
+    if (isfinite(x)) {
+        cJSON_AddNumberToObject(o, key, x);
+        return;
+    }
+    char why_key[128], why[96];
+    snprintf(why_key, sizeof why_key, "%s_why", key);
+    snprintf(why, sizeof why, "the value is %s, which JSON cannot hold", isnan(x) ? "nan" : x > 0 ? "inf" : "-inf");
+    cJSON_AddNullToObject(o, key);
+    cJSON_AddStringToObject(o, why_key, why);
+}
 
 int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st) {
     if (ctx->have_scene) return WS_OK;
@@ -69,14 +79,14 @@ static cJSON *machine(void) {
     if (f) fclose(f);
     cJSON *m = cJSON_CreateObject();
     cJSON_AddStringToObject(m, "cpu", cpu);
-    cJSON_AddNumberToObject(m, "cores", omp_get_num_procs());
-    cJSON_AddNumberToObject(m, "threads", ws_runtime_threads());
+    ws_cli_bench_add(m, "cores", omp_get_num_procs());
+    ws_cli_bench_add(m, "threads", ws_runtime_threads());
     cJSON_AddStringToObject(m, "openblas", openblas_get_config());
     const ws_blas_kernels *k = ws_runtime_kernels();
     cJSON_AddStringToObject(m, "kernels", openblas_get_corename());
     cJSON_AddStringToObject(m, "kernels_openblas_chose", k->before);
     cJSON_AddStringToObject(m, "kernels_why", k->why);
-    cJSON_AddItemToObject(m, "load_average", ws_cli_bench_number(load[0]));
+    ws_cli_bench_add(m, "load_average", load[0]);
     return m;
 }
 

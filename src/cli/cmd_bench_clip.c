@@ -25,22 +25,22 @@ int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     const wf_arch *a = clip_model_arch(ctx->model);
     cJSON *j = cJSON_AddObjectToObject(out, "clip");
     cJSON_AddStringToObject(j, "weights", ctx->weights ? ctx->weights : "random");
-    cJSON_AddNumberToObject(j, "batch", r.batch);
-    cJSON_AddNumberToObject(j, "threads", r.threads);
-    cJSON_AddNumberToObject(j, "forward", r.forward);
-    cJSON_AddNumberToObject(j, "forward_backward", r.forward_backward);
-    cJSON_AddNumberToObject(j, "floor_forward", r.floor_forward);
-    cJSON_AddNumberToObject(j, "floor_forward_backward", r.floor_forward_backward);
-    cJSON_AddNumberToObject(j, "ratio_forward", r.forward / r.floor_forward);
-    cJSON_AddNumberToObject(j, "ratio_forward_backward", r.forward_backward / r.floor_forward_backward);
-    cJSON_AddNumberToObject(j, "floor_forward_backward_openblas", r.floor_openblas);
-    cJSON_AddNumberToObject(j, "arena_bytes", (double)r.arena_bytes);
+    ws_cli_bench_add(j, "batch", r.batch);
+    ws_cli_bench_add(j, "threads", r.threads);
+    ws_cli_bench_add(j, "forward", r.forward);
+    ws_cli_bench_add(j, "forward_backward", r.forward_backward);
+    ws_cli_bench_add(j, "floor_forward", r.floor_forward);
+    ws_cli_bench_add(j, "floor_forward_backward", r.floor_forward_backward);
+    ws_cli_bench_add(j, "ratio_forward", r.forward / r.floor_forward);
+    ws_cli_bench_add(j, "ratio_forward_backward", r.forward_backward / r.floor_forward_backward);
+    ws_cli_bench_add(j, "floor_forward_backward_openblas", r.floor_openblas);
+    ws_cli_bench_add(j, "arena_bytes", (double)r.arena_bytes);
     cJSON *ops = cJSON_AddObjectToObject(j, "ops");
     for (int k = 0; k < NN_OP_KINDS; k++) {
         if (r.op_forward[k] + r.op_backward[k] <= 0) continue;
         cJSON *o = cJSON_AddObjectToObject(ops, nn_op_kind_name(k));
-        cJSON_AddNumberToObject(o, "forward", r.op_forward[k]);
-        cJSON_AddNumberToObject(o, "backward", r.op_backward[k]);
+        ws_cli_bench_add(o, "forward", r.op_forward[k]);
+        ws_cli_bench_add(o, "backward", r.op_backward[k]);
     }
     if (ctx->json) return WS_OK;
     printf("\n## CLIP image tower\n\n");

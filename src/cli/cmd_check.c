@@ -11,6 +11,7 @@
 #include "cli/args.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_view.h"
+#include "base/outfile.h"
 #include "cli/commands.h"
 #include "geometry/check.h"
 #include "metrics/quality.h"
@@ -65,6 +66,8 @@ int cmd_check(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--resolution: %d is not in [8, 512]", resolution);
         return ws_cli_fail(&st);
     }
+    if (fixed_dir && (ws_outfile_protect(NULL, 0, pos, 1, &st) || ws_outfile_check(fixed_dir, &st)))
+        return ws_cli_fail(&st);
     ws_scene scene = {0};
     ws_scene_options opt;
     ws_scene_options_default(&opt);

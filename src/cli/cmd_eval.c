@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "base/json_number.h"
 #include "base/paths.h"
 #include "cli/args.h"
 #include "cli/cli_gt.h"
@@ -23,10 +24,8 @@
 #include "base/runtime.h"
 
 static void print_number(const char *key, double v) {
-    if (isfinite(v))
-        printf(", \"%s\": %.9g", key, v);
-    else
-        printf(", \"%s\": null", key);
+    fputs(", ", stdout);
+    ws_json_number(stdout, key, v, 9);
 }
 
 /* *per (n_curves, allocated): where the surface distance of the Gaussians
@@ -101,9 +100,12 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
             printf(", \"surface_stray_curves\": %d", q.surface_strays.stray_curves);
             if (per) {
                 printf(", \"surface_curves\": [");
-                for (int ci = 0; ci < curves.n; ci++)
-                    printf("%s{\"gaussians\": %d, \"mean\": %.9g, \"adds\": %.9g, \"beyond_p90\": %d}",
-                           ci ? ", " : "", per[ci].n, per[ci].mean, per[ci].adds, per[ci].beyond_p90);
+                for (int ci = 0; ci < curves.n; ci++) {
+                    printf("%s{\"gaussians\": %d", ci ? ", " : "", per[ci].n);
+                    print_number("mean", per[ci].mean);
+                    print_number("adds", per[ci].adds);
+                    printf(", \"beyond_p90\": %d}", per[ci].beyond_p90);
+                }
                 printf("]");
             }
         }

@@ -5,6 +5,7 @@
 #include "cli/commands.h"
 #include "render/curves.h"
 #include "io/export.h"
+#include "base/outfile.h"
 
 /* The SVG of the sketch seen from view `view` of a split of the scene. */
 static int export_svg(const char *path, const ws_curves *curves, const char *scene_dir,
@@ -47,7 +48,8 @@ int cmd_export(int argc, char **argv) {
     }
     if (svg && ws_cli_require(scene_dir, "--scene", &st)) return ws_cli_fail(&st);
     ws_curves curves;
-    if (ws_curves_load(pos[0], &curves, &st)) return ws_cli_fail(&st);
+    const char *folders[] = {svg ? scene_dir : NULL};
+    if (ws_outfile_protect(pos, 1, folders, 1, &st) || ws_curves_load(pos[0], &curves, &st)) return ws_cli_fail(&st);
     if (!(obj && ws_export_obj(obj, &curves, &st)) && !(ply && ws_export_ply(ply, &curves, &st)))
         if (svg) export_svg(svg, &curves, scene_dir, split_name, view, size, &st);
     ws_curves_free(&curves);

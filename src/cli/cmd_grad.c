@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/json_number.h"
 #include "cli/args.h"
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
@@ -27,16 +28,25 @@ static int view_gradient(const ws_curves *curves, const ws_scene *scene, int spl
 }
 
 static void print_gradient(double value, const double *dP, int n) {
-    printf("{\"loss\": %.17g, \"grad\": [", value);
+    putchar('{');
+    ws_json_number(stdout, "loss", value, 17);
+    printf(", \"grad\": [");
+    int bad = 0;
     for (int c = 0; c < n; c++) {
         printf("%s\n  [", c ? "," : "");
         for (int j = 0; j < 4; j++) {
             const double *d = dP + (size_t)c * WS_CURVE_FLOATS + j * 3;
-            printf("%s[%.17g, %.17g, %.17g]", j ? ", " : "", d[0], d[1], d[2]);
+            for (int a = 0; a < 3; a++) {
+                fputs(a ? ", " : j ? ", [" : "[", stdout);
+                bad += ws_json_value(stdout, d[a], 17);
+            }
+            putchar(']');
         }
         printf("]");
     }
-    printf("%s]}\n", n ? "\n" : "");
+    printf("%s]", n ? "\n" : "");
+    if (bad) printf(", \"grad_why\": \"%d of its values are not finite, which JSON cannot hold\"", bad);
+    printf("}\n");
 }
 
 int cmd_grad(int argc, char **argv) {

@@ -67,7 +67,7 @@ int cmd_render(int argc, char **argv) {
     ws_curves curves = {0};
     ws_scene scene = {0};
     int split;
-    if (!ws_curves_load(pos[0], &curves, &st) &&
+    if (!ws_outfile_protect(pos, 1, &scene_dir, 1, &st) && !ws_outfile_check(out_dir, &st) && !ws_curves_load(pos[0], &curves, &st) &&
         !ws_cli_load_split(scene_dir, size, 0, NULL, split_name, &scene, &split, &st)) {
         if (!ws_mkdir(out_dir, &st)) render_split(&curves, &scene.split[split], out_dir, &opt, &st);
         ws_scene_free(&scene);

@@ -393,7 +393,7 @@ int cmd_sweep(int argc, char **argv) {
     for (int a = 0; a < p.nvary; a++) nruns *= p.vary[a].n;
     int rc = nruns > MAX_RUNS ? ws_fail(&st, WS_EUSAGE, "--vary: %ld runs; at most %d", nruns, MAX_RUNS)
                               : check_runs(&p, (int)nruns, &st);
-    if (!rc) rc = ws_mkdir(p.out, &st);
+    if (!rc && !(rc = ws_outfile_protect(NULL, 0, &p.scene, 1, &st))) rc = ws_mkdir(p.out, &st);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;

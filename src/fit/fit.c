@@ -98,8 +98,9 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
     memcpy(r->backup, r->s.curves.P, np * sizeof(double));
     memcpy(r->backup + np, adam->m, np * sizeof(double));
     memcpy(r->backup + 2 * np, adam->v, np * sizeof(double));
-    ws_adam_update(adam, r->s.curves.P, r->grad);
-    rc = ws_objective_sample(r->objective, &r->s.curves, st);
+    rc = ws_adam_update(adam, r->s.curves.P, r->grad)
+             ? ws_fail(st, WS_ENUMERIC, "the gradient's square overflowed Adam's moments")
+             : ws_objective_sample(r->objective, &r->s.curves, st);
     if (rc == WS_ENUMERIC) {
         memcpy(r->s.curves.P, r->backup, np * sizeof(double));
         memcpy(adam->m, r->backup + np, np * sizeof(double));
@@ -299,16 +300,39 @@ static void fit_run_free(fit_run *r) {
     ws_scene_free(&r->scene);
 }
 
+/* What a fit writes its --resume must read: its last checkpoint, the
+ * largest (every step's log row, every snapshot), must stay under the
+ * reader's limit. Checked before the first step, where the options that
+ * size it can still be changed. */
+static int check_checkpoint_size(const fit_run *r, const char *const *argv, int argc, ws_status *st) {
+    const ws_fit_options *o = r->opt;
+    long steps = total_steps(r);
+    long snapshots = 1 + (o->snapshot_every > 0 ? steps / o->snapshot_every : 0);
+    double bytes = 8 + 4 + 4 + 4 + ws_checkpoint_state_bytes(o->n_curves, r->scene.split[WS_TRAIN].n, steps, snapshots);
+    for (int i = 0; i < argc; i++) bytes += 4 + (double)strlen(argv[i]);
+    if (bytes <= (double)WS_CHECKPOINT_MAX_BYTES) return WS_OK;
+    return ws_fail(st, WS_EUSAGE,
+                   "--n-curves %d: %ld steps keeping %ld snapshots (--snapshot-every %d) make a checkpoint of "
+                   "%.3g bytes, over the %zu it may hold; lower --n-curves or --max-steps, or raise --snapshot-every",
+                   o->n_curves, steps, snapshots, o->snapshot_every, bytes, WS_CHECKPOINT_MAX_BYTES);
+}
+
 static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int argc, ws_status *st) {
     const ws_fit_options *o = r->opt;
-    if (ws_fit_options_check(o, st)) return st->code;
+    /* what the fit reads, which no output may replace (base/outfile.h) */
+    const char *files[] = {o->init_curves, ws_loss_uses_clip(&o->loss) ? o->loss.weights_path : NULL};
+    const char *folders[] = {o->scene_dir, o->edge_maps};
+    if (ws_fit_options_check(o, st) || ws_outfile_protect(files, 2, folders, 2, st) ||
+        ws_outfile_check(o->out_dir, st) || ws_fit_outputs_check(o->out_dir, st))
+        return st->code;
     ws_scene_options so;
     ws_scene_options_default(&so);
     so.width = so.height = o->size;
     memcpy(so.background, o->background, sizeof so.background);
     so.background_auto = o->background_auto;
     so.edge_maps_dir = o->edge_maps;
-    if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || ws_view_targets_create(&r->targets, &r->scene, st))
+    if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || check_checkpoint_size(r, argv, argc, st) ||
+        ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
     if (resume) {

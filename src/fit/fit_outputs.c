@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/json_number.h"
 #include "base/paths.h"
 #include "metrics/quality.h"
 #include "io/export.h"
@@ -12,6 +13,11 @@
 #include "base/outfile.h"
 #include "io/report.h"
 #include "io/turntable.h"
+
+/* The files of the output directory, by what they hold. */
+enum { OUT_METRICS, OUT_CURVES, OUT_OBJ, OUT_PLY, OUT_LOG, OUT_EVOLUTION, OUT_TURNTABLE, OUT_REPORT, OUT_FILES };
+static const char *const output_files[OUT_FILES] = {"metrics.json", "curves.json", "curves.obj",   "curves.ply",
+                                                    "log.csv",      "evolution.gif", "turntable.gif", "report.html"};
 
 #define TURNTABLE_FRAMES 72
 #define EVOLUTION_DELAY_CS 10
@@ -55,7 +61,7 @@ static int write_tests(const char *out, const ws_scene *scene, const ws_curves *
     if (test->n == 0) return WS_OK;
     char dir[PATH_BYTES], path[PATH_BYTES];
     join(dir, out, "test");
-    if (ws_mkdir(dir, st)) return st->code;
+    if (ws_mkdir_inside(dir, st)) return st->code;
     for (int v = 0; v < test->n; v++) {
         const ws_view *view = &test->views[v];
         snprintf(paths[v][0], 300, "test/%s.png", view->name);
@@ -94,16 +100,21 @@ static int write_metrics(const char *path, const ws_fit_state *s, int retired, d
     fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
             "\"seconds\": %.3f", s->global_step, s->skipped_steps, s->respawned, retired, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
-    if (q->have_surface)
-        fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g, \"surface_precision\": %.9g, "
-                "\"surface_stray_curves\": %d", q->surface.mean, q->surface.p90,
-                q->surface_strays.precision, q->surface_strays.stray_curves);
-    if (q->have_curves)
-        fprintf(f.fp, ", \"chamfer\": %.9g, \"fscore\": %.9g, \"recall\": %.9g, \"gaussian_precision\": %.9g, "
-                "\"stray_curves\": %d", q->curves.chamfer, q->curves.fscore, q->curves.recall,
-                q->curve_strays.precision, q->curve_strays.stray_curves);
+    const char *const surface_keys[3] = {"surface_mean", "surface_p90", "surface_precision"};
+    const double surface[3] = {q->surface.mean, q->surface.p90, q->surface_strays.precision};
+    for (int k = 0; k < 3 && q->have_surface; k++) {
+        fputs(", ", f.fp);
+        ws_json_number(f.fp, surface_keys[k], surface[k], 9);
+    }
+    if (q->have_surface) fprintf(f.fp, ", \"surface_stray_curves\": %d", q->surface_strays.stray_curves);
+    const char *const curve_keys[4] = {"chamfer", "fscore", "recall", "gaussian_precision"};
+    const double curve[4] = {q->curves.chamfer, q->curves.fscore, q->curves.recall, q->curve_strays.precision};
+    for (int k = 0; k < 4 && q->have_curves; k++) {
+        fputs(", ", f.fp);
+        ws_json_number(f.fp, curve_keys[k], curve[k], 9);
+    }
     if (q->have_curves) {
-        fprintf(f.fp, ", ");
+        fprintf(f.fp, ", \"stray_curves\": %d, ", q->curve_strays.stray_curves);
         ws_line_metrics_json(f.fp, &q->lines);
     }
     fprintf(f.fp, "}\n");
@@ -162,7 +173,8 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
         metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 1% of the largest side", text[17]};
         metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 2% of the largest side", text[18]};
     }
-    ws_report_image images[] = {{"turntable", "turntable.gif"}, {"evolution during the fit", "evolution.gif"}};
+    ws_report_image images[] = {{"turntable", output_files[OUT_TURNTABLE]},
+                                {"evolution during the fit", output_files[OUT_EVOLUTION]}};
     ws_report rep = {0};
     rep.title = "wiresketch fit";
     rep.scene_path = scene->dir;
@@ -205,6 +217,13 @@ static int final_sketch(const ws_curves *c, const int *retire, ws_curves *sketch
     return WS_OK;
 }
 
+int ws_fit_outputs_check(const char *out_dir, ws_status *st) {
+    char path[PATH_BYTES];
+    for (int k = 0; k < OUT_FILES; k++)
+        if (ws_outfile_check(join(path, out_dir, output_files[k]), st)) return st->code;
+    return WS_OK;
+}
+
 int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
                          const int *retire, const double *test_losses, double test_loss, ws_status *st) {
     const char *out = opt->out_dir;
@@ -226,18 +245,18 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
     ws_quality q;
     if (!rc) rc = ws_quality_measure(&c, gt_points, gt_curves, &q, st);
-    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, retired, test_loss, &q, st);
-    if (!rc) rc = ws_curves_save(join(path, out, "curves.json"), &c, st);
-    if (!rc) rc = ws_export_obj(join(path, out, "curves.obj"), &c, st);
-    if (!rc) rc = ws_export_ply(join(path, out, "curves.ply"), &c, st);
-    if (!rc) rc = write_log(join(path, out, "log.csv"), s, st);
+    if (!rc) rc = write_metrics(join(path, out, output_files[OUT_METRICS]), s, retired, test_loss, &q, st);
+    if (!rc) rc = ws_curves_save(join(path, out, output_files[OUT_CURVES]), &c, st);
+    if (!rc) rc = ws_export_obj(join(path, out, output_files[OUT_OBJ]), &c, st);
+    if (!rc) rc = ws_export_ply(join(path, out, output_files[OUT_PLY]), &c, st);
+    if (!rc) rc = write_log(join(path, out, output_files[OUT_LOG]), s, st);
     if (!rc) rc = write_tests(out, scene, &c, &r, test_losses, views, paths, st);
-    if (!rc) rc = write_evolution(join(path, out, "evolution.gif"), scene, s, &r, st);
+    if (!rc) rc = write_evolution(join(path, out, output_files[OUT_EVOLUTION]), scene, s, &r, st);
     if (!rc)
-        rc = ws_turntable_gif(join(path, out, "turntable.gif"), &c, scene->center, distance,
+        rc = ws_turntable_gif(join(path, out, output_files[OUT_TURNTABLE]), &c, scene->center, distance,
                               scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
     if (!rc)
-        rc = write_report(join(path, out, "report.html"), opt, scene, s, &c, retired, ntest ? views : NULL,
+        rc = write_report(join(path, out, output_files[OUT_REPORT]), opt, scene, s, &c, retired, ntest ? views : NULL,
                           test_loss, &q, st);
     free(views);
     free(paths);

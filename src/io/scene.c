@@ -125,6 +125,81 @@ static int view_name(const char *file_path, const char *what, char *name, size_t
     return WS_OK;
 }
 
+/* ---------------------------------------------------------------- unique names
+ *
+ * A view's name names its outputs (a fit's test/NAME.png, render's
+ * OUT/NAME.png) and its row of a report, so the views of a split must not
+ * share one: views whose file names repeat ("a/r_0" and "b/r_0") are
+ * named after their whole file_path instead ("a_r_0", "b_r_0"), and
+ * names that still repeat get their frame index ("a_r_0_f7"). */
+typedef struct {
+    const char *name;
+    int k;
+} named_view;
+
+static int by_name(const void *a, const void *b) {
+    const named_view *x = a, *y = b;
+    int c = strcmp(x->name, y->name);
+    return c ? c : x->k - y->k;
+}
+
+/* Marks in shared[k] the views whose name another view of the split has;
+ * returns whether any has. */
+static int mark_shared(const ws_split *split, named_view *order, char *shared) {
+    for (int k = 0; k < split->n; k++) {
+        order[k] = (named_view){split->views[k].name, k};
+        shared[k] = 0;
+    }
+    qsort(order, split->n, sizeof *order, by_name);
+    int any = 0;
+    for (int i = 1; i < split->n; i++)
+        if (!strcmp(order[i - 1].name, order[i].name)) any = shared[order[i - 1].k] = shared[order[i].k] = 1;
+    return any;
+}
+
+static int unique_view_names(ws_split *split, const cJSON *frames, const char *path, ws_status *st) {
+    if (split->n < 2) return WS_OK;
+    const int nframes = cJSON_GetArraySize(frames);
+    named_view *order = ws_malloc(sizeof *order * split->n, path, st);
+    char *shared = order ? ws_malloc(split->n, path, st) : NULL;
+    const char **file_path = shared ? ws_calloc(nframes, sizeof *file_path, path, st) : NULL;
+    int rc = file_path ? WS_OK : st->code;
+    if (!rc && mark_shared(split, order, shared)) {
+        int index = 0;
+        for (const cJSON *frame = frames->child; frame; frame = frame->next, index++) {
+            const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
+            file_path[index] = cJSON_IsString(fp) ? fp->valuestring : "";
+        }
+        for (int k = 0; k < split->n && !rc; k++) {
+            ws_view *v = &split->views[k];
+            const char *p = file_path[v->frame];
+            while (!strncmp(p, "./", 2)) p += 2;
+            size_t n = strlen(p) - (ends_with(p, ".png") ? 4 : 0);
+            if (!shared[k]) continue;
+            if (n >= sizeof v->name) {
+                rc = ws_fail(st, WS_EINPUT, "%s: frame %d: file_path name too long", path, v->frame);
+                break;
+            }
+            for (size_t i = 0; i < n; i++) v->name[i] = p[i] == '/' ? '_' : p[i];
+            v->name[n] = '\0';
+        }
+        int again = !rc && mark_shared(split, order, shared);
+        for (int k = 0; k < split->n && again && !rc; k++) {
+            ws_view *v = &split->views[k];
+            size_t n = strlen(v->name);
+            if (shared[k] && snprintf(v->name + n, sizeof v->name - n, "_f%d", v->frame) >= (int)(sizeof v->name - n))
+                rc = ws_fail(st, WS_EINPUT, "%s: frame %d: file_path name too long", path, v->frame);
+        }
+        if (again && !rc && mark_shared(split, order, shared))
+            for (int k = 0; k < split->n && !rc; k++)
+                if (shared[k]) rc = ws_fail(st, WS_EINPUT, "%s: two views are named %s", path, split->views[k].name);
+    }
+    free(order);
+    free(shared);
+    free(file_path);
+    return rc;
+}
+
 static int read_matrix(const cJSON *m, const char *what, double c2w[4][4], ws_status *st) {
     if (!cJSON_IsArray(m) || cJSON_GetArraySize(m) != 4)
         return ws_fail(st, WS_EINPUT, "%s: transform_matrix is not 4x4", what);
@@ -278,6 +353,7 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
             (rc = ws_camera_init(&v->cam, c2w, angle->valuedouble, opt->width, opt->height, what, st)))
             break;
     }
+    if (!rc) rc = unique_view_names(split, frames, path, st);
 done:
     cJSON_Delete(root);
     return rc;
@@ -465,6 +541,7 @@ static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_opt
             !(rc = frame_intrinsics(frame, root, what, &in, st)))
             rc = frame_camera(&in, c2w, opt, what, v, st);
     }
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = unique_view_names(&scene->split[s], frames, path, st);
     if (!rc) {
         const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
         scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);

@@ -53,6 +53,11 @@ struct ws_view_targets;
 
 #define WS_LOSS_MAX_LAYERS 64
 #define WS_LOSS_MAX_AUG 64 /* augmentations per view and step at the most */
+/* The largest weight of a term. Adam's step does not grow with the scale
+ * of the loss, so a larger weight only matters against the other terms,
+ * and 1e6 keeps the squared gradient Adam keeps far from overflowing (a
+ * weight of 1e300 made it infinite, and the checkpoint unreadable). */
+#define WS_LOSS_MAX_WEIGHT 1e6
 
 /* What the CLIP geometric term compares (--clip-geometric). */
 typedef enum { WS_GEOMETRIC_BLOCKS, WS_GEOMETRIC_ATTENTION } ws_geometric;

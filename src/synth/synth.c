@@ -5,10 +5,15 @@
  * rasterised over its own screen bounding box with a depth buffer, so the
  * cost follows the pixels the tubes cover, not pixels x capsules. */
 #include <cJSON.h>
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "base/outfile.h"
 #include "nn/base/rng.h"
 #include "synth/solids.h"
@@ -673,6 +678,81 @@ static int write_views(const char *dir, const scene_object *obj, const ws_synth_
     return rc;
 }
 
+/* A folder holds one scene. The mark, written before any other file, says
+ * that a folder is (or was becoming) a scene of this command's. */
+#define SCENE_MARK ".wiresketch-scene"
+
+/* Removes the regular files of folder fd that `is_scene_file` accepts. */
+static int remove_scene_files(int fd, const char *where, int (*is_scene_file)(const char *), ws_status *st) {
+    DIR *d = fdopendir(fd);
+    if (!d) {
+        close(fd);
+        return ws_fail(st, WS_EIO, "%s: %s", where, strerror(errno));
+    }
+    rewinddir(d); /* fd may have been read before */
+    int rc = WS_OK;
+    for (struct dirent *e; !rc && (e = readdir(d));) {
+        struct stat sb;
+        if (is_scene_file(e->d_name) && fstatat(dirfd(d), e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0 &&
+            S_ISREG(sb.st_mode) && unlinkat(dirfd(d), e->d_name, 0) != 0)
+            rc = ws_fail(st, WS_EIO, "%s/%s: cannot remove the old scene's file: %s", where, e->d_name,
+                         strerror(errno));
+    }
+    closedir(d);
+    return rc;
+}
+
+static int is_top_file(const char *name) {
+    static const char *const files[] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
+                                        "transforms.json",       "gt_curves.json",      "gt_points.ply"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
+        if (!strcmp(name, files[k])) return 1;
+    return 0;
+}
+
+/* r_K.png, as write_views names a view */
+static int is_view_file(const char *name) {
+    if (strncmp(name, "r_", 2)) return 0;
+    const char *c = name + 2;
+    while (*c >= '0' && *c <= '9') c++;
+    return c > name + 2 && !strcmp(c, ".png");
+}
+
+/* `scene --out DIR` writes into a new or empty folder, or over a scene it
+ * wrote before (DIR/.wiresketch-scene), whose files it first removes so
+ * that none of the old scene (the transforms_val.json of one that had a
+ * val split) stays beside the new one; other files there are left alone.
+ * Any other folder is refused: what it holds may be a user's. Folders are
+ * entered without following links, so nothing outside DIR is removed. */
+static int clear_old_scene(const char *dir, ws_status *st) {
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return WS_OK; /* new, or not a folder: ws_mkdir says which */
+    DIR *d = fdopendir(dup(fd));
+    int empty = 1, marked = 0;
+    for (struct dirent *e; d && (e = readdir(d));) {
+        empty &= !strcmp(e->d_name, ".") || !strcmp(e->d_name, "..");
+        marked |= !strcmp(e->d_name, SCENE_MARK);
+    }
+    if (d) closedir(d);
+    if (empty || !marked) {
+        close(fd);
+        return empty ? WS_OK
+                     : ws_fail(st, WS_EUSAGE, "%s: not empty and not a scene written by `wiresketch scene`; "
+                                              "choose a new or empty folder", dir);
+    }
+    char where[4400];
+    int rgb = openat(fd, "rgb", O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    int rc = remove_scene_files(fd, dir, is_top_file, st);
+    for (int s = 0; s < WS_NSPLITS && rgb >= 0 && !rc; s++) {
+        int sfd = openat(rgb, ws_split_names[s], O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        snprintf(where, sizeof where, "%s/rgb/%s", dir, ws_split_names[s]);
+        if (sfd >= 0 && !(rc = remove_scene_files(sfd, where, is_view_file, st)))
+            unlinkat(rgb, ws_split_names[s], AT_REMOVEDIR); /* unless something else is there */
+    }
+    if (rgb >= 0) close(rgb);
+    return rc;
+}
+
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st) {
     if (check_options(opt, st)) return st->code;
     if (strlen(dir) > 4000) return ws_fail(st, WS_EUSAGE, "%s: path too long", dir);
@@ -692,11 +772,14 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
     int rc = c2w ? WS_OK : st->code;
+    snprintf(path, sizeof path, "%s/" SCENE_MARK, dir);
+    if (!rc && !(rc = clear_old_scene(dir, st)) && !(rc = ws_mkdir(dir, st)))
+        rc = write_text_file(path, "a scene written by `wiresketch scene`\n", st);
     snprintf(path, sizeof path, "%s/rgb", dir);
-    if (!rc && !(rc = ws_mkdir(dir, st))) rc = ws_mkdir(path, st);
+    if (!rc) rc = ws_mkdir_inside(path, st);
     for (int s = 0; s < WS_NSPLITS && !rc; s++) {
         snprintf(path, sizeof path, "%s/rgb/%s", dir, ws_split_names[s]);
-        if (opt->views[s]) rc = ws_mkdir(path, st);
+        if (opt->views[s]) rc = ws_mkdir_inside(path, st);
     }
     if (!rc) {
         place_cameras(center, opt, c2w);
