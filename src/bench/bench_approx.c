@@ -399,7 +399,7 @@ static int f16_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, i
 static int bf16_rows(const ws_bench_approx_input *in, ws_bench_approx_row *rows, int max, int *n,
                      ws_status *st) {
     ws_bench_approx_row *row[2] = {new_row(rows, max, n, "bf16", "fp32 GEMMs", "clip", st), NULL};
-    if (!row[0] || !(row[1] = new_row(rows, max, n, "aug_seed", "the same step", "step", st))) return st->code;
+    if (!row[0] || !(row[1] = new_row(rows, max, n, "aug_seed", "the same step", "clip", st))) return st->code;
     snprintf(row[0]->setting, sizeof row[0]->setting, "bf16 GEMMs");
     snprintf(row[1]->setting, sizeof row[1]->setting, "other augmentations");
     ws_objective *s[2] = {NULL, NULL};

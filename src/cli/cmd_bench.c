@@ -49,8 +49,9 @@ int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st) {
 
 int ws_cli_bench_model_of(ws_cli_bench *ctx, int precision, const clip_model **m, ws_status *st) {
     if (precision == CLIP_FP32) {
+        if (ws_cli_bench_model(ctx, st)) return st->code;
         *m = ctx->model;
-        return ws_cli_bench_model(ctx, st);
+        return WS_OK;
     }
     if (!ctx->model_bf16 && (make_model(ctx, &ctx->model_bf16, st) ||
                              clip_model_set_precision(ctx->model_bf16, CLIP_BF16, st)))
