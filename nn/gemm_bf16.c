@@ -40,11 +40,14 @@ int nn_bf16_matrix_pack(nn_bf16_matrix *p, const float *b, int k, int n, int tra
     for (int v0 = 0; v0 < nv; v0 += PANEL_VECS) {
         int pv = nv - v0 < PANEL_VECS ? nv - v0 : PANEL_VECS;
         uint16_t *panel = p->data + (size_t)v0 * LANES * 2 * kp;
-        for (int i = 0; i < 2 * kp; i++)
-            for (int c = 0; c < pv * LANES; c++) {
-                int j = v0 * LANES + c;
+        /* the inner loop runs along b's rows (i with trans_b, else c), so
+         * that b is read in order; the panel (under 1 MB) takes the jumps */
+        int rows = 2 * kp, cols = pv * LANES;
+        for (int o = 0; o < (trans_b ? cols : rows); o++)
+            for (int q = 0; q < (trans_b ? rows : cols); q++) {
+                int i = trans_b ? q : o, c = trans_b ? o : q, j = v0 * LANES + c;
                 float x = i < k && j < n ? (trans_b ? b[(size_t)j * k + i] : b[(size_t)i * n + j]) : 0.0f;
-                panel[((size_t)(i / 2) * pv * LANES + c) * 2 + (i & 1)] = to_bf16(x);
+                panel[((size_t)(i / 2) * cols + c) * 2 + (i & 1)] = to_bf16(x);
             }
     }
     return WS_OK;
