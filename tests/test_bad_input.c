@@ -760,6 +760,10 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "--overlap: 1 is not in [0, 1)"), "--overlap 1");
     rc = run("fit %s/scene --out %s " FIT " --clip-geometric maps", tmp, out);
     CHECK(ANSWER(2, rc, "--clip-geometric: 'maps' is not blocks or attention"), "--clip-geometric maps");
+    rc = run("fit %s/scene --out %s " FIT " --precision fp16", tmp, out);
+    CHECK(ANSWER(2, rc, "--precision: 'fp16' is not fp32, bf16 or auto"), "fit --precision fp16");
+    rc = run("bench clip --precision BF16");
+    CHECK(ANSWER(2, rc, "--precision: 'BF16' is not fp32, bf16 or auto"), "bench --precision BF16");
     rc = run("fit %s/scene --out %s " FIT " --hidden-lines hidden", tmp, out);
     CHECK(ANSWER(2, rc, "--hidden-lines: 'hidden' is not hull or none"), "fit --hidden-lines hidden");
     rc = run("rank %s/scene --size 32 --hidden-lines Hull", tmp);

@@ -19,10 +19,12 @@ typedef struct {
     const char *weights_f32; /* the same random weights as f32 and f16 files: */
     const char *weights_f16; /*   the f16 row and the memory part (skipped if absent) */
     const char *exe;         /* this program, for the memory part's child fits */
+    int precision;           /* clip_precision of the step part and the clip part's second row */
     /* inputs, made when a part first needs them */
     ws_scene scene;
     int have_scene;
-    clip_model *model;
+    clip_model *model;       /* fp32 */
+    clip_model *model_bf16;  /* the same weights with bf16 GEMMs (clip.h), made when a part needs it */
     ws_curves sketch;
 } ws_cli_bench;
 
@@ -30,6 +32,8 @@ typedef struct {
  * Gaussians), made on first use. */
 int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st);
 int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st);
+/* The model of --precision: ctx->model, or ctx->model_bf16 made on first use. */
+int ws_cli_bench_model_of(ws_cli_bench *ctx, int precision, const clip_model **m, ws_status *st);
 int ws_cli_bench_sketch(ws_cli_bench *ctx, ws_status *st);
 
 int ws_cli_bench_clip(ws_cli_bench *ctx, cJSON *out, ws_status *st);

@@ -2,6 +2,18 @@
 #include <string.h>
 #include <unistd.h>
 #include "cli/cli_loss.h"
+#include "nn/clip.h"
+#include "nn/gemm_bf16.h"
+
+int ws_cli_choose_precision(const char *name, int *precision, ws_status *st) {
+    if (!strcmp(name, "fp32") || !strcmp(name, "bf16"))
+        *precision = !strcmp(name, "bf16") ? CLIP_BF16 : CLIP_FP32;
+    else if (!strcmp(name, "auto"))
+        *precision = nn_bf16_available() ? CLIP_BF16 : CLIP_FP32;
+    else
+        return ws_fail(st, WS_EUSAGE, "--precision: '%s' is not fp32, bf16 or auto", name);
+    return WS_OK;
+}
 
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
                        const char *geometric, const char *hidden, ws_loss_options *lo, ws_status *st) {

@@ -23,6 +23,15 @@
     "hidden-line removal of the stroke images: hull (drawn only where the visual hull does not hide them) " \
     "or none [hull with --loss edges, none otherwise]"
 
+/* --precision's help, the same in every command that takes it. */
+#define WS_CLI_PRECISION_HELP                                                                        \
+    "CLIP's weight GEMMs: fp32, bf16 (CPUs with AVX512_BF16; gradient error below the augmentations' " \
+    "own noise, docs/RESULTS.md) or auto (bf16 where the CPU has it) [auto]"
+
+/* Sets *precision (a clip_precision) for --precision NAME: fp32, bf16, or
+ * auto: bf16 where the CPU has AVX512_BF16, else fp32. */
+int ws_cli_choose_precision(const char *name, int *precision, ws_status *st);
+
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
                        const char *geometric, const char *hidden, ws_loss_options *lo, ws_status *st);
 

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "cli/args.h"
 #include "cli/cli_bench.h"
+#include "cli/cli_loss.h"
 #include "cli/commands.h"
 #include "base/runtime.h"
 
@@ -46,11 +47,27 @@ int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st) {
     return WS_OK;
 }
 
-int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st) {
-    if (ctx->model) return WS_OK;
+/* The bench's weights: the file of --weights, or a random ViT-B/32. */
+static int make_model(const ws_cli_bench *ctx, clip_model **m, ws_status *st) {
     static const wf_arch vit_b32 = {768, 12, 12, 32, 224, 512};
-    return ctx->weights ? clip_model_load(&ctx->model, ctx->weights, st)
-                        : clip_model_random(&ctx->model, &vit_b32, 1, st);
+    return ctx->weights ? clip_model_load(m, ctx->weights, st) : clip_model_random(m, &vit_b32, 1, st);
+}
+
+int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st) {
+    return ctx->model ? WS_OK : make_model(ctx, &ctx->model, st);
+}
+
+int ws_cli_bench_model_of(ws_cli_bench *ctx, int precision, const clip_model **m, ws_status *st) {
+    if (precision == CLIP_FP32) {
+        if (ws_cli_bench_model(ctx, st)) return st->code;
+        *m = ctx->model;
+        return WS_OK;
+    }
+    if (!ctx->model_bf16 && (make_model(ctx, &ctx->model_bf16, st) ||
+                             clip_model_set_precision(ctx->model_bf16, CLIP_BF16, st)))
+        return st->code;
+    *m = ctx->model_bf16;
+    return WS_OK;
 }
 
 int ws_cli_bench_sketch(ws_cli_bench *ctx, ws_status *st) {
@@ -93,6 +110,7 @@ static cJSON *machine(void) {
 static void free_ctx(ws_cli_bench *ctx) {
     if (ctx->have_scene) ws_scene_free(&ctx->scene);
     clip_model_free(ctx->model);
+    clip_model_free(ctx->model_bf16);
     ws_curves_free(&ctx->sketch);
 }
 
@@ -106,6 +124,7 @@ int cmd_bench(int argc, char **argv) {
     ctx.weights_f32 = "weights/random-f32.bin";
     ctx.weights_f16 = "weights/random-f16.bin";
     ctx.exe = "/proc/self/exe";
+    const char *precision = "auto";
     const ws_arg args[] = {
         {"--json", WS_ARG_FLAG, &ctx.json, 0, "one JSON object instead of tables"},
         {"--threads", WS_ARG_INT, &ctx.threads, 0, "threads, 0 = one per core [0]"},
@@ -117,6 +136,9 @@ int cmd_bench(int argc, char **argv) {
          "random weights as f32 (tools/make_random_weights.py) [weights/random-f32.bin]"},
         {"--weights-f16", WS_ARG_STRING, &ctx.weights_f16, 0, "the same as f16 [weights/random-f16.bin]"},
         {"--aug-bank", WS_ARG_INT, &ctx.aug_bank, 0, "approx: transforms per view of the bank row [8]"},
+        {"--precision", WS_ARG_STRING, &precision, 0,
+         "CLIP's weight GEMMs in the step part and clip's second row: fp32, bf16 or auto (bf16 where the CPU "
+         "has AVX512_BF16) [auto]"},
     };
     const ws_command_spec spec = {
         "bench [clip|splat|step|approx|memory] [options]",
@@ -144,7 +166,8 @@ int cmd_bench(int argc, char **argv) {
                                 "--aug-bank at least 4");
         return ws_cli_fail(&st);
     }
-    if (ws_runtime_init(ctx.threads, &st)) return ws_cli_fail(&st);
+    if (ws_cli_choose_precision(precision, &ctx.precision, &st) || ws_runtime_init(ctx.threads, &st))
+        return ws_cli_fail(&st);
     cJSON *out = cJSON_CreateObject(), *m = machine();
     /* the header below reads these two fields back: without them there is no result to fill */
     if (!out || !cJSON_GetObjectItem(m, "cpu") || !cJSON_GetObjectItem(m, "load_average") ||

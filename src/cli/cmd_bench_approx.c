@@ -20,8 +20,10 @@ static void error_text(double e, char text[16]) {
 int ws_cli_bench_approx(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     if (ws_cli_bench_scene(ctx, st) || ws_cli_bench_model(ctx, st) || ws_cli_bench_sketch(ctx, st)) return st->code;
     int pair = access(ctx->weights_f32, R_OK) == 0 && access(ctx->weights_f16, R_OK) == 0;
+    const clip_model *mb = NULL;
+    if (ctx->precision == CLIP_BF16 && ws_cli_bench_model_of(ctx, CLIP_BF16, &mb, st)) return st->code;
     ws_bench_approx_input in = {&ctx->scene, ctx->model, pair ? ctx->weights_f32 : NULL,
-                                pair ? ctx->weights_f16 : NULL, &ctx->sketch, ctx->rounds, ctx->aug_bank};
+                                pair ? ctx->weights_f16 : NULL, &ctx->sketch, ctx->rounds, ctx->aug_bank, mb};
     ws_bench_approx_row rows[MAX_ROWS];
     int n;
     if (ws_bench_approx(&in, rows, MAX_ROWS, &n, st)) return st->code;

@@ -111,6 +111,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
     opt->epochs = opt->inner_steps = opt->eval_every = -1;
     const char *loss_name = "clip", *background = "black", *geometric = "blocks", *hidden = NULL;
+    const char *precision = "auto";
     double edges_weight = 1.0;
     int seed = 0;
     ws_arg_list layers = {0};
@@ -143,6 +144,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
+        {"--precision", WS_ARG_STRING, &precision, 0, WS_CLI_PRECISION_HELP},
         {"--clip-batch", WS_ARG_INT, &opt->loss.pass_items, 0,
          "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
         {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
@@ -178,6 +180,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     if (ws_cli_check_size(opt->size, st) ||
         ws_cli_background(background, opt->background, &opt->background_auto, st) ||
         ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &opt->loss, st) ||
+        ws_cli_choose_precision(precision, &opt->loss.precision, st) ||
         (loss_defaults(opt, &original), ws_fit_options_check(opt, st)))
         return st->code;
     if (settings) {

@@ -136,6 +136,7 @@ static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_s
     } else {
         if (clip_model_load(&c->model, opt->weights_path, st)) return st->code;
         c->owns_model = 1;
+        if (clip_model_set_precision(c->model, (clip_precision)opt->precision, st)) return st->code;
     }
     const wf_arch *arch = clip_model_arch(c->model);
     c->res = arch->resolution;

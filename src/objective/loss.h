@@ -81,6 +81,8 @@ typedef struct {
     int pass_items;            /* G: stroke images per CLIP pass, 1..1+A (0: 1 + A) */
     uint64_t aug_seed;         /* derives the banked transforms */
     const struct clip_model *model; /* borrowed; NULL: load weights_path */
+    int precision;             /* clip_precision (nn/clip.h) of the model loaded from weights_path:
+                                  CLIP_FP32 (the default) or CLIP_BF16; a borrowed model keeps its own */
     struct ws_view_targets *targets; /* the scene's silhouettes and line targets (view_targets.h),
                                         borrowed (a fit shares its own, made for the same scene);
                                         NULL: the loss makes its own */
