@@ -1,4 +1,5 @@
 /* cli_loss.c: the --loss choice (see cli_loss.h). */
+#include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 #include "cli/cli_loss.h"
@@ -39,4 +40,16 @@ int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list 
                        "or run without CLIP: --loss edges",
                        lo->weights_path, lo->weights_path);
     return WS_OK;
+}
+
+const char *ws_cli_auto_loss(const char *name, const char *weights_path, int announce) {
+    if (strcmp(name, "auto") != 0) return name;
+    int weights = access(weights_path, R_OK) == 0;
+    const char *chosen = weights ? WS_CLI_LOSS_AUTO : "edges";
+    if (announce)
+        fprintf(stderr, weights ? "wiresketch: --loss auto: %s (the CLIP weight file %s exists)\n"
+                                : "wiresketch: --loss auto: %s (no CLIP weight file at %s; weights/README.md "
+                                  "says how to make one for CLIP)\n",
+                chosen, weights_path);
+    return chosen;
 }

@@ -14,6 +14,20 @@
  * otherwise (CLIP's sketch is see-through, SPEC sections 3 and 6). Then
  * checks that a CLIP weight file exists when a CLIP term is on, with a
  * message that says how to get one and how to run without. */
+/* --loss auto, every command's default: clip+edges when the CLIP weight
+ * file exists (the CLIP terms with the edge term, which ranks the ground
+ * truth first at every thickness on the three solids, docs/RESULTS.md
+ * "Rankings"; the demo's CLIP fit), edges (weight-free) when it does not. */
+#define WS_CLI_LOSS_AUTO "clip+edges"
+#define WS_CLI_LOSS_HELP(others) \
+    "auto, " others " [auto: " WS_CLI_LOSS_AUTO " when the CLIP weight file exists, else edges]"
+
+/* The loss `name` stands for: name itself, or for "auto" the choice above,
+ * which it then announces on stderr as the command's first line
+ * ("wiresketch: --loss auto: edges (no CLIP weight file at W)") when
+ * announce is set. */
+const char *ws_cli_auto_loss(const char *name, const char *weights_path, int announce);
+
 /* --clip-geometric's help, the same in every command that takes it. */
 #define WS_CLI_GEOMETRIC_HELP \
     "what CLIP's geometric term compares: blocks (outputs h_l) or attention (probabilities P_l) [blocks]"

@@ -156,7 +156,7 @@ int cmd_eval(int argc, char **argv) {
         {"--edge-maps", WS_ARG_STRING, &edge_maps, 0,
          "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
         {"--loss", WS_ARG_STRING, &loss_name, 0,
-         "auto, none, clip, edges, clip+edges or l2 [auto: clip when the CLIP weight file exists, else none]"},
+         WS_CLI_LOSS_HELP("none, clip, edges, clip+edges or l2")},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
@@ -180,7 +180,7 @@ int cmd_eval(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
         return ws_cli_fail(&st);
     }
-    if (!strcmp(loss_name, "auto")) loss_name = access(lo.weights_path, R_OK) == 0 ? "clip" : "none";
+    loss_name = ws_cli_auto_loss(loss_name, lo.weights_path, 1);
     int with_loss = strcmp(loss_name, "none") != 0;
     ws_scene_options sopt;
     ws_scene_options_default(&sopt);
@@ -196,9 +196,7 @@ int cmd_eval(int argc, char **argv) {
     if (!gt_curves) gt_curves = scene_curves[0] ? scene_curves : NULL;
     if (!with_loss && !gt_points && !gt_curves) {
         ws_fail(&st, WS_EUSAGE,
-                "nothing to evaluate: no loss (no CLIP weight file at %s; choose one with --loss) "
-                "and no ground truth (give --gt or --gt-curves)",
-                lo.weights_path);
+                "nothing to evaluate: --loss none and no ground truth (give --gt or --gt-curves)");
         return ws_cli_fail(&st);
     }
     if (per_curve && !(gt_points && *gt_points)) {
