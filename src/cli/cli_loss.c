@@ -42,14 +42,17 @@ int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list 
     return WS_OK;
 }
 
-const char *ws_cli_auto_loss(const char *name, const char *weights_path, int announce) {
+const char *ws_cli_auto_loss(const char *name, const char *weights_path) {
     if (strcmp(name, "auto") != 0) return name;
-    int weights = access(weights_path, R_OK) == 0;
-    const char *chosen = weights ? WS_CLI_LOSS_AUTO : "edges";
-    if (announce)
-        fprintf(stderr, weights ? "wiresketch: --loss auto: %s (the CLIP weight file %s exists)\n"
-                                : "wiresketch: --loss auto: %s (no CLIP weight file at %s; weights/README.md "
-                                  "says how to make one for CLIP)\n",
-                chosen, weights_path);
-    return chosen;
+    return access(weights_path, R_OK) == 0 ? WS_CLI_LOSS_AUTO : "edges";
+}
+
+void ws_cli_announce_loss(const char *name, const char *weights_path) {
+    if (strcmp(name, "auto") != 0) return;
+    if (access(weights_path, R_OK) == 0)
+        fprintf(stderr, "wiresketch: --loss auto: %s (the CLIP weight file %s exists)\n", WS_CLI_LOSS_AUTO,
+                weights_path);
+    else
+        fprintf(stderr, "wiresketch: --loss auto: edges (no CLIP weight file at %s; weights/README.md says how "
+                        "to make one for CLIP)\n", weights_path);
 }

@@ -22,11 +22,12 @@
 #define WS_CLI_LOSS_HELP(others) \
     "auto, " others " [auto: " WS_CLI_LOSS_AUTO " when the CLIP weight file exists, else edges]"
 
-/* The loss `name` stands for: name itself, or for "auto" the choice above,
- * which it then announces on stderr as the command's first line
- * ("wiresketch: --loss auto: edges (no CLIP weight file at W)") when
- * announce is set. */
-const char *ws_cli_auto_loss(const char *name, const char *weights_path, int announce);
+/* The loss `name` stands for: name itself, or for "auto" the choice above. */
+const char *ws_cli_auto_loss(const char *name, const char *weights_path);
+/* When `name` (as given) is "auto": says which loss it chose and why, on
+ * stderr, as the command's first line once its arguments are checked
+ * ("wiresketch: --loss auto: edges (no CLIP weight file at W; ...)"). */
+void ws_cli_announce_loss(const char *name, const char *weights_path);
 
 /* --clip-geometric's help, the same in every command that takes it. */
 #define WS_CLI_GEOMETRIC_HELP \

@@ -180,7 +180,8 @@ int cmd_eval(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
         return ws_cli_fail(&st);
     }
-    loss_name = ws_cli_auto_loss(loss_name, lo.weights_path, 1);
+    const char *given_loss = loss_name;
+    loss_name = ws_cli_auto_loss(loss_name, lo.weights_path);
     int with_loss = strcmp(loss_name, "none") != 0;
     ws_scene_options sopt;
     ws_scene_options_default(&sopt);
@@ -204,6 +205,7 @@ int cmd_eval(int argc, char **argv) {
         return ws_cli_fail(&st);
     }
     if (ws_runtime_init(threads, &st)) return ws_cli_fail(&st);
+    ws_cli_announce_loss(given_loss, lo.weights_path);
     if (evaluate_sketch(pos[0], curves_path, split_name, &sopt, loss_name, with_loss ? &lo : NULL,
                         &so, gt_points, gt_curves, per_curve, &st))
         return ws_cli_fail(&st);

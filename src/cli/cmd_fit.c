@@ -13,7 +13,6 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "cli/run_record.h"
-#include "base/outfile.h"
 #include "fit/fit.h"
 #include "base/distributed.h"
 #include "base/runtime.h"
@@ -64,6 +63,7 @@ typedef struct {
     char text[MAX_SETTINGS][2][512];
     ws_arg_kind kind[MAX_SETTINGS];
     const char *loss;          /* the loss in effect (--loss auto's choice) */
+    const char *loss_given;    /* --loss as given ("auto") */
     const char *config;        /* --config FILE, or NULL */
     int overwrite;             /* --overwrite */
 } fit_settings;
@@ -188,7 +188,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
     opt->seed = (uint64_t)(unsigned)seed;
-    loss_name = ws_cli_auto_loss(loss_name, opt->loss.weights_path, settings != NULL);
+    const char *loss_given = loss_name;
+    loss_name = ws_cli_auto_loss(loss_name, opt->loss.weights_path);
     if (ws_cli_check_size(opt->size, st) ||
         ws_cli_background(background, opt->background, &opt->background_auto, st) ||
         ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &opt->loss, st) ||
@@ -200,6 +201,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         hidden = ws_hidden_mode_names[opt->loss.hidden_lines];
         memcpy(layers.v, opt->loss.layer_weights, sizeof(double) * layers.n);
         settings->loss = loss_name;
+        settings->loss_given = loss_given;
         fill_settings(args, (int)(sizeof args / sizeof args[0]), settings);
         opt->settings = settings->items;
         opt->n_settings = settings->n;
@@ -303,7 +305,8 @@ static int config_arguments(const char *file, int argc, char **argv, int *run_ar
     return WS_OK;
 }
 
-/* Rank 0: DIR/config.json, the record of this run (cli/run_record.h). */
+/* Rank 0: DIR/config.json, the record of this run (cli/run_record.h), in
+ * the output directory the fit made. */
 static int write_record(const ws_fit_options *opt, const fit_settings *settings, int argc, char **argv,
                         ws_status *st) {
     if (ws_dist_rank() > 0) return WS_OK;
@@ -312,8 +315,7 @@ static int write_record(const ws_fit_options *opt, const fit_settings *settings,
     line[0] = "wiresketch";
     line[1] = "fit";
     for (int i = 0; i < argc; i++) line[i + 2] = argv[i];
-    int rc = ws_mkdir(opt->out_dir, st) ||
-             ws_run_record_write(opt->out_dir, opt->scene_dir, argc + 2, line, settings->items, settings->kind,
+    int rc = ws_run_record_write(opt->out_dir, opt->scene_dir, argc + 2, line, settings->items, settings->kind,
                                  settings->n, st);
     free(line);
     return rc ? st->code : WS_OK;
@@ -362,12 +364,14 @@ static int fit_command(int argc, char **argv) {
     if (!rc && !dir && !overwrite && ws_dist_rank() == 0) rc = ws_run_record_check_free(opt.out_dir, &st);
     if (!rc) rc = ws_runtime_init(opt.threads, &st);
     rc = ws_dist_agree(rc, &st);
-    if (!rc) rc = ws_dist_agree(write_record(&opt, &settings, argc, argv, &st), &st);
     if (ws_dist_size() > 1) install_end_handler(opt.out_dir);
+    if (!rc && ws_dist_rank() == 0) ws_cli_announce_loss(settings.loss_given, opt.loss.weights_path);
     if (!rc) {
         rc = ws_fit(&opt, (const char *const *)(final_argv ? final_argv : run_argv), final_argv ? run_argc + 2 : run_argc,
                     dir != NULL, &interrupted, &st);
     }
+    /* beside the outputs, which exist now (also those of an interrupted run) */
+    if (!rc) rc = write_record(&opt, &settings, argc, argv, &st);
     free(final_argv);
     if ((dir || from_record) && run_argv != argv) free(run_argv);
     if (from_record)

@@ -80,9 +80,10 @@ int cmd_grad(int argc, char **argv) {
     if (help) return 0;
     lo.global_weight = 0; /* it compares augmented items only */
     if (ws_cli_require(curves_path, "--curves", &st) ||
-        ws_cli_choose_loss(ws_cli_auto_loss(loss_name, lo.weights_path, 1), edges_weight, &layers, geometric, hidden, &lo, &st) ||
+        ws_cli_choose_loss(ws_cli_auto_loss(loss_name, lo.weights_path), edges_weight, &layers, geometric, hidden, &lo, &st) ||
         ws_runtime_init(threads, &st))
         return ws_cli_fail(&st);
+    ws_cli_announce_loss(loss_name, lo.weights_path);
     ws_curves curves = {0};
     ws_scene scene = {0};
     int split;

@@ -44,7 +44,8 @@ int cmd_rank(int argc, char **argv) {
     if (split < 0) ws_fail(&st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     for (int k = 0; k < thick.n && !st.code; k++)
         if (!(thick.v[k] > 0)) ws_fail(&st, WS_EUSAGE, "--thickness: %g is not positive", thick.v[k]);
-    loss_name = ws_cli_auto_loss(loss_name, lo.weights_path, 1);
+    const char *given_loss = loss_name;
+    loss_name = ws_cli_auto_loss(loss_name, lo.weights_path);
     if (st.code || ws_cli_check_size(size, &st) ||
         ws_cli_choose_loss(loss_name, 1.0, NULL, geometric, hidden_name, &lo, &st) ||
         ws_runtime_init(threads, &st))
@@ -66,6 +67,7 @@ int cmd_rank(int argc, char **argv) {
     if (!rc) rc = ws_objective_create(&obj, &scene, &lo, &splat, ws_rank_curves(&gt), &st);
     for (int k = 0; k < thick.n && !rc; k++) rc = ws_rank_losses(obj, split, &gt, thick.v[k], 0, table[k], &st);
     if (!rc) {
+        ws_cli_announce_loss(given_loss, lo.weights_path);
         printf("| %s loss, %s (%d views, %d px) |", loss_name, pos[0], scene.split[split].n, size);
         for (int k = 0; k < thick.n; k++) printf(" %g |", thick.v[k]);
         printf("\n| --- |");
