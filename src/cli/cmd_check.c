@@ -90,7 +90,7 @@ int cmd_check(int argc, char **argv) {
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], gt_points, gt_curves);
     ws_gt_coverage cov;
-    if (gt_points[0] && ws_cli_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
+    if (gt_points[0] && ws_scene_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
         code = ws_cli_fail(&st);
     } else if (gt_points[0]) {
         printf("\n");

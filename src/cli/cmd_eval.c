@@ -88,7 +88,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         }
     }
     if (!rc && coverage) rc = ws_view_targets_create(&targets, seen, st);
-    if (!rc && coverage) rc = ws_cli_gt_coverage(seen, targets, gt_points, gt_curves, &cov, st);
+    if (!rc && coverage) rc = ws_scene_gt_coverage(seen, targets, gt_points, gt_curves, &cov, st);
     if (!rc) {
         printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
                "\"loss_kind\": \"%s\"",
@@ -119,7 +119,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         }
         if (coverage) {
             printf(", ");
-            ws_cli_gt_coverage_json(stdout, &cov);
+            ws_gt_coverage_json(stdout, &cov);
         }
         printf("}\n");
         if (coverage && cov.flagged) fprintf(stderr, "wiresketch: warning: %s\n", cov.line);

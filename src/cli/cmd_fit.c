@@ -76,7 +76,7 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
         char(*text)[512] = out->text[out->n];
         snprintf(text[0], sizeof text[0], "%s", args[k].name + 2);
         ws_arg_value(&args[k], text[1], sizeof text[1]);
-        out->items[out->n++] = (ws_report_item){text[0], text[1]};
+        out->items[out->n++] = (ws_report_item){.key = text[0], .value = text[1]};
     }
 }
 

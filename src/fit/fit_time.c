@@ -26,6 +26,24 @@ static unsigned levels_at(long step, long schedule) {
     return set;
 }
 
+int ws_fit_time_boundaries(long total, long schedule, int lines, long first[WS_FIT_TIME_PHASES + 1],
+                           int levels[WS_FIT_TIME_PHASES]) {
+    if (schedule < 1) schedule = 1;
+    int n = 1;
+    first[0] = 0;
+    /* the levels change at a handful of progress values: a scan of the
+     * steps finds them (steps of equal levels are contiguous) */
+    for (long s = 1; lines && s < total && n < WS_FIT_TIME_PHASES; s++)
+        if (levels_at(s, schedule) != levels_at(s - 1, schedule)) first[n++] = s;
+    first[n] = total;
+    for (int k = 0; k < n; k++) {
+        unsigned set = lines ? levels_at(first[k], schedule) : (1u << WS_LINES_LEVELS) - 1;
+        levels[k] = 0;
+        for (int b = 0; b < WS_LINES_LEVELS; b++) levels[k] += (set >> b) & 1;
+    }
+    return n;
+}
+
 int ws_fit_time_phases(ws_fit_time *t, long total, long schedule, int lines, ws_status *st) {
     memset(t, 0, sizeof *t);
     if (!(t->batch_steps = ws_calloc(total > 0 ? (size_t)total : 1, sizeof(float), "step times", st)))
@@ -33,12 +51,8 @@ int ws_fit_time_phases(ws_fit_time *t, long total, long schedule, int lines, ws_
     t->total = total;
     t->schedule = schedule > 0 ? schedule : 1;
     t->wall_per_cpu = 1;
-    t->n = 1;
-    /* the levels change at a handful of progress values: a scan of the
-     * steps finds them (steps of equal levels are contiguous) */
-    for (long s = 1; lines && s < total && t->n < WS_FIT_TIME_PHASES; s++)
-        if (levels_at(s, t->schedule) != levels_at(s - 1, t->schedule)) t->first[t->n++] = s;
-    t->first[t->n] = total;
+    int levels[WS_FIT_TIME_PHASES];
+    t->n = ws_fit_time_boundaries(total, schedule, lines, t->first, levels);
     return WS_OK;
 }
 

@@ -31,7 +31,7 @@
 
 typedef struct {
     int n;                              /* phases */
-    long first[WS_FIT_TIME_PHASES];     /* phase k: steps first[k] .. first[k + 1] - 1 */
+    long first[WS_FIT_TIME_PHASES + 1]; /* phase k: steps first[k] .. first[k + 1] - 1 */
     long total;                         /* steps planned (first[n]) */
     long schedule;                      /* the epochs' steps: progress = step / schedule */
     double model[WS_FIT_TIME_PHASES];   /* CPU seconds per step, timed before the first step */
@@ -49,6 +49,10 @@ typedef struct {
 /* The phases of steps 0 .. total - 1 of a schedule of `schedule` steps,
  * with the line loss's levels (lines) or without. */
 int ws_fit_time_phases(ws_fit_time *t, long total, long schedule, int lines, ws_status *st);
+/* The same phases alone: their first steps (first[n] = total) and the
+ * line loss's levels in use in each (all of them without it); returns n. */
+int ws_fit_time_boundaries(long total, long schedule, int lines, long first[WS_FIT_TIME_PHASES + 1],
+                           int levels[WS_FIT_TIME_PHASES]);
 void ws_fit_time_free(ws_fit_time *t);
 
 /* Times each phase's training step of the curves c on the batches of
