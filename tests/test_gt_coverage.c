@@ -142,6 +142,11 @@ int main(void) {
     snprintf(want, sizeof want, "\n%s\n", c.line);
     CHECK(rc == 0 && strstr(out, want), "check of the cut copy: exit 0 (a fit is not refused), the line: %d %s", rc,
           out);
+    /* on a terminal (stdout and stderr the same), the line once */
+    rc = run(out, sizeof out, "python3 -c 'import pty, sys; pty.spawn(sys.argv[1:])' %s check %s", bin, cut);
+    int times = 0;
+    for (const char *at = strstr(out, c.line); at; at = strstr(at + 1, c.line)) times++;
+    CHECK(times == 1, "check on a terminal shows the line %d times: %s", times, out);
     rc = run(out, sizeof out, "%s check %s 2>&1 >/dev/null", bin, cut);
     snprintf(want, sizeof want, "wiresketch: warning: %s\n", c.line);
     CHECK(rc == 0 && !strcmp(out, want), "check's warning on stderr: %s", out);

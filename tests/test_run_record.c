@@ -95,6 +95,17 @@ static void test_help(void) {
     static char a[1 << 14], b[1 << 14];
     int ra = run_cmd(a, sizeof a, "%s help fit", bin), rb = run_cmd(b, sizeof b, "%s fit --help", bin);
     CHECK(ra == 0 && rb == 0 && !strcmp(a, b) && strstr(a, "--config"), "help fit is fit --help");
+    /* every text option's value named for what it is */
+    static const char *const commands[] = {"fit", "eval", "render", "grad", "export", "embed", "check", "rank",
+                                           "scene", "bench"};
+    for (size_t k = 0; k < sizeof commands / sizeof commands[0]; k++) {
+        ra = run_cmd(a, sizeof a, "%s help %s", bin, commands[k]);
+        CHECK(ra == 0 && !strstr(a, "VALUE") && !strstr(a, " TEXT "), "help %s names its values: %s", commands[k], a);
+    }
+    ra = run_cmd(a, sizeof a, "%s help fit", bin);
+    CHECK(strstr(a, "  --out DIR ") && strstr(a, "  --config FILE ") && strstr(a, "  --loss NAME ") &&
+              strstr(a, "  --init HOW|FILE "),
+          "fit --help: DIR, FILE, NAME");
     ra = run_cmd(a, sizeof a, "%s help nothing", bin);
     CHECK(ra == 2 && !strcmp(a, "wiresketch: nothing: unknown command (see wiresketch --help)\n"), "help nothing: %s", a);
 }

@@ -8,6 +8,8 @@
  * enter a fit (README "check"). */
 #include <math.h>
 #include <stdio.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "cli/args.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_view.h"
@@ -79,12 +81,17 @@ int cmd_check(int argc, char **argv) {
         ws_scene_free(&scene);
         return ws_cli_fail(&st);
     }
+    /* a line that is both the report's (stdout) and the failure's or the
+     * warning's (stderr) is shown once when both are the same terminal */
+    struct stat out_st, err_st;
+    int one_terminal = isatty(1) && isatty(2) && fstat(1, &out_st) == 0 && fstat(2, &err_st) == 0 &&
+                       out_st.st_rdev == err_st.st_rdev;
     print_table(&scene, &r);
     int code = r.consistent ? 0 : 1;
     if (r.consistent) {
         printf("consistent: every view agrees with the others\n");
     } else {
-        printf("%s\n", r.line);
+        if (!one_terminal) printf("%s\n", r.line);
         fprintf(stderr, "wiresketch: %s\n", r.line);
     }
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
@@ -96,7 +103,7 @@ int cmd_check(int argc, char **argv) {
         printf("\n");
         ws_cli_gt_coverage_table(stdout, &scene, &cov);
         if (cov.flagged) {
-            printf("%s\n", cov.line);
+            if (!one_terminal) printf("%s\n", cov.line);
             fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
         } else {
             printf("%s: the ground truth covers the silhouettes\n", gt_points);
