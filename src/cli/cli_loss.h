@@ -38,6 +38,10 @@ void ws_cli_announce_loss(const char *name, const char *weights_path);
     "hidden-line removal of the stroke images: hull (drawn only where the visual hull does not hide them) " \
     "or none [hull with --loss edges, none otherwise]"
 
+/* --hidden-lines TEXT: hull or none, else WS_EUSAGE "--hidden-lines:
+ * 'TEXT' is not hull or none". */
+int ws_cli_hidden_mode(const char *text, ws_hidden_mode *mode, ws_status *st);
+
 int ws_cli_choose_loss(const char *name, double edges_weight, const ws_arg_list *layers,
                        const char *geometric, const char *hidden, ws_loss_options *lo, ws_status *st);
 

@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "render/curves.h"
 #include "io/export.h"
+#include "cli/cli_loss.h"
 #include "objective/hidden_lines.h"
 
 /* The SVG of the sketch seen from view `view` of a split of the scene;
@@ -62,14 +63,12 @@ int cmd_export(int argc, char **argv) {
         return ws_cli_fail(&st);
     }
     if (svg && ws_cli_require(scene_dir, "--scene", &st)) return ws_cli_fail(&st);
-    if (strcmp(hidden, "hull") && strcmp(hidden, "none")) {
-        ws_fail(&st, WS_EUSAGE, "--hidden-lines: '%s' is not hull or none", hidden);
-        return ws_cli_fail(&st);
-    }
+    ws_hidden_mode mode;
+    if (ws_cli_hidden_mode(hidden, &mode, &st)) return ws_cli_fail(&st);
     ws_curves curves;
     if (ws_curves_load(pos[0], &curves, &st)) return ws_cli_fail(&st);
     if (!(obj && ws_export_obj(obj, &curves, &st)) && !(ply && ws_export_ply(ply, &curves, &st)))
-        if (svg) export_svg(svg, &curves, scene_dir, split_name, view, size, !strcmp(hidden, "hull"), background, &st);
+        if (svg) export_svg(svg, &curves, scene_dir, split_name, view, size, mode == WS_HIDDEN_HULL, background, &st);
     ws_curves_free(&curves);
     return st.code ? ws_cli_fail(&st) : 0;
 }

@@ -9,6 +9,7 @@
 #include "fit/fit_metrics.h"
 #include "fit/fit_outputs.h"
 #include "fit/fit_time.h"
+#include "objective/lines.h"
 #include "objective/scene_gt_coverage.h"
 #include "io/gif.h"
 #include "io/image.h"
@@ -183,7 +184,7 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
     char labels[WS_FIT_TIME_PHASES][48];
     const char *label_ptr[WS_FIT_TIME_PHASES];
     for (int k = 0; k < nphases; k++) {
-        snprintf(labels[k], sizeof labels[k], "%d of %d levels", levels[k], 4);
+        snprintf(labels[k], sizeof labels[k], "%d of %d levels", levels[k], WS_LINES_LEVELS);
         label_ptr[k] = labels[k];
     }
     /* the training cameras: centre and viewing direction (-z) */

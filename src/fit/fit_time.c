@@ -16,6 +16,12 @@ double ws_cpu_seconds(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The median of v[0..n) (n > 0), which it reorders. */
+static double median(double *v, size_t n) {
+    ws_sort_doubles(v, n);
+    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
 /* The line loss's levels in use at a step, as a bit set. */
 static unsigned levels_at(long step, long schedule) {
     double w[WS_LINES_LEVELS];
@@ -61,11 +67,6 @@ void ws_fit_time_free(ws_fit_time *t) {
     t->batch_steps = NULL;
 }
 
-/* The median of v[0..n) (n > 0), which it reorders. */
-static double median(double *v, size_t n) {
-    ws_sort_doubles(v, n);
-    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
-}
 
 static int phase_of(const ws_fit_time *t, long step) {
     int k = 0;
@@ -75,30 +76,40 @@ static int phase_of(const ws_fit_time *t, long step) {
 
 int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c, const int *order, int n_train,
                           int batch_size, const ws_rng *rng, double *grad, ws_status *st) {
-    double wall = 0, cpu = 0;
+    /* The first WS_FIT_TIME_BATCHES batches, each called once untimed
+     * first: a view's first call pays for what is then kept (its
+     * hidden-line map, caches), which no later step pays again. */
+    int nbatches = (n_train + batch_size - 1) / batch_size;
+    if (nbatches > WS_FIT_TIME_BATCHES) nbatches = WS_FIT_TIME_BATCHES;
+    if (ws_dist_size() > 1) nbatches = 1;
+    double wall = 0, cpu = 0, calls_cpu[WS_FIT_TIME_CALLS];
     for (int k = -1; k < t->n; k++) {
-        /* k = -1: the untimed first call (allocations, caches), in the last phase */
-        int phase = k < 0 ? t->n - 1 : k;
+        int phase = k < 0 ? t->n - 1 : k; /* k = -1: the untimed first calls, in the last phase */
         long mid = (t->first[phase] + t->first[phase + 1]) / 2;
         ws_objective_set_progress(obj, (double)mid / (double)t->schedule);
         double spent = 0;
         int calls = 0;
-        int most = k < 0 || ws_dist_size() > 1 ? 1 : 50;
-        while (calls < most && (calls == 0 || spent < WS_FIT_TIME_CALIBRATION)) {
+        int most = k < 0 ? nbatches : ws_dist_size() > 1 ? 1 : WS_FIT_TIME_CALLS;
+        while (calls < most && (k < 0 || calls == 0 || spent < WS_FIT_TIME_CALIBRATION)) {
             /* the batches in turn: views differ in what they cost */
-            int first = calls * batch_size % n_train;
+            int first = calls % nbatches * batch_size;
             int nviews = n_train - first < batch_size ? n_train - first : batch_size;
             ws_rng copy = *rng;
             double loss, w0 = ws_seconds(), c0 = ws_cpu_seconds();
             int rc = ws_objective_batch(obj, c, order + first, nviews, &copy, &loss, grad, st);
             if (rc && rc != WS_ENUMERIC) return rc;
             ws_status_clear(st); /* a non-finite loss costs what a finite one does */
-            spent += ws_cpu_seconds() - c0;
-            if (k >= 0) wall += ws_seconds() - w0;
+            double used = ws_cpu_seconds() - c0;
+            spent += used;
+            if (k >= 0) {
+                wall += ws_seconds() - w0;
+                calls_cpu[calls] = used;
+            }
             calls++;
         }
         if (k >= 0) {
-            t->model[k] = fmax(spent / calls, 1e-9);
+            /* the median: a call the machine's load interrupted is not the phase's cost */
+            t->model[k] = fmax(median(calls_cpu, (size_t)calls), 1e-9);
             cpu += spent;
         }
     }

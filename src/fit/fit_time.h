@@ -55,14 +55,18 @@ int ws_fit_time_boundaries(long total, long schedule, int lines, long first[WS_F
                            int levels[WS_FIT_TIME_PHASES]);
 void ws_fit_time_free(ws_fit_time *t);
 
-/* Times each phase's training step of the curves c on the batches of
- * order[0..n_train) in turn (batch_size views each): one untimed call,
- * then calls until WS_FIT_TIME_CALIBRATION CPU seconds per phase (at most
- * 50; on several MPI ranks, where each call is collective, exactly one on
- * every rank, whatever each measures). The rng is copied, grad a scratch
- * buffer: nothing of the fit's state changes, and each step sets the
- * objective's progress again. */
+/* Times each phase's training step of the curves c on the first
+ * WS_FIT_TIME_BATCHES batches of order[0..n_train) (batch_size views
+ * each), each called once untimed first (a view's first call pays for what
+ * is kept, such as its hidden-line map), then in turn until
+ * WS_FIT_TIME_CALIBRATION CPU seconds per phase (at most WS_FIT_TIME_CALLS
+ * calls; on several MPI ranks, where each call is collective, one batch
+ * and one call, whatever each rank measures); the phase's model is the
+ * median call. The rng is copied, grad a scratch buffer: nothing of the
+ * fit's state changes, and each step sets the objective's progress again. */
 #define WS_FIT_TIME_CALIBRATION 0.15
+#define WS_FIT_TIME_CALLS 50
+#define WS_FIT_TIME_BATCHES 4
 int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c, const int *order, int n_train,
                           int batch_size, const ws_rng *rng, double *grad, ws_status *st);
 
