@@ -257,52 +257,47 @@ static int fixed_on_resume(const char *arg, ws_status *st) {
     return WS_OK;
 }
 
-/* The arguments of a resumed run: those its checkpoint stored, then the
- * ones given now except --resume DIR, so that later ones override (e.g. a
- * larger --max-steps). The strings stay owned by saved/argv. */
-static int resume_arguments(const char *dir, int argc, char **argv, int *run_argc, char ***run_argv,
-                            int *nsaved, char ***saved, ws_status *st) {
-    char path[WS_PATH_MAX];
-    snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
-    if (access(path, F_OK) != 0) return ws_fail(st, WS_EINPUT, "%s: no checkpoint to resume from", path);
-    if (ws_checkpoint_load(path, NULL, nsaved, saved, st)) return st->code;
-    if (check_stored_arguments(path, *nsaved, *saved, st)) return st->code;
-    *run_argv = ws_calloc((size_t)(*nsaved + argc + 1), sizeof(char *), "arguments", st);
+/* The arguments of a run: the saved ones (nsaved of saved), then those
+ * given now but `skip` and its value, so that later ones override (e.g. a
+ * larger --max-steps); fixed: refuse those fixed_on_resume names. The
+ * strings stay owned by saved/argv. */
+static int append_given(int nsaved, char **saved, int argc, char **argv, const char *skip, int fixed,
+                        int *run_argc, char ***run_argv, ws_status *st) {
+    *run_argv = ws_calloc((size_t)(nsaved + argc + 1), sizeof(char *), "arguments", st);
     if (!*run_argv) return st->code;
     int n = 0;
-    for (int i = 0; i < *nsaved; i++) (*run_argv)[n++] = (*saved)[i];
+    for (int i = 0; i < nsaved; i++) (*run_argv)[n++] = saved[i];
     for (int i = 0; i < argc; i++) {
-        if (!strcmp(argv[i], "--resume")) {
+        if (ws_arg_same_name(argv[i], skip)) {
             i++;
             continue;
         }
-        if (fixed_on_resume(argv[i], st)) return st->code;
+        if (fixed && fixed_on_resume(argv[i], st)) return st->code;
         (*run_argv)[n++] = argv[i];
     }
     *run_argc = n;
     return WS_OK;
 }
 
+/* The arguments of a resumed run: those its checkpoint stored, then the
+ * ones given now except --resume DIR. */
+static int resume_arguments(const char *dir, int argc, char **argv, int *run_argc, char ***run_argv,
+                            int *nsaved, char ***saved, ws_status *st) {
+    char path[WS_PATH_MAX];
+    snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
+    if (access(path, F_OK) != 0) return ws_fail(st, WS_EINPUT, "%s: no checkpoint to resume from", path);
+    if (ws_checkpoint_load(path, NULL, nsaved, saved, st) || check_stored_arguments(path, *nsaved, *saved, st))
+        return st->code;
+    return append_given(*nsaved, *saved, argc, argv, "--resume", 1, run_argc, run_argv, st);
+}
+
 /* The arguments of a run of config.json FILE: those it records, then the
- * ones given now but --config FILE, which override. The strings stay owned
- * by saved/argv. */
+ * ones given now except --config FILE. */
 static int config_arguments(const char *file, int argc, char **argv, int *run_argc, char ***run_argv,
                             int *nsaved, char ***saved, ws_status *st) {
     if (ws_run_record_read(file, nsaved, saved, st) || check_stored_arguments(file, *nsaved, *saved, st))
         return st->code;
-    *run_argv = ws_calloc((size_t)(*nsaved + argc + 1), sizeof(char *), "arguments", st);
-    if (!*run_argv) return st->code;
-    int n = 0;
-    for (int i = 0; i < *nsaved; i++) (*run_argv)[n++] = (*saved)[i];
-    for (int i = 0; i < argc; i++) {
-        if (ws_arg_same_name(argv[i], "--config")) {
-            i++;
-            continue;
-        }
-        (*run_argv)[n++] = argv[i];
-    }
-    *run_argc = n;
-    return WS_OK;
+    return append_given(*nsaved, *saved, argc, argv, "--config", 0, run_argc, run_argv, st);
 }
 
 /* Rank 0: DIR/config.json, the record of this run (cli/run_record.h), in
