@@ -10,7 +10,8 @@
  * the machine's load leaves alone; the bound is on their ratio, the
  * remaining work in steps of the current phase. The same check with every
  * step costed alike (the former extrapolation of the current rate) must
- * fail it, or the scene shows nothing of the phases. */
+ * fail it, or the scene shows nothing of the phases. And the estimate
+ * before the first step, with its warning past an hour. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,6 +19,7 @@
 #include <unistd.h>
 #include "check.h"
 #include "cli_run.h"
+#include "fit/fit_time.h"
 
 #define PHASES 8
 static char bin[512], tmp[256];
@@ -81,7 +83,33 @@ static double worst_error(const phases *p, int flat, long *at) {
     return worst;
 }
 
+/* The estimate before the first step, in words, and past an hour the
+ * warning that names faster settings: a model of 2 phases of 0.5 s steps. */
+static void test_announce(void) {
+    ws_fit_time t;
+    ws_status st;
+    CHECK(ws_fit_time_phases(&t, 100000, 100000, 0, &st) == WS_OK, "phases: %s", st.msg);
+    t.model[0] = 0.5;
+    ws_fit_options opt;
+    ws_fit_options_default(&opt);
+    static char text[2048];
+    FILE *f = fmemopen(text, sizeof text, "w");
+    ws_fit_time_announce(&t, 99920, &opt, f); /* 80 steps: 40 s */
+    ws_fit_time_announce(&t, 0, &opt, f);     /* 100000 steps: about 14 h */
+    fclose(f);
+    char want[1024];
+    snprintf(want, sizeof want,
+             "fit: 80 steps, about 40 s (1 phase of the schedule timed before the first step)\n"
+             "fit: 100000 steps, about 14 h (1 phase of the schedule timed before the first step)\n"
+             "wiresketch: warning: about 14 h on this machine; faster: --epochs (now %d), --inner-steps (now %d) or "
+             "--max-steps N for fewer steps; --num-aug (now %d) for fewer images a step; --loss edges (no CLIP)\n",
+             opt.epochs, opt.inner_steps, opt.loss.num_aug);
+    CHECK(!strcmp(text, want), "the estimates: %s", text);
+    ws_fit_time_free(&t);
+}
+
 int main(void) {
+    test_announce();
     const char *build = getenv("BUILD");
     snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_time.%ld", (long)getpid());
