@@ -105,6 +105,17 @@ DESTDIR   ?=
 SHLIB     := libwiresketch.so.$(VERSION)
 ROOT      := $(DESTDIR)$(PREFIX)
 
+# The version and the commit the program is built from (base/version.c):
+# BUILD/build_id.txt holds them and is rewritten only when they change, so
+# that version.o alone rebuilds then ("unknown" outside a git checkout).
+BUILD_ID  := $(VERSION) $(shell [ -e .git ] && git describe --always --dirty 2>/dev/null || echo unknown)
+.PHONY: build-id
+$(BUILD)/build_id.txt: build-id
+	@mkdir -p $(dir $@)
+	@echo '$(BUILD_ID)' | cmp -s - $@ || echo '$(BUILD_ID)' > $@
+$(BUILD)/obj/src/base/version.o: $(BUILD)/build_id.txt
+$(BUILD)/obj/src/base/version.o: CFLAGS += -DWS_VERSION='"$(word 1,$(BUILD_ID))"' -DWS_COMMIT='"$(word 2,$(BUILD_ID))"'
+
 $(BUILD)/$(SHLIB): $(LIB_OBJ)
 	$(CC) -shared -Wl,-soname,libwiresketch.so.$(SOVERSION) $^ -o $@ $(LDLIBS)
 

@@ -348,7 +348,7 @@ static void test_weights(void) {
     snprintf(path, sizeof path, "%s/none.bin", tmp);
     char out[300];
     snprintf(out, sizeof out, "%s/out_weights", tmp);
-    int rc = run("fit %s/scene --out %s --size 32 --max-steps 2 --weights %s", tmp, out, path);
+    int rc = run("fit %s/scene --out %s --loss clip --size 32 --max-steps 2 --weights %s", tmp, out, path);
     CHECK(ANSWER(1, rc,
                  "%s: no CLIP weight file; convert OpenAI's ViT-B-32.pt once with `python3 "
                  "tools/convert_weights.py ViT-B-32.pt %s` (see weights/README.md), or run without "

@@ -604,7 +604,7 @@ int main(void) {
     /* ... but only warns where the focal estimate of consistent splits is
      * all that is wrong (it is biased on thin wire objects: docs/METHOD.md section 12) */
     snprintf(broken, sizeof broken, "%s/fov125", tmp);
-    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 224 --max-steps 1 --n-curves 3 --quiet",
+    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/fit --loss edges --size 224 --max-steps 1 --n-curves 3 --quiet --overwrite",
              bin, broken, tmp);
     CHECK(rc == 0 && strstr(out, "wiresketch: warning: ") && strstr(out, "about 0.7149 does") &&
               strstr(out, "(a focal estimate alone does not stop a fit)"),

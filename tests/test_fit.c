@@ -245,7 +245,7 @@ static void test_resume_after_sigint(void) {
 
 static void test_bad_input(void) {
     char args[1024], path[300];
-    snprintf(args, sizeof args, "fit %s/scene --out %s/d --size 64 --weights %s/none.bin", tmp, tmp, tmp);
+    snprintf(args, sizeof args, "fit %s/scene --out %s/d --loss clip --size 64 --weights %s/none.bin", tmp, tmp, tmp);
     CHECK(run(args) == 1 && stderr_has("none.bin: no CLIP weight file") && stderr_has("--loss edges"),
           "missing weights not explained");
     /* A stored position that other schedule options do not have is refused,

@@ -247,7 +247,7 @@ static void test_background(void) {
         fputs(edited, f);
         fclose(f);
     }
-    rc = run_cmd(out, sizeof out, "%s render %s/gt_curves.json --scene %s --split train --size 64 --cutoff 0.001 --out %s/m && "
+    rc = run_cmd(out, sizeof out, "%s render %s/gt_curves.json --scene %s --split train --size 64 --cutoff 0.001 --alpha --out %s/m && "
                  "cp %s/m/r_1.png %s/black.png", bin, dir, dir, tmp, tmp, dir);
     opt.background_auto = 0;
     opt.background[0] = 0.25f;

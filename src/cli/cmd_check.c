@@ -8,6 +8,8 @@
  * enter a fit (docs/METHOD.md section 12). */
 #include <math.h>
 #include <stdio.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "cli/args.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_view.h"
@@ -82,24 +84,29 @@ int cmd_check(int argc, char **argv) {
         ws_scene_free(&scene);
         return ws_cli_fail(&st);
     }
+    /* a line that is both the report's (stdout) and the failure's or the
+     * warning's (stderr) is shown once when both are the same terminal */
+    struct stat out_st, err_st;
+    int one_terminal = isatty(1) && isatty(2) && fstat(1, &out_st) == 0 && fstat(2, &err_st) == 0 &&
+                       out_st.st_rdev == err_st.st_rdev;
     print_table(&scene, &r);
     int code = r.consistent ? 0 : 1;
     if (r.consistent) {
         printf("consistent: every view agrees with the others\n");
     } else {
-        printf("%s\n", r.line);
+        if (!one_terminal) printf("%s\n", r.line);
         fprintf(stderr, "wiresketch: %s\n", r.line);
     }
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], gt_points, gt_curves);
     ws_gt_coverage cov;
-    if (gt_points[0] && ws_cli_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
+    if (gt_points[0] && ws_scene_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
         code = ws_cli_fail(&st);
     } else if (gt_points[0]) {
         printf("\n");
         ws_cli_gt_coverage_table(stdout, &scene, &cov);
         if (cov.flagged) {
-            printf("%s\n", cov.line);
+            if (!one_terminal) printf("%s\n", cov.line);
             fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
         } else {
             printf("%s: the ground truth covers the silhouettes\n", gt_points);

@@ -23,6 +23,7 @@
 #include "fit/init.h"
 #include "fit/respawn.h"
 #include "fit/fit_outputs.h"
+#include "fit/fit_time.h"
 #include "base/distributed.h"
 #include "base/outfile.h"
 #include "base/timing.h"
@@ -45,6 +46,7 @@ typedef struct {
     ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
                                * the respawn and hidden-line removal (empty when none of them is on) */
     double start;             /* ws_seconds() when this process began fitting */
+    ws_fit_time time;         /* the schedule's phases and what their steps cost (fit_time.h) */
 } fit_run;
 
 /* Rank 0 speaks for the job (one rank: always). */
@@ -151,11 +153,12 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     last_print = t;
     double rate = steps_this_run / fmax(t - rate_start, 1e-9);
     char left[32], spent[32];
-    clock_text(rate > 0 ? (total_steps(r) - r->s.global_step) / rate : 0, left);
+    clock_text(ws_fit_time_left(&r->time, r->s.global_step), left);
     clock_text(ws_fit_state_elapsed(&r->s, r->start), spent);
     if (final) {
         fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
                 tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
+        ws_fit_time_print(&r->time, stderr);
         return;
     }
     fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
@@ -267,6 +270,14 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
     double rate_start = ws_seconds(), last_checkpoint = rate_start;
     long steps_this_run = 0;
     double loss = NAN;
+    /* what the steps will take, timed before the first */
+    if (ws_fit_time_phases(&r->time, total_steps(r), schedule_steps(r), o->loss.lines_weight != 0, st) ||
+        ws_fit_time_calibrate(&r->time, r->objective, &s->curves, s->order, s->n_train, o->batch_size, &s->rng,
+                              r->grad, st))
+        return st->code;
+    if (speaks() && !o->quiet) ws_fit_time_announce(&r->time, s->global_step, o, stderr);
+    rate_start = last_checkpoint = ws_seconds();
+    double step_wall = rate_start, step_cpu = ws_cpu_seconds();
     while (s->epoch < o->epochs && !(o->max_steps > 0 && s->global_step >= o->max_steps)) {
         if (ws_dist_max(ws_fit_stop_requested)) {
             *interrupted = 1;
@@ -274,10 +285,16 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         }
         int first = s->batch_in_epoch * o->batch_size;
         int nviews = s->n_train - first < o->batch_size ? s->n_train - first : o->batch_size;
-        if (train_step(r, s->order + first, nviews, &loss, st) || advance(r, loss, st) ||
-            respawn(r, st))
-            return st->code;
+        double batch[2] = {ws_seconds(), ws_cpu_seconds()};
+        if (train_step(r, s->order + first, nviews, &loss, st)) return st->code;
+        batch[0] = ws_seconds() - batch[0];
+        batch[1] = ws_cpu_seconds() - batch[1];
+        if (advance(r, loss, st) || respawn(r, st)) return st->code;
         steps_this_run++;
+        double wall = ws_seconds(), cpu = ws_cpu_seconds(), all[2] = {wall - step_wall, cpu - step_cpu};
+        ws_fit_time_add(&r->time, s->global_step - 1, batch, all);
+        step_wall = wall;
+        step_cpu = cpu;
         progress(r, loss, rate_start, steps_this_run, 0);
         if (ws_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
             if (save_checkpoint(r, argv, argc, st)) return ws_dist_fail_alone(st);
@@ -290,6 +307,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
 }
 
 static void fit_run_free(fit_run *r) {
+    ws_fit_time_free(&r->time);
     ws_respawn_free(r->respawn);
     ws_objective_free(r->objective);
     ws_view_targets_free(r->targets);
