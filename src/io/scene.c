@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include "base/paths.h"
@@ -58,19 +59,29 @@ void ws_scene_free(ws_scene *scene) {
 
 static int file_exists(const char *path) { return access(path, F_OK) == 0; }
 
-static int ends_with(const char *s, const char *suffix) {
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && !strcmp(s + n - m, suffix);
+/* The length of name's image extension (".png", ".jpg", ".jpeg", any
+ * case), 0 when it has none. */
+static size_t image_extension(const char *name) {
+    static const char *const extensions[] = {".png", ".jpg", ".jpeg"};
+    size_t n = strlen(name);
+    for (size_t k = 0; k < sizeof extensions / sizeof extensions[0]; k++) {
+        size_t m = strlen(extensions[k]);
+        if (n > m && !strcasecmp(name + n - m, extensions[k])) return m;
+    }
+    return 0;
 }
 
-/* Finds the PNG of `file_path`: SCENE/P.png, SCENE/rgb/P.png, and first
- * SCENE/P and SCENE/rgb/P when P already names a .png. */
+/* Finds the image of `file_path`: SCENE/P or SCENE/rgb/P when P ends in
+ * an image extension (the name used as written), else SCENE/P.png or
+ * SCENE/rgb/P.png (NeRF-synthetic names have none). Which format a file
+ * holds, its content says (image.h). */
 static int resolve_image(const char *dir, const char *file_path, const char *what, char *found,
                          size_t size, ws_status *st) {
     const char *const patterns[4] = {"%s/%s", "%s/rgb/%s", "%s/%s.png", "%s/rgb/%s.png"};
-    char tried[4][4096];
+    char tried[2][4096];
     int ntried = 0;
-    for (int k = ends_with(file_path, ".png") ? 0 : 2; k < 4; k++) {
+    const int first = image_extension(file_path) ? 0 : 2;
+    for (int k = first; k < first + 2; k++) {
         int len = snprintf(tried[ntried], sizeof tried[0], patterns[k], dir, file_path);
         if (len < 0 || (size_t)len >= sizeof tried[0] || (size_t)len >= size)
             return ws_fail(st, WS_EINPUT, "%s: image path too long", what);
@@ -80,7 +91,7 @@ static int resolve_image(const char *dir, const char *file_path, const char *wha
         }
         ntried++;
     }
-    char list[3 * 4096 + 16] = "";
+    char list[2 * 4096 + 16] = "";
     for (int k = 0; k < ntried; k++) {
         if (k) strcat(list, ", ");
         strcat(list, tried[k]);
@@ -110,13 +121,13 @@ static int check_scene_path(const char *value, const char *field, const char *wh
     return WS_OK;
 }
 
-/* The view's name: the last component of file_path without ".png". */
+/* The view's name: the last component of file_path without its image
+ * extension. */
 static int view_name(const char *file_path, const char *what, char *name, size_t size,
                      ws_status *st) {
     const char *slash = strrchr(file_path, '/');
     const char *base = slash ? slash + 1 : file_path;
-    size_t n = strlen(base);
-    if (ends_with(base, ".png")) n -= 4;
+    size_t n = strlen(base) - image_extension(base);
     if (n == 0)
         return ws_fail(st, WS_EINPUT, "%s: file_path '%s' has no file name", what, file_path);
     if (n >= size) return ws_fail(st, WS_EINPUT, "%s: file_path name too long", what);
@@ -492,7 +503,7 @@ static ws_image first_plane(ws_image img) {
 static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, ws_status *st) {
     static const float black[3] = {0, 0, 0};
     ws_image rgb = {0}, part = {0};
-    int rc = ws_png_read(v->edge_path, w, h, black, &rgb, st);
+    int rc = ws_image_read(v->edge_path, w, h, black, &rgb, st);
     if (rc) return rc;
     ws_image gray = first_plane(rgb);
     const int *k = v->crop;
@@ -514,7 +525,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     static const float black[3] = {0, 0, 0};
     const int from_file = v->mask_path[0] != '\0';
     ws_image full = {0}, alpha = {0}, part = {0};
-    int rc = ws_png_read_alpha(v->image_path, 0, 0, opt->background_auto ? black : opt->background,
+    int rc = ws_image_read_alpha(v->image_path, 0, 0, opt->background_auto ? black : opt->background,
                                &full, &alpha, st);
     if (!rc && v->file_width && (full.width != v->file_width || full.height != v->file_height))
         rc = ws_fail(st, WS_EINPUT, "%s: image is %d x %d but the scene file says w x h = %d x %d",
@@ -532,7 +543,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     if (!rc && from_file) {
         ws_image_free(&alpha);
         ws_image rgb;
-        rc = ws_png_read(v->mask_path, full.width, full.height, black, &rgb, st);
+        rc = ws_image_read(v->mask_path, full.width, full.height, black, &rgb, st);
         if (!rc) { /* the first plane is the mask */
             alpha = first_plane(rgb);
             for (size_t p = 0; p < plane; p++)

@@ -1,4 +1,4 @@
-/* fuzz_png.c: the PNG loader (ws_png_read), resampling included.
+/* fuzz_png.c: the PNG loader (ws_image_read), resampling included.
  * Seeds: tests/fuzz/corpus/png (one tiny file of each kind the loader
  * takes: gray, gray+alpha, RGB, RGBA at 8 and 16 bits, palette with and
  * without tRNS, low bit depths, interlaced). */
@@ -19,7 +19,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
      * ones) */
     ws_image img;
     ws_status st = {0};
-    if (ws_png_read(path, 12, 10, background, &img, &st)) {
+    if (ws_image_read(path, 12, 10, background, &img, &st)) {
         fuzz_expect_refusal(&st, WS_EINPUT, path);
         return 0;
     }
