@@ -15,7 +15,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "base/paths.h"
+#include "io/colmap.h"
 #include "io/scene.h"
+#include "io/undistort.h"
 #include "nn/base/bytes.h"
 
 /* The largest transforms file read: 64 MiB holds some 100 000 frames, and
@@ -27,7 +29,9 @@ const char *const ws_split_names[WS_NSPLITS] = {"train", "val", "test"};
 const char *ws_scene_file(const ws_scene *scene, int s) {
     static const char *const files[WS_NSPLITS] = {"transforms_train.json", "transforms_val.json",
                                                   "transforms_test.json"};
-    return scene->layout == WS_LAYOUT_NERFSTUDIO ? "transforms.json" : files[s];
+    return scene->layout == WS_LAYOUT_NERFSTUDIO ? "transforms.json"
+           : scene->layout == WS_LAYOUT_COLMAP   ? scene->model_file
+                                                 : files[s];
 }
 
 int ws_split_index(const char *name) {
@@ -42,6 +46,7 @@ void ws_scene_options_default(ws_scene_options *opt) {
     opt->background_auto = 0;
     opt->load_images = 1;
     opt->edge_maps_dir = NULL;
+    opt->images_dir = NULL;
 }
 
 void ws_scene_free(ws_scene *scene) {
@@ -55,6 +60,14 @@ void ws_scene_free(ws_scene *scene) {
         scene->split[s].views = NULL;
         scene->split[s].n = 0;
     }
+    free(scene->points);
+    scene->points = NULL;
+    scene->npoints = 0;
+}
+
+const double *ws_scene_points(const ws_scene *scene, int *n) {
+    *n = scene->npoints;
+    return scene->points;
 }
 
 static int file_exists(const char *path) { return access(path, F_OK) == 0; }
@@ -353,35 +366,55 @@ static int intrinsic(const cJSON *frame, const cJSON *root, const char *key, con
     return WS_OK;
 }
 
-/* The pinhole intrinsics of one frame: fl_x (or camera_angle_x), fl_y,
- * cx, cy, w, h; no distortion; a pinhole camera_model. */
+/* The intrinsics of one frame: fl_x (or camera_angle_x), fl_y, cx, cy,
+ * w, h, and its lens (camera_model, is_fisheye, k1..k4, p1, p2). */
 typedef struct {
     double fx, fy, cx, cy;
     int w, h;
+    ws_lens lens;
 } intrinsics;
+
+/* The lens of a frame, nerfstudio / instant-ngp keys: camera_model
+ * PINHOLE, SIMPLE_PINHOLE, OPENCV or OPENCV_FISHEYE (none: OPENCV, or
+ * instant-ngp's is_fisheye), k1..k4 (a fisheye lens' angle terms, else the
+ * radial polynomial), p1, p2 (perspective only). */
+static int frame_lens(const cJSON *frame, const cJSON *root, const char *what, intrinsics *in,
+                      ws_status *st) {
+    static const char *const keys[6] = {"k1", "k2", "k3", "k4", "p1", "p2"};
+    double v[6] = {0};
+    int found;
+    for (int k = 0; k < 6; k++)
+        if (intrinsic(frame, root, keys[k], what, &v[k], &found, st)) return st->code;
+    const cJSON *model = cJSON_GetObjectItemCaseSensitive(frame, "camera_model");
+    if (!model) model = cJSON_GetObjectItemCaseSensitive(root, "camera_model");
+    const cJSON *fisheye = cJSON_GetObjectItemCaseSensitive(frame, "is_fisheye");
+    if (!fisheye) fisheye = cJSON_GetObjectItemCaseSensitive(root, "is_fisheye");
+    const char *name = cJSON_IsString(model) ? model->valuestring : model ? "" : "OPENCV";
+    const int pinhole = !strcmp(name, "PINHOLE") || !strcmp(name, "SIMPLE_PINHOLE");
+    if (!pinhole && strcmp(name, "OPENCV") && strcmp(name, "OPENCV_FISHEYE"))
+        return ws_fail(st, WS_EINPUT,
+                       "%s: camera_model is not PINHOLE, SIMPLE_PINHOLE, OPENCV or OPENCV_FISHEYE",
+                       what);
+    ws_lens *l = &in->lens;
+    memset(l, 0, sizeof *l);
+    l->fisheye = !strcmp(name, "OPENCV_FISHEYE") || cJSON_IsTrue(fisheye);
+    for (int k = 0; k < 6; k++) {
+        if (v[k] != 0 && pinhole)
+            return ws_fail(st, WS_EINPUT, "%s: distortion %s = %g with camera_model %s (a lens "
+                           "with distortion is OPENCV or OPENCV_FISHEYE)", what, keys[k], v[k], name);
+        if (v[k] != 0 && k >= 4 && l->fisheye)
+            return ws_fail(st, WS_EINPUT, "%s: distortion %s = %g with a fisheye lens (it has "
+                           "k1..k4 only)", what, keys[k], v[k]);
+    }
+    memcpy(l->k, v, sizeof l->k);
+    memcpy(l->p, v + 4, sizeof l->p);
+    l->fx = in->fx, l->fy = in->fy, l->cx = in->cx, l->cy = in->cy;
+    l->width = in->w, l->height = in->h;
+    return ws_lens_check(l, what, st);
+}
 
 static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *what,
                             intrinsics *in, ws_status *st) {
-    static const char *const distortion[] = {"k1", "k2", "k3", "k4", "p1", "p2"};
-    double v = 0;
-    int found;
-    for (size_t k = 0; k < sizeof distortion / sizeof distortion[0]; k++) {
-        if (intrinsic(frame, root, distortion[k], what, &v, &found, st)) return st->code;
-        if (found && v != 0)
-            return ws_fail(st, WS_EINPUT,
-                           "%s: distortion %s = %g is not supported (undistort the images first, "
-                           "e.g. with COLMAP or ns-process-data, and give k1..k4, p1, p2 as 0)",
-                           what, distortion[k], v);
-    }
-    const cJSON *model = cJSON_GetObjectItemCaseSensitive(frame, "camera_model");
-    if (!model) model = cJSON_GetObjectItemCaseSensitive(root, "camera_model");
-    if (model && (!cJSON_IsString(model) || (strcmp(model->valuestring, "OPENCV") &&
-                                             strcmp(model->valuestring, "PINHOLE") &&
-                                             strcmp(model->valuestring, "SIMPLE_PINHOLE"))))
-        return ws_fail(st, WS_EINPUT,
-                       "%s: camera_model is not OPENCV, PINHOLE or SIMPLE_PINHOLE (only pinhole "
-                       "cameras are supported)",
-                       what);
     double w = 0, h = 0;
     int has_w, has_h, has_fx, has_fy, has_cx, has_cy;
     if (intrinsic(frame, root, "w", what, &w, &has_w, st) ||
@@ -409,7 +442,7 @@ static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *w
     if (!has_cy) in->cy = 0.5 * h;
     if (!(in->fx > 0) || !(in->fy > 0))
         return ws_fail(st, WS_EINPUT, "%s: fl_x %g and fl_y %g must be positive", what, in->fx, in->fy);
-    return WS_OK;
+    return frame_lens(frame, root, what, in, st);
 }
 
 /* The crop of the image that makes the working view, and the camera. */
@@ -432,6 +465,7 @@ static int frame_camera(const intrinsics *in, const double c2w[4][4], const ws_s
     v->crop[3] = ch;
     v->file_width = in->w;
     v->file_height = in->h;
+    v->lens = in->lens;
     return ws_camera_init_pinhole(&v->cam, c2w, sqrt(in->fx * sx * in->fy * sy), (in->cx - x0) * sx,
                                   (in->cy - y0) * sy, opt->width, opt->height, what, st);
 }
@@ -485,6 +519,103 @@ static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_opt
     return rc;
 }
 
+/* ---------------------------------------------------------------- COLMAP */
+
+static int compare_image_names(const void *a, const void *b) {
+    return strcmp((*(const ws_colmap_image *const *)a)->name, (*(const ws_colmap_image *const *)b)->name);
+}
+
+/* The split of image `name` by the list files SCENE/{train,val,test}_list.txt
+ * (one image name a line, as nerfstudio's COLMAP loader reads them); -1
+ * when it is in none. lists[s] is the file's text, NULL when absent. */
+static int split_by_list_file(char *const lists[WS_NSPLITS], const char *name) {
+    const size_t n = strlen(name);
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (const char *line = lists[s]; line && *line; line += strcspn(line, "\n"), line += *line == '\n') {
+            size_t len = strcspn(line, "\r\n");
+            if (len == n && !strncmp(line, name, n)) return s;
+        }
+    return -1;
+}
+
+/* The COLMAP model in `folder` (ws_colmap_find) of scene `dir`. */
+static int parse_colmap(ws_scene *scene, const char *dir, const char *folder,
+                        const ws_scene_options *opt, ws_status *st) {
+    ws_colmap_model model;
+    if (ws_colmap_read(&model, folder, st)) return st->code;
+    char images_file[4300], path[4400];
+    snprintf(images_file, sizeof images_file, "%s/images.txt", folder);
+    if (access(images_file, F_OK) != 0) snprintf(images_file, sizeof images_file, "%s/images.bin", folder);
+    snprintf(scene->model_file, sizeof scene->model_file, "%s", images_file + strlen(dir) + 1);
+    const int n = model.nimages;
+    const ws_colmap_image **order = ws_malloc(sizeof *order * n, images_file, st);
+    int rc = order ? WS_OK : st->code;
+    char *lists[WS_NSPLITS] = {NULL, NULL, NULL};
+    int has_lists = 0;
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
+        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
+        size_t length;
+        if (access(path, F_OK) == 0) {
+            rc = ws_read_file(path, TRANSFORMS_MAX_BYTES, (unsigned char **)&lists[s], &length, st);
+            has_lists = 1;
+        }
+    }
+    int count[WS_NSPLITS] = {0}, *split_of = rc ? NULL : ws_malloc(sizeof *split_of * n, images_file, st);
+    if (!rc && !split_of) rc = st->code;
+    if (!rc) { /* frames in name order, as nerfstudio numbers them */
+        for (int k = 0; k < n; k++) order[k] = &model.images[k];
+        qsort(order, n, sizeof *order, compare_image_names);
+        for (int k = 0; k < n; k++) {
+            split_of[k] = has_lists ? split_by_list_file(lists, order[k]->name) : split_by_rule(k);
+            if (split_of[k] >= 0) count[split_of[k]]++;
+        }
+        if (count[WS_TRAIN] == 0)
+            rc = ws_fail(st, WS_EINPUT, "%s: no train images (of %d images)", images_file, n);
+    }
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
+        scene->split[s].views = count[s] ? ws_calloc(count[s], sizeof(ws_view), images_file, st) : NULL;
+        if (count[s] && !scene->split[s].views) rc = st->code;
+    }
+    for (int k = 0; k < n && !rc; k++) {
+        if (split_of[k] < 0) continue;
+        const ws_colmap_image *im = order[k];
+        const ws_lens *lens = &ws_colmap_camera_of(&model, im)->lens;
+        ws_view *v = &scene->split[split_of[k]].views[scene->split[split_of[k]].n++];
+        char what[4400];
+        snprintf(what, sizeof what, "%s: image %d", images_file, im->id);
+        v->frame = k;
+        if ((rc = check_scene_path(im->name, "name", what, st)) ||
+            (rc = view_name(im->name, what, v->name, sizeof v->name, st)))
+            break;
+        int len = opt->images_dir ? snprintf(v->image_path, sizeof v->image_path, "%s/%s", opt->images_dir, im->name)
+                                  : snprintf(v->image_path, sizeof v->image_path, "%s/images/%s", dir, im->name);
+        if (len < 0 || (size_t)len >= sizeof v->image_path) {
+            rc = ws_fail(st, WS_EINPUT, "%s: image path too long", what);
+            break;
+        }
+        if (opt->load_images && !file_exists(v->image_path)) {
+            rc = ws_fail(st, WS_EINPUT, "%s: no file %s", what, v->image_path);
+            break;
+        }
+        intrinsics in = {lens->fx, lens->fy, lens->cx, lens->cy, lens->width, lens->height, *lens};
+        double c2w[4][4];
+        ws_colmap_to_c2w(im->q, im->t, c2w);
+        rc = frame_camera(&in, c2w, opt, what, v, st);
+    }
+    if (!rc) {
+        const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
+        scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);
+        scene->points = model.points; /* the scene keeps them */
+        scene->npoints = model.npoints;
+        model.points = NULL;
+    }
+    for (int s = 0; s < WS_NSPLITS; s++) free(lists[s]);
+    free(split_of);
+    free(order);
+    ws_colmap_free(&model);
+    return rc;
+}
+
 /* A mask from a 1-channel alpha or the first channel of a mask image:
  * 1 where the value is at least 1/2. */
 static void threshold_mask(ws_image *m) {
@@ -506,6 +637,14 @@ static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, 
     int rc = ws_image_read(v->edge_path, w, h, black, &rgb, st);
     if (rc) return rc;
     ws_image gray = first_plane(rgb);
+    if (!ws_lens_is_pinhole(&v->lens)) {
+        static const float none = 0;
+        rc = ws_image_undistort(&gray, &v->lens, &none, &part, st);
+        ws_image_free(&gray);
+        gray = part;
+        part = (ws_image){0};
+        if (rc) return rc;
+    }
     const int *k = v->crop;
     if (k[2]) {
         rc = ws_image_crop(&gray, k[0], k[1], k[2], k[3], &part, st);
@@ -552,6 +691,18 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
         }
     }
     if (!rc && v->edge_path[0]) rc = load_edge_map(v, full.width, full.height, opt, st);
+    if (!rc && !ws_lens_is_pinhole(&v->lens)) { /* to the pinhole camera; outside: background */
+        static const float transparent = 0;
+        rc = ws_image_undistort(&full, &v->lens, bg, &part, st);
+        ws_image_free(&full);
+        full = part;
+        if (!rc && alpha.data) {
+            rc = ws_image_undistort(&alpha, &v->lens, &transparent, &part, st);
+            ws_image_free(&alpha);
+            alpha = part;
+        }
+        part = (ws_image){0};
+    }
     const int *k = v->crop;
     if (!rc && k[2]) {
         rc = ws_image_crop(&full, k[0], k[1], k[2], k[3], &part, st);
@@ -711,14 +862,19 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
     int nerfstudio = access(path, F_OK) != 0;
     snprintf(path, sizeof path, "%s/transforms.json", dir);
     nerfstudio &= access(path, F_OK) == 0;
-    if (nerfstudio) {
-        scene->layout = WS_LAYOUT_NERFSTUDIO;
-        if (parse_nerfstudio(scene, dir, opt, st)) {
+    char folder[4200]; /* a COLMAP model's, when there is no transforms file */
+    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    const int colmap = !nerfstudio && access(path, F_OK) != 0 &&
+                       ws_colmap_find(dir, folder, sizeof folder) == 0;
+    if (nerfstudio || colmap) {
+        scene->layout = nerfstudio ? WS_LAYOUT_NERFSTUDIO : WS_LAYOUT_COLMAP;
+        if (nerfstudio ? parse_nerfstudio(scene, dir, opt, st)
+                       : parse_colmap(scene, dir, folder, opt, st)) {
             ws_scene_free(scene);
             return st->code;
         }
     }
-    for (int s = 0; s < WS_NSPLITS && !nerfstudio; s++) {
+    for (int s = 0; s < WS_NSPLITS && !nerfstudio && !colmap; s++) {
         double angle = 0;
         if (parse_split(dir, s, opt, &scene->split[s], &angle, st)) {
             ws_scene_free(scene);

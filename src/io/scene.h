@@ -32,6 +32,7 @@
 #ifndef WS_SCENE_H
 #define WS_SCENE_H
 #include "render/camera.h"
+#include "render/lens.h"
 #include "io/image.h"
 #include "nn/base/status.h"
 
@@ -54,6 +55,9 @@ typedef struct {
     int file_width, file_height; /* the image size the scene file states; 0: any */
     char edge_path[4096]; /* the frame's edge_path or --edge-maps file; "" when none */
     ws_image edges;       /* 1 x height x width from edge_path; data NULL when none */
+    ws_lens lens;         /* the image file's lens (pinhole: all distortion 0); the
+                             photo, mask and edge map are undistorted to the
+                             pinhole camera of its fx, fy, cx, cy on load */
 } ws_view;
 
 typedef struct {
@@ -69,9 +73,10 @@ typedef struct {
                               of its border pixels (composited on black) */
     int load_images;       /* 0: cameras only (e.g. for render) */
     const char *edge_maps_dir; /* NULL, or the directory of every view's edge map */
+    const char *images_dir;    /* COLMAP: NULL (SCENE/images), or where the images are */
 } ws_scene_options;
 
-enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1 };
+enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1, WS_LAYOUT_COLMAP = 2 };
 
 typedef struct {
     char dir[4096];
@@ -80,6 +85,10 @@ typedef struct {
     int width, height;
     ws_split split[WS_NSPLITS];
     double center[3];      /* least-squares intersection of the optical axes */
+    char model_file[4200]; /* COLMAP: the images file, relative to dir
+                              ("sparse/0/images.txt") */
+    int npoints;           /* COLMAP: points3D, in the file's world frame */
+    double *points;        /* npoints x 3; NULL for the other layouts */
 } ws_scene;
 
 void ws_scene_options_default(ws_scene_options *opt);
@@ -94,9 +103,14 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
 void ws_scene_free(ws_scene *scene);
 
 /* The transforms file (in scene->dir) that lists split s's frames:
- * "transforms_train.json" etc., or "transforms.json" for every split of a
- * nerfstudio scene. */
+ * "transforms_train.json" etc., "transforms.json" for every split of a
+ * nerfstudio scene, the images file (scene->model_file) of a COLMAP one. */
 const char *ws_scene_file(const ws_scene *scene, int s);
+
+/* The scene's sparse points (COLMAP's points3D, as the file has them,
+ * outliers included): *n of them, x y z each; NULL with *n = 0 when the
+ * scene has none. */
+const double *ws_scene_points(const ws_scene *scene, int *n);
 
 /* "train" -> WS_TRAIN etc.; -1 for anything else. */
 int ws_split_index(const char *name);

@@ -17,8 +17,7 @@ const char *const ws_lens_model_names[] = {"SIMPLE_PINHOLE", "PINHOLE",     "SIM
                                            "FULL_OPENCV"};
 const int ws_lens_model_count = sizeof ws_lens_model_names / sizeof ws_lens_model_names[0];
 
-/* Parameters of each model (COLMAP's order above). */
-static const int model_params[] = {3, 4, 4, 5, 8, 8, 12};
+const int ws_lens_model_params[] = {3, 4, 4, 5, 8, 8, 12};
 
 /* Steps of the radial walk of ws_lens_check from the centre to the frame's
  * corner: a fold narrower than 1/1024 of the corner's radius goes unseen,
@@ -221,9 +220,9 @@ int ws_lens_from_colmap(ws_lens *l, const char *model, const double *q, int npar
                        "%s: unknown camera model '%s' (SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, "
                        "RADIAL, OPENCV, OPENCV_FISHEYE or FULL_OPENCV)",
                        what, model);
-    if (nparams != model_params[m])
+    if (nparams != ws_lens_model_params[m])
         return ws_fail(st, WS_EINPUT, "%s: camera model %s takes %d parameters, not %d", what,
-                       model, model_params[m], nparams);
+                       model, ws_lens_model_params[m], nparams);
     memset(l, 0, sizeof *l);
     l->width = width;
     l->height = height;
@@ -247,4 +246,19 @@ int ws_lens_from_colmap(ws_lens *l, const char *model, const double *q, int npar
         break;
     }
     return ws_lens_check(l, what, st);
+}
+
+int ws_lens_to_colmap(const ws_lens *l, double *q) {
+    q[0] = l->fx, q[1] = l->fy, q[2] = l->cx, q[3] = l->cy;
+    if (l->fisheye) {
+        for (int i = 0; i < 4; i++) q[4 + i] = l->k[i];
+        return 5;
+    }
+    if (ws_lens_is_pinhole(l)) return 1;
+    if (l->k[3] != 0) return -1;
+    q[4] = l->k[0], q[5] = l->k[1], q[6] = l->p[0], q[7] = l->p[1];
+    if (l->k[2] == 0 && l->kd[0] == 0 && l->kd[1] == 0 && l->kd[2] == 0) return 4;
+    q[8] = l->k[2];
+    for (int i = 0; i < 3; i++) q[9 + i] = l->kd[i];
+    return 6;
 }

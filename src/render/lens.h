@@ -39,6 +39,8 @@ typedef struct {
 /* The COLMAP model names, in COLMAP's model id order (0..6). */
 extern const char *const ws_lens_model_names[];
 extern const int ws_lens_model_count;
+/* How many parameters each of them takes (COLMAP's order). */
+extern const int ws_lens_model_params[];
 
 /* The lens of COLMAP model `model` (a name of ws_lens_model_names) with
  * its parameters, for a width x height frame; then ws_lens_check. Fails
@@ -46,6 +48,11 @@ extern const int ws_lens_model_count;
  * takes N parameters, not n". */
 int ws_lens_from_colmap(ws_lens *lens, const char *model, const double *params, int nparams,
                         int width, int height, const char *what, ws_status *st);
+
+/* The COLMAP model (index into ws_lens_model_names) and parameters that
+ * state `lens`: PINHOLE, OPENCV, FULL_OPENCV or OPENCV_FISHEYE; -1 when
+ * none can (a perspective r^8 term, nerfstudio's k4). params: 12 doubles. */
+int ws_lens_to_colmap(const ws_lens *lens, double *params);
 
 /* 1 when the lens has no distortion. */
 int ws_lens_is_pinhole(const ws_lens *lens);
