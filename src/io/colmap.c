@@ -211,11 +211,12 @@ static int read_text(ws_colmap_model *m, const char *folder, ws_status *st) {
                 break;
             }
             if (f == 0) {
+                snprintf(what + strlen(what), sizeof what - strlen(what), ": camera %d", id);
                 const char *model = strtok_r(NULL, " \t\r", &save);
                 double size[2], params[16];
                 int np = parse_doubles(&save, size, 2), nq = np == 2 ? parse_doubles(&save, params, 16) : 0;
                 if (np != 2 || nq < 0 || size[0] != floor(size[0]) || size[1] != floor(size[1]))
-                    rc = ws_fail(st, WS_EINPUT, "%s: camera %d: expected MODEL WIDTH HEIGHT PARAMS...", what, id);
+                    rc = ws_fail(st, WS_EINPUT, "%s: expected MODEL WIDTH HEIGHT PARAMS...", what);
                 else
                     rc = add_camera(m, &cap[0], id, model ? model : "", params, nq, (long)size[0],
                                     (long)size[1], what, st);
@@ -285,7 +286,7 @@ static int read_binary(ws_colmap_model *m, const char *folder, ws_status *st) {
         const uint64_t n = ws_get_u64(&r);
         if (r.failed || !ws_bytes_have(&r, n, min_bytes[f])) {
             rc = r.failed ? ws_fail(st, WS_EINPUT, "%s: truncated (no count)", path[f])
-                          : ws_fail(st, WS_EINPUT, "%s: %llu %ss do not fit in its %zu bytes",
+                          : ws_fail(st, WS_EINPUT, "%s: truncated (%llu %ss do not fit in its %zu bytes)",
                                     path[f], (unsigned long long)n, items[f], length);
             free(bytes);
             break;
