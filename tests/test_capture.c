@@ -101,13 +101,14 @@ static void test_formats(void) {
                      "%s scene cube " SCENE_ARGS " " LENS " --layout colmap --out cb && "
                      "%s scene cube " SCENE_ARGS " " LENS " --layout colmap-text --out ct && "
                      "%s scene cube " SCENE_ARGS " " LENS " --layout colmap --jpeg --out cj && "
+                     "%s scene cube " SCENE_ARGS " " LENS " --layout nerfstudio --jpeg --out nj && "
                      "%s scene cube " SCENE_ARGS " --layout nerfstudio --out pin",
-                     tmp, bin, bin, bin, bin, bin);
+                     tmp, bin, bin, bin, bin, bin, bin);
     CHECK(rc == 0, "scenes: %s", out);
-    ws_scene ns, cb, ct, cj, pin;
+    ws_scene ns, cb, ct, cj, nj, pin;
     ws_status st;
     if (load(&ns, "ns", &st) || load(&cb, "cb", &st) || load(&ct, "ct", &st) ||
-        load(&cj, "cj", &st) || load(&pin, "pin", &st)) {
+        load(&cj, "cj", &st) || load(&nj, "nj", &st) || load(&pin, "pin", &st)) {
         CHECK(0, "loading: %s", st.msg);
         return;
     }
@@ -125,6 +126,26 @@ static void test_formats(void) {
               cameras < 1e-9,
           "JPEG vs PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
     printf("JPEG vs PNG: max %.4f mean %.5f\n", photos, mean);
+    /* nerfstudio's file_path "rgb/train/r_0.jpg" is used as written */
+    CHECK(compare(&nj, &cj, &photos, &mean, &cameras) == 0 && photos == 0 && cameras < 1e-9,
+          "nerfstudio JPEG vs COLMAP JPEG: photos %g, cameras %g", photos, cameras);
+    ws_scene moved;
+    char out2[2000], images[400], dir[400];
+    snprintf(images, sizeof images, "%s/elsewhere", tmp);
+    snprintf(dir, sizeof dir, "%s/cb", tmp);
+    run_cmd(out2, sizeof out2, "mv %s/images %s", dir, images);
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 48;
+    so.images_dir = images;
+    if (!ws_scene_load(&moved, dir, &so, &st)) {
+        CHECK(compare(&moved, &cb, &photos, &mean, &cameras) == 0 && photos == 0 && cameras == 0,
+              "--images: photos %g, cameras %g", photos, cameras);
+        ws_scene_free(&moved);
+    } else {
+        CHECK(0, "--images: %s", st.msg);
+    }
+    run_cmd(out2, sizeof out2, "mv %s %s/images", images, dir);
     /* undistortion undoes the lens: the pinhole scene's photos, up to the
      * two bilinear resamplings (render -> lens -> pinhole) at edges */
     CHECK(compare(&ns, &pin, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && cameras < 1e-9,
@@ -137,6 +158,7 @@ static void test_formats(void) {
     ws_scene_free(&cb);
     ws_scene_free(&ct);
     ws_scene_free(&cj);
+    ws_scene_free(&nj);
     ws_scene_free(&pin);
 }
 
