@@ -1,9 +1,11 @@
-/* scene.h: multi-view scenes (METHOD.md section 1), in two layouts.
+/* scene.h: multi-view scenes (METHOD.md section 1), in three layouts.
  *
  * NeRF-synthetic: SCENE/transforms_{train,val,test}.json hold
  * camera_angle_x and frames (file_path without extension, 4x4
  * camera-to-world transform_matrix); images are found at
- * SCENE/<file_path>.png or SCENE/rgb/<file_path>.png, resampled whole to
+ * SCENE/<file_path>.png or SCENE/rgb/<file_path>.png (a file_path that
+ * ends in .png, .jpg or .jpeg is used as written: SCENE/<file_path> or
+ * SCENE/rgb/<file_path>; PNG or JPEG, as the content says), resampled whole to
  * the working size. Missing splits are allowed (n = 0), but a scene needs
  * a train split.
  *
@@ -19,10 +21,26 @@
  * Splits: train_filenames / val_filenames / test_filenames where the file
  * has them (frames in none are left out); otherwise frame k (in file
  * order) is a test view when k % 8 == 0, a val view when k % 8 == 4, and a
- * train view else. Distortion coefficients (k1..k4, p1, p2) other than 0
- * and non-pinhole camera models are refused.
+ * train view else. A lens (render/lens.h) from camera_model (PINHOLE,
+ * SIMPLE_PINHOLE, OPENCV, OPENCV_FISHEYE; none: OPENCV), instant-ngp's
+ * is_fisheye, k1..k4, p1, p2, global or per frame.
  *
- * In both layouts a frame's optional mask_path (a PNG, white = object) is
+ * COLMAP, when SCENE has neither transforms file: the sparse model at
+ * SCENE/sparse/0, SCENE/sparse or SCENE (io/colmap.h; text or binary,
+ * several cameras), images SCENE/images/<name> (opt.images_dir/<name>
+ * with --images). Each image's world-to-camera pose is converted exactly
+ * to camera.h's convention (colmap.h); the world frame is the file's (no
+ * re-centring or scaling, so curves land on the user's model). Frames are
+ * numbered in name order; splits from SCENE/{train,val,test}_list.txt (one
+ * name a line, as nerfstudio reads them) when any exists, else the rule
+ * above. The working view is made as for nerfstudio; points3D are kept
+ * (ws_scene_points).
+ *
+ * Photos through a lens are undistorted once, on load, to the pinhole
+ * camera of the same fx, fy, cx, cy and size (io/undistort.h), before the
+ * crop; so are masks and edge maps.
+ *
+ * In the JSON layouts a frame's optional mask_path (a PNG, white = object) is
  * relative to SCENE, and so is its optional edge_path (a grayscale PNG, an
  * edge map made elsewhere, e.g. by a learned detector); with
  * opt.edge_maps_dir every view's edge map is instead DIR/<file_path>.png
