@@ -4,13 +4,15 @@
  *   holds pinhole pixels and their distorted pixels for every distorting
  *   COLMAP model; lens.c's inverse takes each distorted pixel back within
  *   0.01 px, and its forward model agrees with the reference to 1e-6 px;
- * - forward(inverse(p)) = p to 1e-9 px over a whole frame;
+ * - forward(inverse(p)) = p to 1e-9 px over a whole frame, and every
+ *   point of a frame's border has an inverse;
  * - lenses that fold the image, unknown models, wrong parameter counts:
  *   their exact one-line messages. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "check.h"
+#include "io/undistort.h"
 #include "render/lens.h"
 
 #define FIXTURE "tests/fixtures/lens_points.txt"
@@ -66,6 +68,21 @@ static void round_trip(const char *model, const double *q, int np) {
           failures, worst);
 }
 
+/* Every point of the frame's border, corners included, has an inverse
+ * with tangential terms (which move the corner's ray off the radial
+ * profile the one-to-one range is walked along): the pinhole canvas of a
+ * lens render exists. */
+static void border(void) {
+    const double q[8] = {300, 300, 201.6, 151.2, -0.1, 0.02, 0.001, -0.0005};
+    ws_lens lens;
+    ws_status st = {0};
+    int w = 0, h = 0;
+    double K[4];
+    CHECK(ws_lens_from_colmap(&lens, "OPENCV", q, 8, 403, 302, "b", &st) == WS_OK &&
+              ws_lens_canvas(&lens, 2, &w, &h, K, &st) == WS_OK && w > 806 && h > 604,
+          "border: %s (canvas %d x %d)", st.msg, w, h);
+}
+
 static void refusals(void) {
     ws_lens lens;
     ws_status st = {0};
@@ -104,6 +121,7 @@ int main(void) {
     round_trip("FULL_OPENCV", full, 12);
     round_trip("OPENCV_FISHEYE", fisheye, 8);
     round_trip("RADIAL", radial, 5);
+    border();
     refusals();
     return check_summary();
 }

@@ -724,7 +724,10 @@ static void test_errors(void) {
     expect_error(dir, want, WS_EINPUT);
     rmdir(path);
 
-    snprintf(want, sizeof want, "%s: missing (a scene needs a train split)", path);
+    snprintf(want, sizeof want,
+             "%s: missing (a scene needs a train split, a transforms.json or a COLMAP model in "
+             "sparse/0, sparse or the folder)",
+             path);
     expect_error(dir, want, WS_EINPUT);
 
     /* PNG errors name the PNG; the lowest bad frame wins whatever the schedule */

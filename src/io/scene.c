@@ -266,7 +266,10 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
     struct stat sb;
     if (stat(path, &sb) != 0 && errno == ENOENT) {
         if (s == WS_TRAIN)
-            return ws_fail(st, WS_EINPUT, "%s: missing (a scene needs a train split)", path);
+            return ws_fail(st, WS_EINPUT,
+                           "%s: missing (a scene needs a train split, a transforms.json or a "
+                           "COLMAP model in sparse/0, sparse or the folder)",
+                           path);
         return WS_OK;
     }
     cJSON *root = NULL;

@@ -28,6 +28,10 @@ const int ws_lens_model_params[] = {3, 4, 4, 5, 8, 8, 12};
  * wide field into the frame; beyond 64x the frame sees nearly 90 degrees
  * off-axis, which no pinhole image of sensible size holds). */
 #define WALK_MAX_FACTOR 64
+/* How far past the corner's distorted radius the one-to-one range must
+ * reach where the lens allows: a tangential term shifts a ray by about
+ * 3 p r^2, well under a tenth of r for any real lens (|p| < 0.01). */
+#define CORNER_MARGIN 0.1
 /* Newton's stopping point: residual in normalised units (1e-12 of a focal
  * length is 1e-9 pixel at a focal of 1000 pixels). */
 #define NEWTON_TOLERANCE 1e-12
@@ -118,22 +122,26 @@ int ws_lens_check(ws_lens *l, const char *what, ws_status *st) {
         double x = ((c & 1) * l->width - l->cx) / l->fx, y = ((c >> 1) * l->height - l->cy) / l->fy;
         corner = fmax(corner, hypot(x, y));
     }
-    /* walk out from the centre until the profile passes the corner; it
-     * must grow all the way (fisheye: in theta, below 90 degrees) */
+    /* walk out from the centre until the profile passes the corner, and
+     * CORNER_MARGIN beyond (tangential terms move the corner's ray off the
+     * radial profile); it must grow all the way to the corner (fisheye: in
+     * theta, below 90 degrees), and r_max ends where it stops growing */
     const double step = l->fisheye ? (M_PI / 2) / (WALK_STEPS_TO_CORNER * 4)
                                    : corner / WALK_STEPS_TO_CORNER;
     const double limit = l->fisheye ? M_PI / 2 - step : corner * WALK_MAX_FACTOR;
     double r = 0, previous = 0;
     int ok = 1;
-    while (previous < corner && r < limit) {
-        r += step;
-        const double rd = radial_profile(l, r, &ok);
-        if (!ok || !(rd > previous))
+    while (previous < corner * (1 + CORNER_MARGIN) && r < limit) {
+        const double rd = radial_profile(l, r + step, &ok);
+        if (!ok || !(rd > previous)) {
+            if (previous >= corner) break;
             return ws_fail(st, WS_EINPUT,
                            "%s: lens distortion folds the image (the distorted radius stops "
                            "growing at %.0f px from the principal point, inside the frame, whose "
                            "corner is %.0f px out)",
                            what, previous * l->fx, corner * l->fx);
+        }
+        r += step;
         previous = rd;
     }
     if (previous < corner && !l->fisheye)
