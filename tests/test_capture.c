@@ -119,8 +119,10 @@ static void test_formats(void) {
     double photos, mean, cameras;
     CHECK(compare(&ns, &cb, &photos, &mean, &cameras) == 0 && photos <= 1.0 / 255 && cameras < 1e-9,
           "nerfstudio vs binary COLMAP: photos %g, cameras %g", photos, cameras);
+    printf("nerfstudio vs binary COLMAP: photos %.3g, cameras %.3g\n", photos, cameras);
     CHECK(compare(&ns, &ct, &photos, &mean, &cameras) == 0 && photos <= 1.0 / 255 && cameras < 1e-9,
           "nerfstudio vs text COLMAP: photos %g, cameras %g", photos, cameras);
+    printf("nerfstudio vs text COLMAP: photos %.3g, cameras %.3g\n", photos, cameras);
     /* JPEG at quality 95: a few grey levels at the edges, under one on average */
     CHECK(compare(&cb, &cj, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
               cameras < 1e-9,
