@@ -3,8 +3,9 @@
  * - the same scene through an OPENCV lens as nerfstudio, binary COLMAP
  *   and text COLMAP loads to the same photos (within a grey level) and
  *   cameras (within 1e-9), and COLMAP's points3D are there;
- * - JPEG images load within a few grey levels of the PNG ones, and a
- *   progressive JPEG decodes as its baseline twin;
+ * - JPEG images load within a few grey levels of the PNG ones, a
+ *   progressive JPEG decodes as its baseline twin, and PNG's size limit
+ *   holds;
  * - undistortion undoes the lens: the lens scene's photos match the
  *   pinhole scene's;
  * - each bad input against its exact one-line message: a truncated and a
@@ -213,6 +214,28 @@ static void test_jpeg(void) {
           "progressive as baseline: %g", max_diff(&a, &b, NULL));
     ws_image_free(&a);
     ws_image_free(&b);
+    /* the size limit is PNG's: a header claiming 40000 x 40000 is refused
+     * before anything that size is allocated (SOF0: FF C0, length,
+     * precision, height, width) */
+    FILE *f = fopen(base, "rb");
+    unsigned char bytes[4096];
+    size_t n = f ? fread(bytes, 1, sizeof bytes, f) : 0;
+    if (f) fclose(f);
+    for (size_t i = 0; i + 9 < n; i++)
+        if (bytes[i] == 0xFF && bytes[i + 1] == 0xC0) {
+            bytes[i + 5] = bytes[i + 7] = 40000 >> 8;
+            bytes[i + 6] = bytes[i + 8] = 40000 & 255;
+            break;
+        }
+    snprintf(path, sizeof path, "%s/huge.jpg", tmp);
+    f = fopen(path, "wb");
+    if (f) {
+        fwrite(bytes, 1, n, f);
+        fclose(f);
+    }
+    snprintf(want, sizeof want, "%s: image too large (40000 x 40000 pixels)", path);
+    CHECK(ws_image_read(path, 0, 0, black, &a, &st) == WS_EINPUT && !strcmp(st.msg, want),
+          "too large: %s", st.msg);
     /* a cut file: libjpeg's warning is an error, not grey rows */
     char out[1000];
     run_cmd(out, sizeof out, "head -c 300 %s > %s/cut.jpg", base, tmp);
