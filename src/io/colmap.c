@@ -170,8 +170,6 @@ static int add_camera(ws_colmap_model *m, int *cap, int id, const char *model, c
     c->id = id;
     if (ws_lens_from_colmap(&c->lens, model, params, nparams, (int)width, (int)height, what, st))
         return st->code;
-    for (c->model = 0; strcmp(ws_lens_model_names[c->model], model); c->model++) {
-    }
     m->ncameras++;
     return WS_OK;
 }
@@ -227,7 +225,7 @@ static int read_text(ws_colmap_model *m, const char *folder, ws_status *st) {
                 const char *camera = NULL, *name = NULL;
                 if (parse_doubles(&save, pose, 7) != 7 ||
                     parse_int(camera = strtok_r(NULL, " \t\r", &save), &im.camera_id) ||
-                    !(name = strtok_r(NULL, "\r", &save))) {
+                    !(name = strtok_r(NULL, " \t\r", &save))) {
                     rc = ws_fail(st, WS_EINPUT, "%s: image %d: expected QW QX QY QZ TX TY TZ CAMERA_ID NAME", what, id);
                     break;
                 }

@@ -17,7 +17,6 @@
 typedef struct {
     int id;
     ws_lens lens; /* intrinsics, distortion and frame size */
-    int model;    /* index into ws_lens_model_names */
 } ws_colmap_camera;
 
 typedef struct {
