@@ -17,8 +17,8 @@ CC       ?= cc
 OPT      ?= -O2
 CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT) -g -Wall -Wextra \
             -Wno-unused-parameter -fopenmp -fPIC -Isrc -I. \
-            $(shell pkg-config --cflags openblas libpng zlib libcjson)
-LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson) -lgif -lm -fopenmp
+            $(shell pkg-config --cflags openblas libpng zlib libcjson libjpeg)
+LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson libjpeg) -lgif -lm -fopenmp
 
 ifeq ($(NATIVE),1)
 CFLAGS   += -march=native
@@ -132,7 +132,7 @@ $(BUILD)/wiresketch.pc: Makefile
 	@mkdir -p $(dir $@)
 	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
 	    'Name: wiresketch' 'Description: 3D wireframe sketches of an object from multi-view photos' \
-	    'Version: $(VERSION)' 'Requires.private: openblas libpng zlib libcjson' \
+	    'Version: $(VERSION)' 'Requires.private: openblas libpng zlib libcjson libjpeg' \
 	    'Libs: -L$${libdir} -lwiresketch' 'Libs.private: -lgif -lm -fopenmp' \
 	    'Cflags: -I$${includedir}/wiresketch -D_POSIX_C_SOURCE=200809L' > $@
 

@@ -223,6 +223,18 @@ static void test_scene_rewrite(void) {
           "the old scene's files stayed beside the new one");
     CHECK(exists("%s/transforms_train.json", dir) && exists("%s/rgb/train/r_1.png", dir), "the new scene is missing");
     CHECK(exists("%s/notes.txt", dir), "a file that is not the scene's was removed");
+    /* a COLMAP capture (images/, sparse/0, split lists) rewritten as a NeRF scene, and back */
+    rc = run_cmd(out, sizeof out, "%s scene cube --out %s --size 16 --views-train 2 --views-val 1 --views-test 1 "
+                 "--layout colmap --jpeg", bin, dir);
+    CHECK(rc == 0 && exists("%s/sparse/0/images.bin", dir) && exists("%s/images/train/r_00001.jpg", dir) &&
+              !exists("%s/rgb/train/r_1.png", dir) && !exists("%s/transforms_train.json", dir),
+          "a COLMAP scene over a NeRF one: exit %d, %s", rc, out);
+    rc = run_cmd(out, sizeof out, "%s scene cube --out %s --size 16 --views-train 2 --views-val 0 --views-test 1", bin,
+                 dir);
+    CHECK(rc == 0 && !exists("%s/sparse/0/images.bin", dir) && !exists("%s/images/train/r_00001.jpg", dir) &&
+              !exists("%s/train_list.txt", dir) && exists("%s/rgb/train/r_1.png", dir),
+          "a NeRF scene over a COLMAP one kept the COLMAP files: exit %d, %s", rc, out);
+    CHECK(exists("%s/notes.txt", dir), "a file that is not the scene's was removed");
     snprintf(dir, sizeof dir, "%s/users_folder", tmp);
     sh("mkdir -p %s && echo mine > %s/thesis.tex", dir, dir);
     rc = run_cmd(out, sizeof out, "%s scene cube --out %s --size 16", bin, dir);
@@ -258,9 +270,11 @@ static void test_fit_bounds(void) {
     CHECK(rc == 0, "fit at the largest weights failed: %s", out);
     rc = run_cmd(out, sizeof out, "%s fit --resume %s/f7 --max-steps 2", bin, tmp);
     CHECK(rc == 0, "its --resume failed: %s", out);
-    /* a new fit into that folder from its curves: refused before it starts, not while writing */
+    /* a new fit into that folder from its curves, even with --overwrite: refused before it starts, not
+     * while writing */
     sh("cp %s/f7/metrics.json %s/metrics_before.json", tmp, tmp);
-    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/f7 " FIT " --init %s/f7/curves.json", bin, scene, tmp, tmp);
+    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/f7 " FIT " --overwrite --init %s/f7/curves.json", bin, scene,
+                 tmp, tmp);
     CHECK(rc == 2 && said("%s/f7/curves.json: is %s/f7/curves.json, which this command reads; choose another output",
                           tmp, tmp),
           "fit --init OUT/curves.json: exit %d", rc);

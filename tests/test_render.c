@@ -78,7 +78,7 @@ static void test_render(const ws_scene *scene, const ws_curves *c, const char *c
         format += w == 224 && h == 224 && depth == 8 && type == 0;
         ws_image img;
         float black[3] = {0, 0, 0};
-        if (ws_png_read(path, 0, 0, black, &img, &st)) continue;
+        if (ws_image_read(path, 0, 0, black, &img, &st)) continue;
         ws_splat_forward(s, &test->views[k].cam, g.mu, g.n, c->thickness, &opt, alpha, &st);
         double worst = 0, top = 0;
         for (int p = 0; p < 224 * 224; p++) {

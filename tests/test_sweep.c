@@ -46,7 +46,7 @@ static int cell_is(const ws_image *sheet, int row, int col, const char *path) {
     const float white[3] = {1, 1, 1};
     ws_image img;
     ws_status st;
-    if (ws_png_read(path, 32, 32, white, &img, &st)) return 0;
+    if (ws_image_read(path, 32, 32, white, &img, &st)) return 0;
     int same = 1;
     size_t plane = (size_t)sheet->width * sheet->height;
     for (int c = 0; c < 3; c++)
@@ -93,7 +93,7 @@ int main(void) {
     ws_status st;
     const float black[3] = {0, 0, 0};
     snprintf(path, sizeof path, "%s/sw/contact_sheet.png", tmp);
-    if (ws_png_read(path, 0, 0, black, &sheet, &st) == WS_OK) {
+    if (ws_image_read(path, 0, 0, black, &sheet, &st) == WS_OK) {
         /* as wide as the longest name, 25 characters of 6 px and a gap each side */
         CHECK(sheet.width == 8 + 25 * 6 && sheet.height == 4 + 5 * PITCH, "sheet %d x %d", sheet.width, sheet.height);
         /* each row named: "photos", then each run's name, ending where its

@@ -287,7 +287,7 @@ static void paste(ws_image *sheet, const char *path, int row, int col, int cell)
     static const float white[3] = {1, 1, 1};
     ws_image img;
     ws_status st;
-    int ok = exists(path) && ws_png_read(path, cell, cell, white, &img, &st) == WS_OK;
+    int ok = exists(path) && ws_image_read(path, cell, cell, white, &img, &st) == WS_OK;
     const size_t plane = (size_t)sheet->width * sheet->height;
     for (int i = 0; i < cell; i++)
         for (int j = 0; j < cell; j++)

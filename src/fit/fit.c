@@ -349,6 +349,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     memcpy(so.background, o->background, sizeof so.background);
     so.background_auto = o->background_auto;
     so.edge_maps_dir = o->edge_maps;
+    so.images_dir = o->images;
     if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || check_checkpoint_size(r, argv, argc, st) ||
         ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;

@@ -15,6 +15,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "base/outfile.h"
+#include "io/colmap.h"
+#include "io/undistort.h"
 #include "nn/base/rng.h"
 #include "synth/solids.h"
 #include "synth/synth.h"
@@ -31,6 +33,16 @@
 static const double OBJECT_CENTER[3] = {0.3, -0.2, 0.5};
 /* rays per pixel: SUPERSAMPLE x SUPERSAMPLE, for smooth silhouettes */
 #define SUPERSAMPLE 3
+/* pinhole pixels per lens pixel of a view through a lens: bilinear
+ * resampling of a render at twice the resolution keeps edges sharp */
+#define LENS_OVERSAMPLE 2
+#define JPEG_QUALITY 95
+/* COLMAP's sparse cloud: points along the ground-truth curves with
+ * Gaussian noise of this fraction of the object's size, and outliers (this
+ * fraction of all points) uniform in a box three times the object's */
+#define SPARSE_POINTS 2000
+#define SPARSE_NOISE 0.005
+#define SPARSE_OUTLIERS 0.1
 #define AMBIENT 0.3
 /* capsules per curve: about one per tube radius of arc length, within bounds */
 #define MIN_CAPSULES_PER_CURVE 8
@@ -50,6 +62,9 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->white_background = 0;
     opt->width = opt->height = 0;
     opt->nerfstudio = 0;
+    opt->colmap = 0;
+    opt->jpeg = 0;
+    for (int i = 0; i < 4; i++) opt->lens[i] = 0;
 }
 
 /* The image size of a scene, and the camera of view c2w: focal length from
@@ -65,6 +80,29 @@ static int synth_camera(const ws_synth_options *opt, const double c2w[4][4], con
     image_size(opt, &w, &h);
     return ws_camera_init_pinhole(cam, c2w, 0.5 * (w < h ? w : h) / tan(0.5 * CAMERA_ANGLE_X),
                                   0.5 * w, 0.5 * h, w, h, what, st);
+}
+
+/* The lens of the views (opt->lens on synth_camera's intrinsics). */
+static int synth_lens(const ws_synth_options *opt, const ws_camera *cam, ws_lens *lens,
+                      ws_status *st) {
+    memset(lens, 0, sizeof *lens);
+    lens->fx = lens->fy = cam->focal;
+    lens->cx = cam->cx;
+    lens->cy = cam->cy;
+    lens->width = cam->width;
+    lens->height = cam->height;
+    lens->k[0] = opt->lens[0], lens->k[1] = opt->lens[1];
+    lens->p[0] = opt->lens[2], lens->p[1] = opt->lens[3];
+    return ws_lens_check(lens, "--lens", st);
+}
+
+/* View k of split s: its image file, relative to the scene. */
+static void view_file(const ws_synth_options *opt, int s, int k, char *out, size_t size) {
+    const char *ext = opt->jpeg ? "jpg" : "png";
+    if (opt->colmap)
+        snprintf(out, size, "images/%s/r_%05d.%s", ws_split_names[s], k, ext);
+    else
+        snprintf(out, size, "rgb/%s/r_%d.%s", ws_split_names[s], k, ext);
 }
 
 /* ---------------------------------------------------------------- objects */
@@ -582,8 +620,8 @@ static int write_transforms(const char *dir, int split, const double center[3],
     return write_json(path, root, ok, st);
 }
 
-/* SCENE/transforms.json of every view, nerfstudio layout: global pinhole
- * intrinsics with zero distortion, the split lists, frames in split order. */
+/* SCENE/transforms.json of every view, nerfstudio layout: global
+ * intrinsics with the lens, the split lists, frames in split order. */
 static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *opt,
                                        double (*c2w)[4][4], ws_status *st) {
     char path[4400];
@@ -592,20 +630,20 @@ static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *
     if (synth_camera(opt, c2w[0], path, &cam, st)) return st->code;
     static const char *const list_keys[WS_NSPLITS] = {"train_filenames", "val_filenames",
                                                       "test_filenames"};
-    static const char *const zero[] = {"k1", "k2", "p1", "p2"};
+    static const char *const lens_keys[] = {"k1", "k2", "p1", "p2"};
     cJSON *root = cJSON_CreateObject(), *frames = NULL, *lists[WS_NSPLITS] = {NULL};
     int ok = root && cJSON_AddStringToObject(root, "camera_model", "OPENCV") &&
              cJSON_AddNumberToObject(root, "fl_x", cam.focal) &&
              cJSON_AddNumberToObject(root, "fl_y", cam.focal) &&
              cJSON_AddNumberToObject(root, "cx", cam.cx) && cJSON_AddNumberToObject(root, "cy", cam.cy) &&
              cJSON_AddNumberToObject(root, "w", cam.width) && cJSON_AddNumberToObject(root, "h", cam.height);
-    for (int k = 0; k < 4 && ok; k++) ok = cJSON_AddNumberToObject(root, zero[k], 0) != NULL;
+    for (int k = 0; k < 4 && ok; k++) ok = cJSON_AddNumberToObject(root, lens_keys[k], opt->lens[k]) != NULL;
     for (int s = 0; s < WS_NSPLITS && ok; s++) ok = (lists[s] = cJSON_AddArrayToObject(root, list_keys[s])) != NULL;
     ok = ok && (frames = cJSON_AddArrayToObject(root, "frames"));
     for (int s = 0, v = 0; s < WS_NSPLITS && ok; s++)
         for (int k = 0; k < opt->views[s] && ok; k++, v++) {
             char file_path[64];
-            snprintf(file_path, sizeof file_path, "rgb/%s/r_%d.png", ws_split_names[s], k);
+            view_file(opt, s, k, file_path, sizeof file_path);
             cJSON *frame = cJSON_CreateObject(), *m = NULL;
             ok = cJSON_AddItemToArray(frames, frame) &&
                  cJSON_AddStringToObject(frame, "file_path", file_path) &&
@@ -615,6 +653,74 @@ static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *
                 ok = cJSON_AddItemToArray(m, cJSON_CreateDoubleArray(c2w[v][i], 4));
         }
     return write_json(path, root, ok, st);
+}
+
+/* COLMAP's sparse points of the object: SPARSE_POINTS in all, along the
+ * curves (uniform in each curve's parameter) with Gaussian noise, and a
+ * fraction of outliers in a box around them; seeded by opt->seed. */
+static void sparse_points(const ws_curves *curves, const ws_synth_options *opt, double *points,
+                          int n) {
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (int k = 0; k < 4 * curves->n; k++)
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(lo[i], curves->P[3 * k + i]);
+            hi[i] = fmax(hi[i], curves->P[3 * k + i]);
+        }
+    const double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    ws_rng rng;
+    ws_rng_seed(&rng, opt->seed + 1);
+    const int outliers = (int)(SPARSE_OUTLIERS * n);
+    for (int k = 0; k < n; k++) {
+        double *p = points + 3 * k;
+        if (k < outliers) {
+            for (int i = 0; i < 3; i++)
+                p[i] = 0.5 * (lo[i] + hi[i]) + 1.5 * size * (2 * ws_rng_uniform(&rng) - 1);
+            continue;
+        }
+        ws_curve_point(curves, (int)ws_rng_below(&rng, (uint64_t)curves->n), ws_rng_uniform(&rng), p);
+        for (int i = 0; i < 3; i++) p[i] += SPARSE_NOISE * size * ws_rng_normal(&rng);
+    }
+}
+
+/* SCENE/sparse/0 (one camera, every view, the sparse points) and
+ * SCENE/SPLIT_list.txt. */
+static int write_colmap(const char *dir, const ws_synth_options *opt, double (*c2w)[4][4],
+                        const ws_curves *curves, ws_status *st) {
+    const int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
+    char path[4400];
+    snprintf(path, sizeof path, "%s/sparse/0", dir);
+    ws_colmap_camera camera = {.id = 1};
+    ws_camera cam;
+    ws_colmap_model m = {1, total, SPARSE_POINTS, &camera, NULL, NULL};
+    if (synth_camera(opt, c2w[0], path, &cam, st) || synth_lens(opt, &cam, &camera.lens, st))
+        return st->code;
+    m.images = ws_calloc(total, sizeof *m.images, path, st);
+    m.points = m.images ? ws_malloc(sizeof *m.points * 3 * SPARSE_POINTS, path, st) : NULL;
+    int rc = m.points ? WS_OK : st->code;
+    for (int s = 0, v = 0; s < WS_NSPLITS && !rc; s++) {
+        ws_outfile list;
+        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
+        if ((rc = ws_outfile_open(&list, path, st))) break;
+        for (int k = 0; k < opt->views[s]; k++, v++) {
+            char file[64];
+            view_file(opt, s, k, file, sizeof file);
+            ws_colmap_image *im = &m.images[v];
+            im->id = v + 1;
+            im->camera_id = 1;
+            snprintf(im->name, sizeof im->name, "%s", file + strlen("images/"));
+            ws_colmap_from_c2w(c2w[v], im->q, im->t);
+            fprintf(list.fp, "%s\n", im->name);
+        }
+        rc = ws_outfile_commit(&list, st);
+    }
+    if (!rc) {
+        sparse_points(curves, opt, m.points, SPARSE_POINTS);
+        snprintf(path, sizeof path, "%s/sparse/0", dir);
+        rc = ws_colmap_write(&m, path, opt->colmap == 1, st);
+    }
+    free(m.images);
+    free(m.points);
+    return rc;
 }
 
 static int check_options(const ws_synth_options *opt, ws_status *st) {
@@ -629,10 +735,14 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
         (opt->height && (opt->height < 8 || opt->height > 4096)))
         return ws_fail(st, WS_EUSAGE, "--width x --height: %d x %d is not in [8, 4096]", opt->width,
                        opt->height);
-    if (!opt->nerfstudio && (opt->width || opt->height) && opt->width != opt->height)
+    const int nerf = !opt->nerfstudio && !opt->colmap;
+    if (nerf && (opt->jpeg || opt->lens[0] || opt->lens[1] || opt->lens[2] || opt->lens[3]))
+        return ws_fail(st, WS_EUSAGE, "%s: a NeRF-synthetic scene has PNG images and no lens "
+                       "(--layout nerfstudio or colmap)", opt->jpeg ? "--jpeg" : "--lens");
+    if (nerf && (opt->width || opt->height) && opt->width != opt->height)
         return ws_fail(st, WS_EUSAGE,
                        "--width %d --height %d: a NeRF-synthetic scene is square (--layout nerfstudio "
-                       "takes other shapes)",
+                       "or colmap take other shapes)",
                        opt->width, opt->height);
     return WS_OK;
 }
@@ -643,7 +753,31 @@ typedef struct {
     const ws_solid *solid;
 } scene_object;
 
-/* Renders and writes every view's PNG, in parallel; the failure of the
+/* The view of cam, through the lens when there is one: a pinhole render
+ * at LENS_OVERSAMPLE times the resolution over every ray the frame sees,
+ * resampled through the lens (undistort.h). */
+static int render_view(const scene_object *obj, const ws_synth_options *opt, const ws_camera *cam,
+                       const float background[3], ws_image *img, ws_status *st) {
+    ws_lens lens;
+    if (synth_lens(opt, cam, &lens, st)) return st->code;
+    if (ws_lens_is_pinhole(&lens))
+        return obj->solid ? ws_solid_render(obj->solid, cam, SUPERSAMPLE, background, img, st)
+                          : ws_synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, st);
+    int w, h;
+    double K[4];
+    ws_camera canvas;
+    ws_image pinhole = {0};
+    if (ws_lens_canvas(&lens, LENS_OVERSAMPLE, &w, &h, K, st) ||
+        ws_camera_init_pinhole(&canvas, cam->c2w, K[0], K[2], K[3], w, h, "--lens", st) ||
+        (obj->solid ? ws_solid_render(obj->solid, &canvas, SUPERSAMPLE, background, &pinhole, st)
+                    : ws_synth_render(obj->tubes, &canvas, SUPERSAMPLE, background, &pinhole, st)))
+        return st->code;
+    int rc = ws_image_distort(&pinhole, K, &lens, background, img, st);
+    ws_image_free(&pinhole);
+    return rc;
+}
+
+/* Renders and writes every view's image, in parallel; the failure of the
  * lowest view wins. */
 static int write_views(const char *dir, const scene_object *obj, const ws_synth_options *opt,
                        double (*c2w)[4][4], int total, ws_status *st) {
@@ -658,14 +792,14 @@ static int write_views(const char *dir, const scene_object *obj, const ws_synth_
         ws_status *vs = &status[v];
         ws_status_clear(vs);
         char path[4400], what[4500];
-        snprintf(path, sizeof path, "%s/rgb/%s/r_%d.png", dir, ws_split_names[split], k);
+        char file[64];
+        view_file(opt, split, k, file, sizeof file);
+        snprintf(path, sizeof path, "%s/%s", dir, file);
         snprintf(what, sizeof what, "%s: camera", path);
         ws_camera cam;
         ws_image img = {0};
-        if (!synth_camera(opt, c2w[v], what, &cam, vs) &&
-            !(obj->solid ? ws_solid_render(obj->solid, &cam, SUPERSAMPLE, background, &img, vs)
-                         : ws_synth_render(obj->tubes, &cam, SUPERSAMPLE, background, &img, vs)))
-            ws_png_write(path, &img, vs);
+        if (!synth_camera(opt, c2w[v], what, &cam, vs) && !render_view(obj, opt, &cam, background, &img, vs))
+            opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs);
         ws_image_free(&img);
     }
     int rc = WS_OK;
@@ -704,18 +838,44 @@ static int remove_scene_files(int fd, const char *where, int (*is_scene_file)(co
 
 static int is_top_file(const char *name) {
     static const char *const files[] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
-                                        "transforms.json",       "gt_curves.json",      "gt_points.ply"};
+                                        "transforms.json",       "gt_curves.json",      "gt_points.ply",
+                                        "train_list.txt",        "val_list.txt",        "test_list.txt"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
         if (!strcmp(name, files[k])) return 1;
     return 0;
 }
 
-/* r_K.png, as write_views names a view */
+/* r_K.png or r_K.jpg, as view_file names a view */
 static int is_view_file(const char *name) {
     if (strncmp(name, "r_", 2)) return 0;
     const char *c = name + 2;
     while (*c >= '0' && *c <= '9') c++;
-    return c > name + 2 && !strcmp(c, ".png");
+    return c > name + 2 && (!strcmp(c, ".png") || !strcmp(c, ".jpg"));
+}
+
+/* the COLMAP model's files (io/colmap.h), text or binary */
+static int is_model_file(const char *name) {
+    static const char *const files[] = {"cameras.txt", "images.txt", "points3D.txt",
+                                        "cameras.bin", "images.bin", "points3D.bin"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
+        if (!strcmp(name, files[k])) return 1;
+    return 0;
+}
+
+/* Removes the files `is_scene_file` accepts from DIR/A/B (each folder
+ * entered without following links), then B unless something else is there. */
+static int clear_subfolder(int fd, const char *dir, const char *a, const char *b, int (*is_scene_file)(const char *),
+                           ws_status *st) {
+    int afd = openat(fd, a, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (afd < 0) return WS_OK;
+    int bfd = openat(afd, b, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC), rc = WS_OK;
+    if (bfd >= 0) {
+        char where[4400];
+        snprintf(where, sizeof where, "%s/%s/%s", dir, a, b);
+        if (!(rc = remove_scene_files(bfd, where, is_scene_file, st))) unlinkat(afd, b, AT_REMOVEDIR);
+    }
+    close(afd);
+    return rc;
 }
 
 /* `scene --out DIR` writes into a new or empty folder, or over a scene it
@@ -740,16 +900,15 @@ static int clear_old_scene(const char *dir, ws_status *st) {
                      : ws_fail(st, WS_EUSAGE, "%s: not empty and not a scene written by `wiresketch scene`; "
                                               "choose a new or empty folder", dir);
     }
-    char where[4400];
-    int rgb = openat(fd, "rgb", O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-    int rc = remove_scene_files(fd, dir, is_top_file, st);
-    for (int s = 0; s < WS_NSPLITS && rgb >= 0 && !rc; s++) {
-        int sfd = openat(rgb, ws_split_names[s], O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-        snprintf(where, sizeof where, "%s/rgb/%s", dir, ws_split_names[s]);
-        if (sfd >= 0 && !(rc = remove_scene_files(sfd, where, is_view_file, st)))
-            unlinkat(rgb, ws_split_names[s], AT_REMOVEDIR); /* unless something else is there */
-    }
-    if (rgb >= 0) close(rgb);
+    int rc = remove_scene_files(dup(fd), dir, is_top_file, st);
+    /* the views of either layout (rgb/ or COLMAP's images/), and the model */
+    static const char *const folders[3] = {"rgb", "images", "sparse"};
+    for (int f = 0; f < 2 && !rc; f++)
+        for (int s = 0; s < WS_NSPLITS && !rc; s++)
+            rc = clear_subfolder(fd, dir, folders[f], ws_split_names[s], is_view_file, st);
+    if (!rc) rc = clear_subfolder(fd, dir, "sparse", "0", is_model_file, st);
+    for (int f = 0; f < 3 && !rc; f++) unlinkat(fd, folders[f], AT_REMOVEDIR); /* unless something else is there */
+    close(fd);
     return rc;
 }
 
@@ -772,24 +931,32 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
     int rc = c2w ? WS_OK : st->code;
+    const char *images = opt->colmap ? "images" : "rgb";
     snprintf(path, sizeof path, "%s/" SCENE_MARK, dir);
     if (!rc && !(rc = clear_old_scene(dir, st)) && !(rc = ws_mkdir(dir, st)))
         rc = write_text_file(path, "a scene written by `wiresketch scene`\n", st);
-    snprintf(path, sizeof path, "%s/rgb", dir);
+    snprintf(path, sizeof path, "%s/%s", dir, images);
     if (!rc) rc = ws_mkdir_inside(path, st);
     for (int s = 0; s < WS_NSPLITS && !rc; s++) {
-        snprintf(path, sizeof path, "%s/rgb/%s", dir, ws_split_names[s]);
+        snprintf(path, sizeof path, "%s/%s/%s", dir, images, ws_split_names[s]);
         if (opt->views[s]) rc = ws_mkdir_inside(path, st);
+    }
+    snprintf(path, sizeof path, "%s/sparse", dir);
+    if (!rc && opt->colmap && !(rc = ws_mkdir(path, st))) {
+        snprintf(path, sizeof path, "%s/sparse/0", dir);
+        rc = ws_mkdir(path, st);
     }
     if (!rc) {
         place_cameras(center, opt, c2w);
         rc = write_views(dir, &what, opt, c2w, total, st);
     }
-    if (!rc && opt->nerfstudio) rc = write_transforms_nerfstudio(dir, opt, c2w, st);
-    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++])
+    const ws_curves *gt = solid ? &sol.edges : &obj.curves;
+    if (!rc && opt->colmap) rc = write_colmap(dir, opt, c2w, gt, st);
+    else if (!rc && opt->nerfstudio) rc = write_transforms_nerfstudio(dir, opt, c2w, st);
+    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio && !opt->colmap; first += opt->views[s++])
         if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
-    if (!rc) rc = ws_curves_save(path, solid ? &sol.edges : &obj.curves, st);
+    if (!rc) rc = ws_curves_save(path, gt, st);
     snprintf(path, sizeof path, "%s/gt_points.ply", dir);
     if (!rc && solid) rc = ws_solid_write_points(&sol, path, GT_POINTS, opt->seed, st);
     free(c2w);
