@@ -3,7 +3,9 @@
  * (METHOD.md section 8), as one JSON object on stdout; with a ground-truth
  * point cloud also how much of the photos' silhouettes it leaves uncovered
  * (geometry/gt_coverage.h, field gt_coverage), and where it misses a part
- * the check's line as a warning on stderr. The loss is computed
+ * the check's line as a warning on stderr; with reference lines
+ * (SCENE/lines/SPLIT) the drawing score (metrics/drawing_score.h, field
+ * drawing). The loss is computed
  * only when asked for (--loss NAME) or, by default, when it can be: the
  * CLIP loss when the CLIP weight file exists; distances need no weights. */
 #include <math.h>
@@ -18,6 +20,7 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "io/pointcloud.h"
+#include "metrics/drawing_score.h"
 #include "metrics/quality.h"
 #include "objective/objective.h"
 #include "base/runtime.h"
@@ -71,6 +74,13 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && lo) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
+    ws_drawing_score drawing;
+    char lines_dir[WS_PATH_MAX];
+    int have_lines = ws_drawing_lines_dir(scene_dir, split_name, lines_dir);
+    if (!rc && have_lines && curves.n == 0)
+        rc = ws_fail(st, WS_EINPUT, "%s: no curves to score against the reference lines", curves_path);
+    if (!rc && have_lines)
+        rc = ws_drawing_score_split(&scene.split[split], scene.width, scene.height, &curves, lines_dir, &drawing, st);
     ws_surface_curve *per = NULL;
     if (!rc && per_curve) rc = surface_by_curve(gt_points, &g, curves.n, &per, st);
     /* The coverage needs the photos, which a measure of the cameras alone
@@ -116,6 +126,10 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
             printf(", \"stray_curves\": %d", q.curve_strays.stray_curves);
             printf(", ");
             ws_line_metrics_json(stdout, &q.lines);
+        }
+        if (have_lines) {
+            printf(", ");
+            ws_drawing_score_json(stdout, &drawing);
         }
         if (coverage) {
             printf(", ");
@@ -194,10 +208,11 @@ int cmd_eval(int argc, char **argv) {
     ws_scene_ground_truth(pos[0], scene_points, scene_curves);
     if (!gt_points) gt_points = scene_points[0] ? scene_points : NULL;
     if (!gt_curves) gt_curves = scene_curves[0] ? scene_curves : NULL;
-    if (!with_loss && !gt_points && !gt_curves) {
+    char lines_dir[WS_PATH_MAX];
+    if (!with_loss && !gt_points && !gt_curves && !ws_drawing_lines_dir(pos[0], split_name, lines_dir)) {
         ws_fail(&st, WS_EUSAGE,
                 "nothing to evaluate: no loss (no CLIP weight file at %s; choose one with --loss) "
-                "and no ground truth (give --gt or --gt-curves)",
+                "and no ground truth (give --gt or --gt-curves; SCENE/lines/SPLIT has no reference lines)",
                 lo.weights_path);
         return ws_cli_fail(&st);
     }

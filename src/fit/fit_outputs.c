@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "base/paths.h"
+#include "metrics/drawing_score.h"
 #include "metrics/quality.h"
 #include "io/export.h"
 #include "fit/fit_outputs.h"
@@ -88,7 +89,7 @@ static int write_evolution(const char *path, const ws_scene *scene, const ws_fit
 
 /* metrics.json: the numbers of the report, for scripts. */
 static int write_metrics(const char *path, const ws_fit_state *s, int retired, double test_loss,
-                         const ws_quality *q, ws_status *st) {
+                         const ws_quality *q, const ws_drawing_score *drawing, ws_status *st) {
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
@@ -106,13 +107,18 @@ static int write_metrics(const char *path, const ws_fit_state *s, int retired, d
         fprintf(f.fp, ", ");
         ws_line_metrics_json(f.fp, &q->lines);
     }
+    if (drawing) {
+        fprintf(f.fp, ", ");
+        ws_drawing_score_json(f.fp, drawing);
+    }
     fprintf(f.fp, "}\n");
     return ws_outfile_commit(&f, st);
 }
 
 static int write_report(const char *path, const ws_fit_options *opt, const ws_scene *scene,
                         const ws_fit_state *s, const ws_curves *sketch, int retired,
-                        const ws_report_view *views, double test_loss, const ws_quality *q, ws_status *st) {
+                        const ws_report_view *views, double test_loss, const ws_quality *q,
+                        const ws_drawing_score *drawing, ws_status *st) {
     int nval = 0;
     long *steps = ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(long), "report", st);
     double *losses = steps ? ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(double), "report", st) : NULL;
@@ -130,11 +136,11 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
             val_losses[nval++] = s->log[i].val_loss;
         }
     }
-    char text[19][64];
+    char text[22][64];
     snprintf(text[1], 64, "%ld (%ld skipped; %ld respawned, %d retired)", s->global_step,
              s->skipped_steps, s->respawned, retired);
     snprintf(text[2], 64, "%.6g", test_loss);
-    ws_report_item metrics[13] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
+    ws_report_item metrics[16] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
     int nmetrics = 2;
     if (q->have_surface) {
         snprintf(text[8], 64, "%.5f", q->surface.mean);
@@ -161,6 +167,16 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
         metrics[nmetrics++] = (ws_report_item){"accuracy / completeness / Chamfer (their sum), over the largest side", text[16]};
         metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 1% of the largest side", text[17]};
         metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 2% of the largest side", text[18]};
+    }
+    if (drawing) {
+        const ws_drawing_score *d = drawing;
+        snprintf(text[19], 64, "%.3f / %.3f / %.3f", d->precision[0], d->recall[0], d->fscore[0]);
+        snprintf(text[20], 64, "%.3f / %.3f / %.2f", d->contour_recall[0], d->scribble[0], d->overdraw);
+        snprintf(text[21], 64, "%.3f / %.3f / %.3f", d->precision[1], d->recall[1], d->fscore[1]);
+        metrics[nmetrics++] = (ws_report_item){"drawing: precision / recall / F at 1% of the image diagonal", text[19]};
+        metrics[nmetrics++] =
+            (ws_report_item){"drawing: contour recall / interior scribble at 1%; overdraw", text[20]};
+        metrics[nmetrics++] = (ws_report_item){"drawing: precision / recall / F at 0.5% of the image diagonal", text[21]};
     }
     ws_report_image images[] = {{"turntable", "turntable.gif"}, {"evolution during the fit", "evolution.gif"}};
     ws_report rep = {0};
@@ -225,8 +241,14 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
     ws_quality q;
+    ws_drawing_score drawing;
+    char lines_dir[WS_PATH_MAX];
+    int have_lines = ntest && ws_drawing_lines_dir(scene->dir, "test", lines_dir);
     if (!rc) rc = ws_quality_measure(&c, gt_points, gt_curves, &q, st);
-    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, retired, test_loss, &q, st);
+    if (!rc && have_lines)
+        rc = ws_drawing_score_split(&scene->split[WS_TEST], scene->width, scene->height, &c, lines_dir, &drawing, st);
+    const ws_drawing_score *scored = have_lines ? &drawing : NULL;
+    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, retired, test_loss, &q, scored, st);
     if (!rc) rc = ws_curves_save(join(path, out, "curves.json"), &c, st);
     if (!rc) rc = ws_export_obj(join(path, out, "curves.obj"), &c, st);
     if (!rc) rc = ws_export_ply(join(path, out, "curves.ply"), &c, st);
@@ -238,7 +260,7 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
                               scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
     if (!rc)
         rc = write_report(join(path, out, "report.html"), opt, scene, s, &c, retired, ntest ? views : NULL,
-                          test_loss, &q, st);
+                          test_loss, &q, scored, st);
     free(views);
     free(paths);
     ws_sketch_renderer_free(&r);

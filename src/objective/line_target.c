@@ -3,7 +3,7 @@
  * call. */
 #include <math.h>
 #include <stdlib.h>
-#include "geometry/distance.h"
+#include "render/distance.h"
 #include "objective/line_target.h"
 #include "render/thin_edges.h"
 

@@ -12,7 +12,7 @@
  *        max_c |photo_c - background_c| > 0.02 against the border median),
  *        given: a fit makes it once and shares it (view_targets.h);
  *   D(p) = the Euclidean distance from pixel p to the nearest pixel outside
- *        F (geometry/distance.h; 0 outside F, INFINITY everywhere when F is
+ *        F (render/distance.h; 0 outside F, INFINITY everywhere when F is
  *        the whole image);
  *   r  = WS_THIN_PART_WIDTH / 2 x max(W, H) pixels (5.6 at 224 px);
  *   O  = the opening of F by a disc of radius r: the pixels within r of a
