@@ -208,7 +208,7 @@ static void test_errors(void) {
     snprintf(dir, sizeof dir, "%s/never", tmp);
     int rc = ws_synth_write("teapot", dir, &opt, &st);
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
-                                    "dodecahedron, nut)"),
+                                    "dodecahedron, nut, torus, vase, animal)"),
           "unknown name: %s", st.msg);
     opt.views[WS_TRAIN] = 0;
     rc = ws_synth_write("chair", dir, &opt, &st);

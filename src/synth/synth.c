@@ -11,6 +11,9 @@
 #include <string.h>
 #include "base/outfile.h"
 #include "nn/base/rng.h"
+#include "io/ref_lines.h"
+#include "synth/line_drawing.h"
+#include "synth/smooth.h"
 #include "synth/solids.h"
 #include "synth/synth.h"
 
@@ -632,11 +635,31 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
     return WS_OK;
 }
 
-/* What a scene shows: tubes or a solid (the other one NULL). */
+/* What a scene shows: tubes, a solid or a smooth object (the others NULL). */
 typedef struct {
     const ws_synth_object *tubes;
     const ws_solid *solid;
+    const ws_smooth *smooth;
 } scene_object;
+
+/* A view of a smooth object and, for a test view, its reference lines into
+ * dir/lines/test/r_K.png and r_K_parts.png (io/ref_lines.h). */
+static int render_smooth(const char *dir, const ws_smooth *s, const ws_camera *cam, int split, int k,
+                         const float background[3], ws_image *img, ws_status *st) {
+    if (split != WS_TEST) return ws_smooth_render(s, cam, SUPERSAMPLE, background, img, NULL, st);
+    ws_geometry_buffer g;
+    if (ws_geometry_buffer_alloc(&g, cam->width, cam->height, st)) return st->code;
+    uint8_t *part = ws_malloc((size_t)cam->width * cam->height, "reference lines", st);
+    int rc = part ? ws_smooth_render(s, cam, SUPERSAMPLE, background, img, &g, st) : st->code;
+    char lines_dir[4400], name[32];
+    snprintf(lines_dir, sizeof lines_dir, "%s/lines/%s", dir, ws_split_names[split]);
+    snprintf(name, sizeof name, "r_%d", k);
+    if (!rc) rc = ws_line_drawing(&g, part, st);
+    if (!rc) rc = ws_ref_lines_write(lines_dir, name, part, cam->width, cam->height, st);
+    free(part);
+    ws_geometry_buffer_free(&g);
+    return rc;
+}
 
 /* Renders and writes every view's PNG, in parallel; the failure of the
  * lowest view wins. */
@@ -658,8 +681,9 @@ static int write_views(const char *dir, const scene_object *obj, const ws_synth_
         ws_camera cam;
         ws_image img = {0};
         if (!synth_camera(opt, c2w[v], what, &cam, vs) &&
-            !(obj->solid ? ws_solid_render(obj->solid, &cam, SUPERSAMPLE, background, &img, vs)
-                         : ws_synth_render(obj->tubes, &cam, SUPERSAMPLE, background, &img, vs)))
+            !(obj->smooth  ? render_smooth(dir, obj->smooth, &cam, split, k, background, &img, vs)
+              : obj->solid ? ws_solid_render(obj->solid, &cam, SUPERSAMPLE, background, &img, vs)
+                           : ws_synth_render(obj->tubes, &cam, SUPERSAMPLE, background, &img, vs)))
             ws_png_write(path, &img, vs);
         ws_image_free(&img);
     }
@@ -676,18 +700,21 @@ static int write_views(const char *dir, const scene_object *obj, const ws_synth_
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st) {
     if (check_options(opt, st)) return st->code;
     if (strlen(dir) > 4000) return ws_fail(st, WS_EUSAGE, "%s: path too long", dir);
-    int solid = ws_solid_exists(name);
-    if (!solid && object_index(name) < 0)
+    int solid = ws_solid_exists(name), smooth = ws_smooth_exists(name);
+    if (!solid && !smooth && object_index(name) < 0)
         return ws_fail(st, WS_EUSAGE,
                        "%s: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
-                       "dodecahedron, nut)",
+                       "dodecahedron, nut, torus, vase, animal)",
                        name);
     ws_synth_object obj = {0};
     ws_solid sol = {0};
-    if (solid ? ws_solid_make(&sol, name, OBJECT_CENTER, st) : ws_synth_object_make(&obj, name, st))
+    ws_smooth smo = {0};
+    if (smooth ? ws_smooth_make(&smo, name, OBJECT_CENTER, st)
+        : solid ? ws_solid_make(&sol, name, OBJECT_CENTER, st)
+                : ws_synth_object_make(&obj, name, st))
         return st->code;
-    const scene_object what = {solid ? NULL : &obj, solid ? &sol : NULL};
-    const double *center = solid ? sol.center : obj.center;
+    const scene_object what = {solid || smooth ? NULL : &obj, solid ? &sol : NULL, smooth ? &smo : NULL};
+    const double *center = smooth ? smo.center : solid ? sol.center : obj.center;
     char path[4400];
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
@@ -698,6 +725,11 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         snprintf(path, sizeof path, "%s/rgb/%s", dir, ws_split_names[s]);
         if (opt->views[s]) rc = ws_mkdir(path, st);
     }
+    snprintf(path, sizeof path, "%s/lines", dir);
+    if (!rc && smooth && opt->views[WS_TEST] && !(rc = ws_mkdir(path, st))) {
+        snprintf(path, sizeof path, "%s/lines/test", dir);
+        rc = ws_mkdir(path, st);
+    }
     if (!rc) {
         place_cameras(center, opt, c2w);
         rc = write_views(dir, &what, opt, c2w, total, st);
@@ -706,7 +738,7 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++])
         if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
-    if (!rc) rc = ws_curves_save(path, solid ? &sol.edges : &obj.curves, st);
+    if (!rc && !smooth) rc = ws_curves_save(path, solid ? &sol.edges : &obj.curves, st);
     snprintf(path, sizeof path, "%s/gt_points.ply", dir);
     if (!rc && solid) rc = ws_solid_write_points(&sol, path, GT_POINTS, opt->seed, st);
     free(c2w);
