@@ -71,18 +71,20 @@ int ws_drawing_score_view(const unsigned char *gray, const uint8_t *part, int W,
 }
 
 int ws_drawing_score_split(const ws_split *split, int W, int H, const ws_curves *c, const char *lines_dir,
-                           ws_drawing_score *s, ws_status *st) {
+                           ws_drawing_render_fn render, void *ctx, ws_drawing_score *s, ws_status *st) {
     memset(s, 0, sizeof *s);
     ws_sketch_renderer r;
     if (ws_sketch_renderer_init(&r, W, H, st)) return st->code;
     uint8_t *part = ws_malloc((size_t)W * H, "reference lines", st);
-    int rc = part ? WS_OK : st->code;
+    unsigned char *drawing = part && render ? ws_malloc((size_t)W * H, "a drawing", st) : NULL;
+    int rc = part && (drawing || !render) ? WS_OK : st->code;
     for (int v = 0; v < split->n && !rc; v++) {
         const ws_view *view = &split->views[v];
         ws_drawing_score one;
         rc = ws_ref_lines_read(lines_dir, view->name, W, H, part, st);
         if (!rc) rc = ws_sketch_render(&r, c, &view->cam, st);
-        if (!rc) rc = ws_drawing_score_view(r.gray, part, W, H, &one, st);
+        if (!rc && render) rc = render(ctx, &view->cam, r.gray, drawing, st);
+        if (!rc) rc = ws_drawing_score_view(render ? drawing : r.gray, part, W, H, &one, st);
         if (rc || !one.views) continue;
         s->views++;
         s->contour_views += one.contour_views;
@@ -107,6 +109,7 @@ int ws_drawing_score_split(const ws_split *split, int W, int H, const ws_curves 
         }
     }
     free(part);
+    free(drawing);
     ws_sketch_renderer_free(&r);
     return rc;
 }
@@ -119,8 +122,8 @@ int ws_drawing_lines_dir(const char *scene_dir, const char *split_name, char *di
     return 0;
 }
 
-void ws_drawing_score_json(FILE *fp, const ws_drawing_score *s) {
-    fprintf(fp, "\"drawing\": {\"views\": %d, \"overdraw\": %.9g", s->views, s->overdraw);
+void ws_drawing_score_json(FILE *fp, const char *key, const ws_drawing_score *s) {
+    fprintf(fp, "\"%s\": {\"views\": %d, \"overdraw\": %.9g", key, s->views, s->overdraw);
     for (int k = 0; k < WS_DRAWING_NTAU; k++) {
         const char *t = WS_DRAWING_TAU_NAME[k];
         fprintf(fp, ", \"precision_%s\": %.9g, \"recall_%s\": %.9g, \"fscore_%s\": %.9g, "

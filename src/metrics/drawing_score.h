@@ -46,20 +46,26 @@ typedef struct {
 int ws_drawing_score_view(const unsigned char *gray, const uint8_t *part, int W, int H, ws_drawing_score *s,
                           ws_status *st);
 
-/* The sketch c rendered from every view of split and scored against the
- * reference lines lines_dir/NAME.png, NAME_parts.png of each (a view's
- * files must exist and have the scene's size). Fails (naming the file)
- * on a missing or wrong file, or when no view has a line. */
+/* Turns the sketch's render of a view (curves, H x W grey) into the
+ * drawing a user gets of it (drawing, H x W grey). */
+typedef int (*ws_drawing_render_fn)(void *ctx, const ws_camera *cam, const unsigned char *curves,
+                                    unsigned char *drawing, ws_status *st);
+
+/* The sketch c rendered from every view of split (turned into a drawing by
+ * render(ctx, ...) unless render is NULL) and scored against the reference
+ * lines lines_dir/NAME.png, NAME_parts.png of each (a view's files must
+ * exist and have the scene's size). Fails (naming the file) on a missing
+ * or wrong file, or when no view has a line. */
 int ws_drawing_score_split(const ws_split *split, int W, int H, const ws_curves *c, const char *lines_dir,
-                           ws_drawing_score *s, ws_status *st);
+                           ws_drawing_render_fn render, void *ctx, ws_drawing_score *s, ws_status *st);
 
 /* SCENE/lines/SPLIT into dir (WS_PATH_MAX bytes) when that directory
  * exists (returns 1), else "" (returns 0). */
 int ws_drawing_lines_dir(const char *scene_dir, const char *split_name, char *dir);
 
-/* Writes `"drawing": {"views": ..., "overdraw": ..., "precision_1": ...,
+/* Writes `"KEY": {"views": ..., "overdraw": ..., "precision_1": ...,
  * "recall_1", "fscore_1", "contour_recall_1", "scribble_1", then the same
  * with suffix 0.5}` for metrics.json and eval. */
-void ws_drawing_score_json(FILE *fp, const ws_drawing_score *s);
+void ws_drawing_score_json(FILE *fp, const char *key, const ws_drawing_score *s);
 
 #endif
