@@ -215,11 +215,13 @@ static void test_errors(void) {
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "vase: --lens and --layout colmap are for the wire objects and solids"),
           "a smooth object as a COLMAP capture: %s", st.msg);
     opt.colmap = 0;
+    opt.nerfstudio = 1;
     opt.lens[0] = -0.2;
     rc = ws_synth_write("torus", dir, &opt, &st);
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "torus: --lens and --layout colmap are for the wire objects and solids"),
           "a smooth object through a lens: %s", st.msg);
     opt.lens[0] = 0;
+    opt.nerfstudio = 0;
     opt.views[WS_TRAIN] = 0;
     rc = ws_synth_write("chair", dir, &opt, &st);
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--views-train: 0 is not in [1, 100000]"),
