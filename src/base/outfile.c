@@ -58,6 +58,7 @@ void ws_outfile_remove_on_signals(void) {
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGHUP, &sa, NULL);
+    sigaction(SIGXCPU, &sa, NULL);
 }
 
 /* The PID of a temporary file's name, NAME.tmp.PID; 0 if it is not one. */

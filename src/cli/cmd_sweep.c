@@ -51,11 +51,10 @@ typedef struct {
     int views, cell; /* contact sheet: test views shown, pixels per cell */
 } sweep_plan;
 
+/* The signal that stopped the sweep (0: none): the running fit received
+ * it too (or alone) and stopped cleanly (fit.h). */
 static volatile sig_atomic_t sweep_stop;
-static void on_signal(int sig) {
-    (void)sig;
-    sweep_stop = 1;
-}
+static void on_signal(int sig) { sweep_stop = sig; }
 
 static int usage_help(void) {
     printf("usage: wiresketch sweep SCENE --out DIR --vary NAME=V1,V2,... [--vary ...] [fit options]\n"
@@ -173,6 +172,12 @@ static int spawn_fit(char **args, const char *run, ws_status *st) {
     int status;
     while (waitpid(pid, &status, 0) < 0)
         if (errno != EINTR) return ws_fail(st, WS_EIO, "%s: lost the fit: %s", run, strerror(errno));
+    /* 128 + N: the fit was stopped by signal N, checkpointed, and the sweep
+     * stops with it (the same command continues) */
+    if (WIFEXITED(status) && WEXITSTATUS(status) > 128) {
+        if (!sweep_stop) sweep_stop = WEXITSTATUS(status) - 128;
+        return WS_OK;
+    }
     if (!WIFEXITED(status) || WEXITSTATUS(status))
         return ws_fail(st, WIFEXITED(status) && WEXITSTATUS(status) == 2 ? WS_EUSAGE : WS_EINPUT,
                        "%s: the fit failed (exit %d; its message is above)", run,
@@ -397,15 +402,16 @@ int cmd_sweep(int argc, char **argv) {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    static const int stops[] = {SIGINT, SIGTERM, SIGHUP, SIGXCPU, SIGXFSZ};
+    for (size_t k = 0; k < sizeof stops / sizeof stops[0]; k++) sigaction(stops[k], &sa, NULL);
     for (int k = 0; k < nruns && !rc && !sweep_stop; k++) rc = do_run(&p, k, (int)nruns, &st);
     if (!rc && !sweep_stop) rc = write_summary(&p, (int)nruns, &st);
     free(p.fit_args);
     if (rc) return ws_cli_fail(&st);
     if (sweep_stop) {
-        fprintf(stderr, "wiresketch: sweep interrupted; run the same command again to continue\n");
-        return 1;
+        fprintf(stderr, "wiresketch: sweep stopped by signal %d; run the same command again to continue\n",
+                (int)sweep_stop);
+        return 128 + sweep_stop;
     }
     fprintf(stderr, "wiresketch: sweep done; see %s/index.html and %s/contact_sheet.png\n", p.out, p.out);
     return 0;

@@ -12,7 +12,9 @@
  * the same state: the objective spreads each step's work and hands every
  * rank the same gradient. Rank 0 alone writes checkpoints, outputs and
  * messages; a stop request is agreed on at each step. */
+#include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -152,15 +154,19 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     char left[32], spent[32];
     clock_text(rate > 0 ? (total_steps(r) - r->s.global_step) / rate : 0, left);
     clock_text(ws_fit_state_elapsed(&r->s, r->start), spent);
-    if (final) {
-        fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
-                tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
-        return;
-    }
-    fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
-            tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1, batches_per_epoch(r),
-            r->s.global_step, total_steps(r), loss, rate, spent, left, tty ? "   " : "\n");
-    fflush(stderr);
+    int written;
+    if (final)
+        written = fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
+                          tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
+    else
+        written = fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
+                          tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1,
+                          batches_per_epoch(r), r->s.global_step, total_steps(r), loss, rate, spent, left,
+                          tty ? "   " : "\n");
+    /* A pipe whose reader went away (SIGPIPE is ignored: main.c) stops the
+     * run as the signal would have, its outputs written. */
+    if ((written < 0 || fflush(stderr) != 0) && errno == EPIPE && !ws_fit_stop_requested)
+        ws_fit_stop_requested = SIGPIPE;
 }
 
 /* The state of a new fit: initial curves (fit/init.h), fresh Adam, first order. */
@@ -267,8 +273,9 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
     long steps_this_run = 0;
     double loss = NAN;
     while (s->epoch < o->epochs && !(o->max_steps > 0 && s->global_step >= o->max_steps)) {
-        if (ws_dist_max(ws_fit_stop_requested)) {
-            *interrupted = 1;
+        int stop = ws_dist_max(ws_fit_stop_requested);
+        if (stop) {
+            *interrupted = stop;
             break;
         }
         int first = s->batch_in_epoch * o->batch_size;
@@ -279,7 +286,13 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         steps_this_run++;
         progress(r, loss, rate_start, steps_this_run, 0);
         if (ws_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
-            if (save_checkpoint(r, argv, argc, st)) return ws_dist_fail_alone(st);
+            if (save_checkpoint(r, argv, argc, st)) {
+                /* past `ulimit -f` (SIGXFSZ came with the failure): the
+                 * stop at the next step tries again and reports it */
+                if (!ws_fit_stop_requested) return ws_dist_fail_alone(st);
+                ws_status_clear(st);
+                continue;
+            }
             last_checkpoint = ws_seconds();
         }
     }
@@ -422,6 +435,15 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     rc = ws_dist_agree(rc, st);
     if (!rc) rc = run_schedule(&r, argv, argc, interrupted, st);
     if (!rc) rc = save_checkpoint(&r, argv, argc, st);
+    /* A stopped run writes every output it can: a checkpoint past the file
+     * size limit does not cost the others. */
+    ws_status stop_failure;
+    ws_status_clear(&stop_failure);
+    if (rc && *interrupted) {
+        stop_failure = *st;
+        ws_status_clear(st);
+        rc = WS_OK;
+    }
     double test_loss = NAN, *test_losses = NULL;
     if (!rc && !*interrupted) {
         test_losses = ws_calloc(r.scene.split[WS_TEST].n + 1, sizeof(double), "test losses", st);
@@ -436,5 +458,9 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     free(retire);
     free(test_losses);
     fit_run_free(&r);
+    if (stop_failure.code) {
+        *st = stop_failure;
+        rc = st->code;
+    }
     return rc;
 }
