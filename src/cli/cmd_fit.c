@@ -44,7 +44,13 @@ static const char *stop_name(int sig) {
 static char end_line[2 * WS_PATH_MAX + 300];
 static size_t end_length;
 
+/* The exit code once this rank's fit is over and its line printed (-1
+ * before): a rank that ends first makes mpirun stop the others, which are
+ * then only finishing, and they keep their code without the line. */
+static volatile sig_atomic_t finished_code = -1;
+
 static void end_now(int sig) {
+    if (finished_code >= 0) _exit(finished_code);
     if (end_length && write(2, end_line, end_length) < 0) _exit(128 + sig);
     _exit(128 + sig);
 }
@@ -340,6 +346,7 @@ int cmd_fit(int argc, char **argv) {
     ws_status_clear(&st);
     if (ws_dist_init(&st)) return ws_cli_fail(&st);
     int rc = fit_command(argc, argv);
+    finished_code = rc;
     ws_dist_finalize();
     return rc;
 }

@@ -430,9 +430,11 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     r.opt = opt;
     *interrupted = 0;
     r.start = ws_seconds();
-    int rc = fit_run_setup(&r, resume, argv, argc, st);
-    if (!rc) rc = check_same_state(&r, st);
-    rc = ws_dist_agree(rc, st);
+    /* A failure one rank met alone in the setup (rank 0's output directory
+     * or first checkpoint) reaches every rank before the next collective,
+     * so that its line is the one printed, not a collective's mismatch. */
+    int rc = ws_dist_agree(fit_run_setup(&r, resume, argv, argc, st), st);
+    if (!rc) rc = ws_dist_agree(check_same_state(&r, st), st);
     if (!rc) rc = run_schedule(&r, argv, argc, interrupted, st);
     if (!rc) rc = save_checkpoint(&r, argv, argc, st);
     /* A stopped run writes every output it can: a checkpoint past the file
