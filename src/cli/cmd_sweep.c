@@ -22,6 +22,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "base/limits.h"
 #include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/commands.h"
@@ -35,6 +36,9 @@ extern char **environ;
 #define MAX_VALUES 32
 #define MAX_RUNS 1024
 #define GAP 4 /* pixels of white between the contact sheet's cells */
+/* A contact sheet's float pixels at the most: 1024 runs of 6 cells of 128
+ * pixels take 1.3 GB */
+#define MAX_SHEET_BYTES ((size_t)2 << 30)
 
 typedef struct {
     char name[64];
@@ -297,6 +301,19 @@ static void paste(ws_image *sheet, const char *path, int row, int col, int cell)
     if (ok) ws_image_free(&img);
 }
 
+/* The contact sheet's size, checked before the first fit rather than after
+ * the last: its cells (the photos' row and one per run, --sheet-views
+ * columns) in float RGB. */
+static int check_sheet(const sweep_plan *p, int nruns, ws_status *st) {
+    char what[200];
+    snprintf(what, sizeof what, "sweep: the contact sheet of %d runs with --sheet-views %d --sheet-cell %d", nruns,
+             p->views, p->cell);
+    size_t bytes, f[4] = {GAP + (size_t)p->views * (p->cell + GAP), GAP + (size_t)(nruns + 1) * (p->cell + GAP), 3,
+                          sizeof(float)};
+    if (ws_size_product(what, f, 4, MAX_SHEET_BYTES, "a contact sheet", &bytes, st)) st->code = WS_EUSAGE;
+    return st->code;
+}
+
 /* DIR/contact_sheet.png (row 0: the photos; then one row per run, in grid
  * order) and DIR/index.html (the same with names, metrics and times). */
 static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
@@ -397,7 +414,7 @@ int cmd_sweep(int argc, char **argv) {
     long nruns = 1;
     for (int a = 0; a < p.nvary; a++) nruns *= p.vary[a].n;
     int rc = nruns > MAX_RUNS ? ws_fail(&st, WS_EUSAGE, "--vary: %ld runs; at most %d", nruns, MAX_RUNS)
-                              : check_runs(&p, (int)nruns, &st);
+                              : check_sheet(&p, (int)nruns, &st) || check_runs(&p, (int)nruns, &st);
     if (!rc) rc = ws_mkdir(p.out, &st);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
