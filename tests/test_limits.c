@@ -2,8 +2,8 @@
  * memory are refused first, in one line naming the limit (base/limits.h):
  * curves per file, Gaussians per view (thin or many curves), the decoded
  * size of a photo (checked from its header, before its pixels), frames per
- * scene file, a sweep's contact sheet; and the hull's byte counter takes
- * any number of views. Each answer comes in seconds. */
+ * scene file, a sweep's contact sheet, OMP_STACKSIZE; and the hull's byte
+ * counter takes any number of views. Each answer comes in seconds. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -124,6 +124,24 @@ static void test_sheet(const char *scene) {
     CHECK(stat(want, &sb) != 0, "the refused sweep made its folder");
 }
 
+/* OMP_STACKSIZE outside what threads can be made with: libgomp's first
+ * thread creation failed with its own line (exit 1) in the middle of the
+ * run; now the program's line, before anything runs. */
+static void test_stack_size(const char *scene) {
+    static const char *const values[][2] = {{"16k", "out of range"}, {"100G", "out of range"}};
+    for (int k = 0; k < 2; k++) {
+        char want[300];
+        snprintf(want, sizeof want, "wiresketch: OMP_STACKSIZE=%s: %s; each thread needs from 128K to 256M (unset "
+                 "it: the default is enough)\n", values[k][0], values[k][1]);
+        int rc = run_cmd(out, sizeof out, "OMP_STACKSIZE=%s %s eval %s --curves %s/gt_curves.json --loss edges "
+                         "--threads 2", values[k][0], bin, scene, scene);
+        CHECK(rc == 2 && !strcmp(out, want), "OMP_STACKSIZE=%s: exit %d, said %s", values[k][0], rc, out);
+    }
+    int rc = run_cmd(out, sizeof out, "OMP_STACKSIZE=4M %s eval %s --curves %s/gt_curves.json --loss edges "
+                     "--threads 2 >/dev/null", bin, scene, scene);
+    CHECK(rc == 0, "OMP_STACKSIZE=4M: exit %d, said %s", rc, out);
+}
+
 int main(void) {
     const char *build = getenv("BUILD");
     snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
@@ -142,6 +160,7 @@ int main(void) {
     test_png();
     test_frames();
     test_sheet(scene);
+    test_stack_size(scene);
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
     if (!check_failed && system(cmd) != 0) return 1;

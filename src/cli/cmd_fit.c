@@ -92,6 +92,15 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
         ws_arg_value(&args[k], text[1], sizeof text[1]);
         out->items[out->n++] = (ws_report_item){text[0], text[1]};
     }
+    /* not an option, but it decides the bits of a CLIP fit: OpenBLAS's
+     * kernels differ in their rounding (OPENBLAS_CORETYPE, runtime.h) */
+    if (out->n < MAX_SETTINGS) {
+        const ws_blas_kernels *k = ws_runtime_kernels();
+        char(*text)[512] = out->text[out->n];
+        snprintf(text[0], sizeof text[0], "BLAS kernels");
+        snprintf(text[1], sizeof text[1], "%s (%s)", k->after, k->why);
+        out->items[out->n++] = (ws_report_item){text[0], text[1]};
+    }
 }
 
 /* The defaults of the options a loss wants otherwise, where the command
