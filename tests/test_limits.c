@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 #include "check.h"
 #include "cli_run.h"
@@ -78,6 +79,17 @@ static void test_curves(const char *scene) {
              WS_MAX_GAUSSIANS);
     rc = run_cmd(out, sizeof out, "%s render %s --scene %s --out %s/thin --size 32", bin, path, scene, tmp);
     CHECK(rc == 1 && !strcmp(out, want), "render of 8 million Gaussians: exit %d, said %s", rc, out);
+    /* a fit whose first curves pass it stops before its first step (it
+     * skipped every step and failed at its outputs) */
+    snprintf(want, sizeof want,
+             "wiresketch: curves: more than %d Gaussians, the most one view takes (2000 curves of thickness "
+             "1e-09); use fewer, shorter or thicker curves\n",
+             WS_MAX_GAUSSIANS);
+    rc = run_cmd(out, sizeof out, "%s fit %s --out %s/thin_fit --size 32 --loss edges --n-curves 2000 --thickness "
+                 "1e-9 --length 0.3 --max-steps 1 --threads 1 --quiet", bin, scene, tmp);
+    snprintf(path, sizeof path, "%s/thin_fit/checkpoint.bin", tmp);
+    CHECK(rc == 1 && !strcmp(out, want) && access(path, F_OK) != 0, "a fit of 8 million Gaussians: exit %d, said %s",
+          rc, out);
 }
 
 static void test_png(void) {

@@ -357,6 +357,11 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
          ws_respawn_create(&r->respawn, &r->scene, r->targets, &r->hull, o->n_curves, o->length, st)) ||
         (!resume && init_state(r, st)))
         return st->code;
+    /* the Gaussian limit (base/limits.h) refused now, not in every step */
+    ws_gaussians first = {0};
+    int rc = ws_curves_sample(&r->s.curves, &first, st);
+    ws_gaussians_free(&first);
+    if (rc) return rc;
     ws_splat_options splat_opt;
     ws_splat_options_default(&splat_opt);
     splat_opt.cutoff = o->cutoff;
