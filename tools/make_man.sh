@@ -36,7 +36,7 @@ SIGXCPU, SIGXFSZ, and 141 when the reader of its progress is gone), which
 writes its checkpoint and outputs first.
 .SH COMMANDS
 HEAD
-"$bin" --help | awk '/^commands:/ {on = 1; next} on && /^  [a-z]/' | while read -r name summary; do
+"$bin" --help | awk '/^commands:/ {on = 1; next} /^[^ ]/ {on = 0} on && /^  [a-z]/' | while read -r name summary; do
     printf '.TP\n.B %s\n%s\n' "$name" "$(printf '%s\n' "$summary" | esc)"
 done
 for c in $commands; do
