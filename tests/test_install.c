@@ -49,6 +49,7 @@ static void check_man(const char *man) {
             listing = 1;
             continue;
         }
+        if (strncmp(line, "  ", 2)) listing = 0; /* the next section (exit status) */
         char name[64];
         if (!listing || sscanf(line, "  %63s", name) != 1) continue;
         ncommands++;
