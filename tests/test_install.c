@@ -26,6 +26,7 @@
     "io/pointcloud.h io/scene.h metrics/line_metrics.h metrics/metrics.h metrics/nearest.h "                 \
     "metrics/quality.h metrics/strays.h nn/base/rng.h nn/base/status.h objective/clip_model.h "              \
     "objective/hidden_mode.h objective/loss.h objective/objective.h render/camera.h render/curves.h "        \
+    "render/lens.h " /* a view keeps its lens (scene.h) */                                               \
     "render/splat.h wiresketch.h "
 
 static char bin[512], build[256], tmp[256];
