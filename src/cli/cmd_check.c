@@ -5,7 +5,8 @@
  * has a gt_points.ply, also how much of the silhouettes it leaves
  * uncovered (geometry/gt_coverage.h) and, where it misses a part, a warning
  * line; that leaves the exit status alone, as the ground truth does not
- * enter a fit (README "check"). */
+ * enter a fit (README "check"). A scene with no usable silhouette gets its
+ * line alone (exit 1). */
 #include <math.h>
 #include <stdio.h>
 #include "cli/args.h"
@@ -13,6 +14,7 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "geometry/check.h"
+#include "io/scene_crops.h"
 #include "metrics/quality.h"
 #include "objective/view_targets.h"
 
@@ -79,7 +81,10 @@ int cmd_check(int argc, char **argv) {
         ws_scene_free(&scene);
         return ws_cli_fail(&st);
     }
-    print_table(&scene, &r);
+    char crops[1024];
+    ws_scene_crop_line(&scene, crops, sizeof crops);
+    if (crops[0]) printf("%s\n", crops);
+    if (!r.no_silhouette) print_table(&scene, &r);
     int code = r.consistent ? 0 : 1;
     if (r.consistent) {
         printf("consistent: every view agrees with the others\n");
@@ -90,6 +95,7 @@ int cmd_check(int argc, char **argv) {
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], gt_points, gt_curves);
     ws_gt_coverage cov;
+    if (r.no_silhouette) gt_points[0] = 0; /* it measures silhouettes */
     if (gt_points[0] && ws_cli_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
         code = ws_cli_fail(&st);
     } else if (gt_points[0]) {

@@ -1,5 +1,6 @@
 /* cmd_scene.c: `wiresketch scene NAME --out DIR`: a synthetic test scene
  * (NeRF layout) with its ground-truth curves (see synth.h). */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "cli/args.h"
@@ -9,16 +10,20 @@
 int cmd_scene(int argc, char **argv) {
     ws_synth_options opt;
     ws_synth_options_default(&opt);
-    const char *out = NULL, *background = "black", *layout = "nerf";
+    const char *out = NULL, *background = "black", *layout = "nerf", *size = "224", *principal = "0,0";
     int seed = 0;
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &out, 0, "directory to write the scene into (required)"},
         {"--views-train", WS_ARG_INT, &opt.views[WS_TRAIN], 0, "train views [48]"},
         {"--views-val", WS_ARG_INT, &opt.views[WS_VAL], 0, "val views, 0 for none [8]"},
         {"--views-test", WS_ARG_INT, &opt.views[WS_TEST], 0, "test views, 0 for none [8]"},
-        {"--size", WS_ARG_INT, &opt.size, 0, "image side in pixels [224]"},
+        {"--size", WS_ARG_STRING, &size, 0, "image side N, or width x height WxH (nerfstudio layout), pixels [224]"},
         {"--seed", WS_ARG_INT, &seed, 0, "seed of the camera placement [0]"},
-        {"--background", WS_ARG_STRING, &background, 0, "black or white [black]"},
+        {"--background", WS_ARG_STRING, &background, 0,
+         "black, white, or room (a box room of patterned walls and floor far around the object) [black]"},
+        {"--masks", WS_ARG_FLAG, &opt.masks, 0, "also write masks/SPLIT/r_K.png (white = object) and each frame's mask_path"},
+        {"--principal", WS_ARG_STRING, &principal, 0,
+         "DX,DY: the principal point DX, DY pixels right of and below the image centre, nerfstudio layout [0,0]"},
         {"--layout", WS_ARG_STRING, &layout, 0,
          "nerf (transforms_SPLIT.json) or nerfstudio (one transforms.json with intrinsics) [nerf]"},
         {"--width", WS_ARG_INT, &opt.width, 0, "image width, nerfstudio layout [--size]"},
@@ -49,11 +54,25 @@ int cmd_scene(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--seed: %d is negative", seed);
         return ws_cli_fail(&st);
     }
-    if (strcmp(background, "black") && strcmp(background, "white")) {
-        ws_fail(&st, WS_EUSAGE, "--background: '%s' is not black or white", background);
+    if (strcmp(background, "black") && strcmp(background, "white") && strcmp(background, "room")) {
+        ws_fail(&st, WS_EUSAGE, "--background: '%s' is not black, white or room", background);
         return ws_cli_fail(&st);
     }
     opt.white_background = !strcmp(background, "white");
+    opt.room = !strcmp(background, "room");
+    int w, h, used = 0;
+    if (sscanf(size, "%dx%d%n", &w, &h, &used) == 2 && !size[used]) {
+        opt.width = w;
+        opt.height = h;
+    } else if (sscanf(size, "%d%n", &opt.size, &used) != 1 || size[used]) {
+        ws_fail(&st, WS_EUSAGE, "--size: '%s' is not N or WxH", size);
+        return ws_cli_fail(&st);
+    }
+    if (sscanf(principal, "%lf,%lf%n", &opt.principal[0], &opt.principal[1], &used) != 2 || principal[used] ||
+        !isfinite(opt.principal[0]) || !isfinite(opt.principal[1])) {
+        ws_fail(&st, WS_EUSAGE, "--principal: '%s' is not DX,DY", principal);
+        return ws_cli_fail(&st);
+    }
     if (strcmp(layout, "nerf") && strcmp(layout, "nerfstudio")) {
         ws_fail(&st, WS_EUSAGE, "--layout: '%s' is not nerf or nerfstudio", layout);
         return ws_cli_fail(&st);

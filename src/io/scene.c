@@ -15,6 +15,7 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "io/scene.h"
+#include "io/view_crop.h"
 #include "nn/base/bytes.h"
 
 /* The largest transforms file read: 64 MiB holds some 100 000 frames, and
@@ -289,12 +290,7 @@ done:
  * with pinhole intrinsics (see scene.h).
  *
  * Every frame's intrinsics are its own value or the file's global one. The
- * working view is a centred crop whose pixels come out square at the
- * working size: with crop cw x ch resampled to W x H, the focal lengths
- * become fl_x W / cw and fl_y H / ch, equal when cw / ch = (fl_x / fl_y)
- * (W / H). The crop is whole pixels, so that equality holds to half a
- * pixel of the crop; the camera's one focal is the geometric mean of the
- * two. The principal point moves with the crop and scales with it. */
+ * working view is a crop around the object (io/view_crop.h). */
 
 /* Frame k of a file without split lists: test when k % 8 == 0, val when
  * k % 8 == 4, train else (7 / 8 of the frames for fitting, one in 8 each
@@ -401,29 +397,7 @@ static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *w
     return WS_OK;
 }
 
-/* The crop of the image that makes the working view, and the camera. */
-static int frame_camera(const intrinsics *in, const double c2w[4][4], const ws_scene_options *opt,
-                        const char *what, ws_view *v, ws_status *st) {
-    const double aspect = in->fx / in->fy * opt->width / opt->height; /* cw / ch wanted */
-    int cw, ch;
-    if ((double)in->w / in->h >= aspect) {
-        ch = in->h;
-        cw = (int)fmin(in->w, fmax(1, lround(in->h * aspect)));
-    } else {
-        cw = in->w;
-        ch = (int)fmin(in->h, fmax(1, lround(in->w / aspect)));
-    }
-    const int x0 = (in->w - cw) / 2, y0 = (in->h - ch) / 2;
-    const double sx = (double)opt->width / cw, sy = (double)opt->height / ch;
-    v->crop[0] = x0;
-    v->crop[1] = y0;
-    v->crop[2] = cw;
-    v->crop[3] = ch;
-    v->file_width = in->w;
-    v->file_height = in->h;
-    return ws_camera_init_pinhole(&v->cam, c2w, sqrt(in->fx * sx * in->fy * sy), (in->cx - x0) * sx,
-                                  (in->cy - y0) * sy, opt->width, opt->height, what, st);
-}
+static void axes_center(const ws_scene *scene, double center[3]);
 
 static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_options *opt,
                             ws_status *st) {
@@ -463,8 +437,26 @@ static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_opt
         snprintf(what, sizeof what, "%s: frame %d", path, index);
         if (!(rc = parse_frame(frame, what, dir, opt, v, c2w, st)) &&
             !(rc = frame_intrinsics(frame, root, what, &in, st)))
-            rc = frame_camera(&in, c2w, opt, what, v, st);
+            rc = ws_view_crop(in.fx, in.fy, in.cx, in.cy, in.w, in.h, c2w, NULL, opt->width, opt->height, what,
+                              v->crop, &v->cam, st);
     }
+    /* Each view's crop around the object: the centre the cameras look at. */
+    double center[3];
+    if (!rc) axes_center(scene, center);
+    for (int s = 0; s < WS_NSPLITS && !rc; s++)
+        for (int k = 0; k < scene->split[s].n && !rc; k++) {
+            ws_view *v = &scene->split[s].views[k];
+            char what[4300];
+            intrinsics in;
+            double c2w[4][4];
+            memcpy(c2w, v->cam.c2w, sizeof c2w);
+            snprintf(what, sizeof what, "%s: frame %d", path, v->frame);
+            if (!(rc = frame_intrinsics(cJSON_GetArrayItem(frames, v->frame), root, what, &in, st)))
+                rc = ws_view_crop(in.fx, in.fy, in.cx, in.cy, in.w, in.h, c2w, center, opt->width, opt->height,
+                                  what, v->crop, &v->cam, st);
+            v->file_width = in.w;
+            v->file_height = in.h;
+        }
     if (!rc) {
         const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
         scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);
