@@ -7,9 +7,9 @@
 # on white, centred; 288 x 224 in the box room with masks, (16, -8) px off;
 # the same without masks (where `check` must say that no silhouette is
 # usable, not name a camera fault); then the shared scenes (rose, duck).
-# Prints a markdown table: scene, how it was made, check's exit status and
-# its verdict (the first words of its line), the focal estimate of each
-# split. Usage: tools/check_false_alarms.sh [WORK_DIR] [SHARED_SCENES_DIR]
+# Prints a markdown table: scene, how it was made, how far its working
+# views' crops lie off the frames' centres, check's exit status and its
+# verdict (the first words of its line), the focal estimate of each split. Usage: tools/check_false_alarms.sh [WORK_DIR] [SHARED_SCENES_DIR]
 # (defaults /tmp/ws_false_alarms and ../../shared/scenes); run from the
 # repository root after `make`.
 set -u
@@ -34,14 +34,15 @@ options() {
 row() { # name, made, dir
     out=$("$bin" check "$3" 2>/dev/null)
     rc=$?
-    verdict=$(printf '%s\n' "$out" | grep -v '^split\|^train\|^val\|^test\|^$' | head -1 |
+    verdict=$(printf '%s\n' "$out" | grep -v '^split\|^train\|^val\|^test\|^$\|the working views are' | head -1 |
         sed "s|^$3/||" | cut -c1-90)
+    crop=$(printf '%s\n' "$out" | grep -o 'up to [0-9]* px off' | head -1)
     focal=$(printf '%s\n' "$out" | sed '/^$/q' | awk '$1 == "train" || $1 == "val" || $1 == "test" { printf "%s%s %s", sep, $1, $5; sep = ", " }' | head -1)
-    echo "| $1 | $2 | $rc | $verdict | $focal |"
+    echo "| $1 | $2 | ${crop:--} | $rc | $verdict | $focal |"
 }
 
-echo "| scene | made | exit | check says | focal estimate |"
-echo "|---|---|---|---|---|"
+echo "| scene | made | crops | exit | check says | focal estimate |"
+echo "|---|---|---|---|---|---|"
 for o in $objects; do
     for v in $variants; do
         d="$work/$o-$v"
