@@ -17,8 +17,8 @@ CC       ?= cc
 OPT      ?= -O2
 CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE $(OPT) -g -Wall -Wextra \
             -Wno-unused-parameter -fopenmp -fPIC -Isrc -I. \
-            $(shell pkg-config --cflags openblas libpng zlib libcjson)
-LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson) -lgif -lm -fopenmp
+            $(shell pkg-config --cflags openblas libpng zlib libcjson libjpeg)
+LDLIBS   += $(shell pkg-config --libs openblas libpng zlib libcjson libjpeg) -lgif -lm -fopenmp
 
 ifeq ($(NATIVE),1)
 CFLAGS   += -march=native
@@ -92,9 +92,10 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libwiresketch.a Makefile
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(BUILD)/embed_example.d
 
 # `make install PREFIX=/usr/local DESTDIR=` installs the program, the static
-# and the shared library (soname libwiresketch.so.SOVERSION), the headers
-# under include/wiresketch/ (their folders kept: #include "wiresketch.h"
-# with -I PREFIX/include/wiresketch), wiresketch.pc and the man page
+# and the shared library (soname libwiresketch.so.SOVERSION), the public
+# headers under include/wiresketch/ (src/wiresketch.h and the headers it
+# includes, as the compiler finds them, their folders kept: #include
+# "wiresketch.h" with -I PREFIX/include/wiresketch), wiresketch.pc and the man page
 # (made from the program's --help by tools/make_man.sh); `make uninstall`
 # with the same PREFIX and DESTDIR removes them.
 VERSION   := 0.1.0
@@ -102,8 +103,18 @@ SOVERSION := 0
 PREFIX    ?= /usr/local
 DESTDIR   ?=
 SHLIB     := libwiresketch.so.$(VERSION)
-INST_HEADERS := $(filter-out tests/%,$(HEADERS))
 ROOT      := $(DESTDIR)$(PREFIX)
+
+# The version and the commit the program is built from (base/version.c):
+# BUILD/build_id.txt holds them and is rewritten only when they change, so
+# that version.o alone rebuilds then ("unknown" outside a git checkout).
+BUILD_ID  := $(VERSION) $(shell [ -e .git ] && git describe --always --dirty 2>/dev/null || echo unknown)
+.PHONY: build-id
+$(BUILD)/build_id.txt: build-id
+	@mkdir -p $(dir $@)
+	@echo '$(BUILD_ID)' | cmp -s - $@ || echo '$(BUILD_ID)' > $@
+$(BUILD)/obj/src/base/version.o: $(BUILD)/build_id.txt
+$(BUILD)/obj/src/base/version.o: CFLAGS += -DWS_VERSION='"$(word 1,$(BUILD_ID))"' -DWS_COMMIT='"$(word 2,$(BUILD_ID))"'
 
 $(BUILD)/$(SHLIB): $(LIB_OBJ)
 	$(CC) -shared -Wl,-soname,libwiresketch.so.$(SOVERSION) $^ -o $@ $(LDLIBS)
@@ -111,22 +122,28 @@ $(BUILD)/$(SHLIB): $(LIB_OBJ)
 $(BUILD)/wiresketch.1: $(BUILD)/wiresketch tools/make_man.sh
 	bash tools/make_man.sh $(BUILD)/wiresketch $(VERSION) > $@.tmp && mv $@.tmp $@
 
+# The public headers, one a line: wiresketch.h's closure under #include.
+$(BUILD)/public_headers: $(HEADERS) Makefile
+	@mkdir -p $(dir $@)
+	$(CC) $(filter-out -MMD -MP,$(CFLAGS)) -MM -MT public src/wiresketch.h | tr -s ' \\' '\n\n' | \
+	    grep '\.h$$' | sort -u > $@.tmp && mv $@.tmp $@
+
 $(BUILD)/wiresketch.pc: Makefile
 	@mkdir -p $(dir $@)
 	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
 	    'Name: wiresketch' 'Description: 3D wireframe sketches of an object from multi-view photos' \
-	    'Version: $(VERSION)' 'Requires.private: openblas libpng zlib libcjson' \
+	    'Version: $(VERSION)' 'Requires.private: openblas libpng zlib libcjson libjpeg' \
 	    'Libs: -L$${libdir} -lwiresketch' 'Libs.private: -lgif -lm -fopenmp' \
 	    'Cflags: -I$${includedir}/wiresketch -D_POSIX_C_SOURCE=200809L' > $@
 
-install: all $(BUILD)/$(SHLIB) $(BUILD)/wiresketch.1 $(BUILD)/wiresketch.pc
+install: all $(BUILD)/$(SHLIB) $(BUILD)/wiresketch.1 $(BUILD)/wiresketch.pc $(BUILD)/public_headers
 	install -d $(ROOT)/bin $(ROOT)/lib/pkgconfig $(ROOT)/include/wiresketch $(ROOT)/share/man/man1
 	install -m 755 $(BUILD)/wiresketch $(ROOT)/bin/wiresketch
 	install -m 644 $(BUILD)/libwiresketch.a $(ROOT)/lib/libwiresketch.a
 	install -m 755 $(BUILD)/$(SHLIB) $(ROOT)/lib/$(SHLIB)
 	ln -sf $(SHLIB) $(ROOT)/lib/libwiresketch.so.$(SOVERSION)
 	ln -sf libwiresketch.so.$(SOVERSION) $(ROOT)/lib/libwiresketch.so
-	for h in $(INST_HEADERS); do \
+	for h in $$(cat $(BUILD)/public_headers); do \
 	    install -D -m 644 $$h $(ROOT)/include/wiresketch/$${h#src/} || exit 1; done
 	sed 's|^prefix=.*|prefix=$(PREFIX)|' $(BUILD)/wiresketch.pc > $(ROOT)/lib/pkgconfig/wiresketch.pc
 	install -m 644 $(BUILD)/wiresketch.1 $(ROOT)/share/man/man1/wiresketch.1
@@ -157,7 +174,7 @@ test-mpi: all
 	$(MAKE) MPI=1 build/mpi/wiresketch
 	@bash tests/mpi/run.sh build/mpi/wiresketch
 
-# `make bench-mpi`: the README's MPI tables (measured steps on 1 and 2
+# `make bench-mpi`: the MPI tables of docs/RESULTS.md (measured steps on 1 and 2
 # ranks, per-image costs, the model for 1..64 ranks).
 bench-mpi: all weights/random-f32.bin
 	$(MAKE) MPI=1 build/mpi/wiresketch
@@ -194,7 +211,7 @@ fuzz: fuzz-build
 demo: all
 	@BUILD=$(BUILD) bash tools/demo.sh
 
-# `make bench`: every benchmark table of the README's "Speed and accuracy"
+# `make bench`: every benchmark table of docs/RESULTS.md, "Speed and accuracy"
 # (wiresketch bench). The f16 row and the peak-memory part need a ViT-B/32
 # with random weights as f32 and f16 files: made once (about a minute).
 bench: all weights/random-f32.bin weights/random-f16.bin

@@ -13,6 +13,7 @@
 #include "attention.h"
 #include "clip.h"
 #include "embed.h"
+#include "gemm_bf16.h"
 #include "layernorm.h"
 #include "matmul.h"
 #include "normalise.h"
@@ -40,6 +41,9 @@ struct clip_model {
     const float *conv1, *class_embedding, *positional_embedding;
     const float *ln_pre_w, *ln_pre_b, *ln_post_w, *ln_post_b, *proj;
     clip_block *blocks;
+    /* bf16: the weights of the linear layers packed for gemm_bf16.h
+     * (packed_count entries, packed_index's order); NULL in fp32 */
+    nn_bf16_linear *packed;
 };
 
 /* ---- the weight table --------------------------------------------------- */
@@ -210,6 +214,7 @@ int clip_model_random(clip_model **out, const wf_arch *arch, uint64_t seed, ws_s
 
 void clip_model_free(clip_model *m) {
     if (!m) return;
+    clip_model_set_precision(m, CLIP_FP32, NULL);
     if (m->file) wf_close(m->file);
     free(m->owned);
     free(m->blocks);
@@ -217,6 +222,69 @@ void clip_model_free(clip_model *m) {
 }
 
 const wf_arch *clip_model_arch(const clip_model *m) { return &m->arch; }
+
+/* ---- precision: the linear layers' weights in bf16 ----------------------- */
+
+/* The packed weights: the patch embedding, the projection, then four per
+ * block (in_proj, out_proj, c_fc, c_proj). */
+enum { PACK_CONV1, PACK_PROJ, PACK_BLOCKS, PACK_PER_BLOCK = 4 };
+enum { PACK_IN_PROJ, PACK_OUT_PROJ, PACK_FC, PACK_CPROJ };
+
+static int packed_count(const wf_arch *a) { return PACK_BLOCKS + PACK_PER_BLOCK * a->layers; }
+
+/* The weight of packed slot i as matmul.h takes it: W, N, K, w_kn. */
+static const float *packed_source(const clip_model *m, int i, int *N, int *K, int *w_kn) {
+    const wf_arch *a = &m->arch;
+    int W = a->width;
+    *w_kn = 0;
+    if (i == PACK_CONV1) {
+        *N = W, *K = CHANNELS * a->patch * a->patch;
+        return m->conv1;
+    }
+    if (i == PACK_PROJ) {
+        *N = a->output_dim, *K = W, *w_kn = 1;
+        return m->proj;
+    }
+    const clip_block *b = &m->blocks[(i - PACK_BLOCKS) / PACK_PER_BLOCK];
+    switch ((i - PACK_BLOCKS) % PACK_PER_BLOCK) {
+    case PACK_IN_PROJ: *N = 3 * W, *K = W; return b->in_proj_w;
+    case PACK_OUT_PROJ: *N = W, *K = W; return b->out_proj_w;
+    case PACK_FC: *N = 4 * W, *K = W; return b->fc_w;
+    default: *N = W, *K = 4 * W; return b->cproj_w;
+    }
+}
+
+/* Slot i's packing, or NULL in fp32 (what nn_matmul takes). */
+static const nn_bf16_linear *packed(const clip_model *m, int i) { return m->packed ? &m->packed[i] : NULL; }
+
+static const nn_bf16_linear *packed_block(const clip_model *m, int layer, int which) {
+    return packed(m, PACK_BLOCKS + PACK_PER_BLOCK * layer + which);
+}
+
+int clip_model_set_precision(clip_model *m, clip_precision p, ws_status *st) {
+    int n = packed_count(&m->arch);
+    if (p == CLIP_FP32) {
+        for (int i = 0; m->packed && i < n; i++) nn_bf16_linear_free(&m->packed[i]);
+        free(m->packed);
+        m->packed = NULL;
+        return WS_OK;
+    }
+    if (m->packed) return WS_OK;
+    if (!nn_bf16_available())
+        return ws_fail(st, WS_EUSAGE, "clip: bf16 needs a CPU with AVX512_BF16, and this one has none (use fp32)");
+    if (!(m->packed = ws_calloc((size_t)n, sizeof *m->packed, "bf16 weights", st))) return st->code;
+    for (int i = 0; i < n; i++) {
+        int N, K, w_kn;
+        const float *w = packed_source(m, i, &N, &K, &w_kn);
+        if (nn_bf16_linear_pack(&m->packed[i], w, N, K, w_kn, st)) {
+            clip_model_set_precision(m, CLIP_FP32, NULL);
+            return st->code;
+        }
+    }
+    return WS_OK;
+}
+
+clip_precision clip_model_precision(const clip_model *m) { return m->packed ? CLIP_BF16 : CLIP_FP32; }
 
 /* ---- a run: the recorded tower ------------------------------------------ */
 
@@ -238,15 +306,18 @@ struct clip_run {
 /* x = x + attn(ln_1(x)); x = x + c_proj(quick_gelu(c_fc(ln_2(x)))); the
  * residual additions ride on the output projections' GEMMs. *attn: the
  * attention's output (nn_attention_probs finds its probabilities). */
-static nn_tensor *record_block(nn_tape *t, const clip_block *b, nn_tensor *x, const wf_arch *a,
-                               nn_tensor **attn) {
-    int W = a->width;
+static nn_tensor *record_block(nn_tape *t, const clip_model *m, int l, nn_tensor *x, nn_tensor **attn) {
+    const clip_block *b = &m->blocks[l];
+    int W = m->arch.width;
     nn_tensor *qkv = nn_matmul(t, nn_layernorm(t, x, b->ln_1_w, b->ln_1_b), b->in_proj_w,
-                               b->in_proj_b, 3 * W, 0);
-    *attn = nn_attention(t, qkv, a->heads);
-    nn_tensor *mid = nn_matmul_residual(t, *attn, b->out_proj_w, b->out_proj_b, W, 0, x);
-    nn_tensor *z = nn_matmul(t, nn_layernorm(t, mid, b->ln_2_w, b->ln_2_b), b->fc_w, b->fc_b, 4 * W, 0);
-    return nn_matmul_residual(t, nn_quick_gelu(t, z), b->cproj_w, b->cproj_b, W, 0, mid);
+                               packed_block(m, l, PACK_IN_PROJ), b->in_proj_b, 3 * W, 0);
+    *attn = nn_attention(t, qkv, m->arch.heads);
+    nn_tensor *mid = nn_matmul_residual(t, *attn, b->out_proj_w, packed_block(m, l, PACK_OUT_PROJ),
+                                        b->out_proj_b, W, 0, x);
+    nn_tensor *z = nn_matmul(t, nn_layernorm(t, mid, b->ln_2_w, b->ln_2_b), b->fc_w,
+                             packed_block(m, l, PACK_FC), b->fc_b, 4 * W, 0);
+    return nn_matmul_residual(t, nn_quick_gelu(t, z), b->cproj_w, packed_block(m, l, PACK_CPROJ),
+                              b->cproj_b, W, 0, mid);
 }
 
 int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options *opt, ws_status *st) {
@@ -276,12 +347,12 @@ int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options 
     int shape[4] = {opt->batch, CHANNELS, R, R};
     r->images = nn_tape_input(t, 4, shape);
     nn_tensor *x = nn_normalise(t, r->images, clip_mean, clip_std);
-    x = nn_matmul(t, nn_patchify(t, x, a->patch), m->conv1, NULL, W, 0);
+    x = nn_matmul(t, nn_patchify(t, x, a->patch), m->conv1, packed(m, PACK_CONV1), NULL, W, 0);
     x = nn_tokens(t, x, m->class_embedding, m->positional_embedding);
     x = nn_layernorm(t, x, m->ln_pre_w, m->ln_pre_b);
     for (int l = 0; l < r->blocks; l++) {
         nn_tensor *attn;
-        x = r->hidden[l] = record_block(t, &m->blocks[l], x, a, &attn);
+        x = r->hidden[l] = record_block(t, m, l, x, &attn);
         nn_tape_keep(t, x);
         int seeded = opt->need_grad && l <= opt->last_block;
         if (seeded) nn_tape_seed(t, x, &r->seed_hidden[l]);
@@ -291,7 +362,7 @@ int clip_run_create(clip_run **out, const clip_model *m, const clip_run_options 
     }
     if (opt->need_embedding) {
         x = nn_layernorm(t, nn_class_token(t, x), m->ln_post_w, m->ln_post_b);
-        x = r->embedding = nn_matmul(t, x, m->proj, NULL, a->output_dim, 1);
+        x = r->embedding = nn_matmul(t, x, m->proj, packed(m, PACK_PROJ), NULL, a->output_dim, 1);
         nn_tape_keep(t, x);
         if (opt->need_grad) nn_tape_seed(t, x, &r->seed_embedding);
     }

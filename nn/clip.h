@@ -21,6 +21,20 @@ int clip_model_random(clip_model **m, const wf_arch *arch, uint64_t seed, ws_sta
 void clip_model_free(clip_model *m);
 const wf_arch *clip_model_arch(const clip_model *m);
 
+/* The arithmetic of the linear layers' products (patch embedding, the
+ * blocks' four, projection; attention's own products stay fp32): fp32,
+ * the default, or bf16 on CPUs with AVX512_BF16 (nn/gemm_bf16.h: inputs
+ * rounded to bf16, sums in fp32; METHOD.md, "bf16 GEMMs"). */
+typedef enum { CLIP_FP32, CLIP_BF16 } clip_precision;
+
+/* The precision of the runs created from now on (free the model's runs
+ * before changing it). bf16 packs the weights once, 4 bytes a weight (both
+ * products' layouts); on a CPU without AVX512_BF16 it fails: WS_EUSAGE,
+ * "clip: bf16 needs a CPU with AVX512_BF16, and this one has none (use
+ * fp32)". fp32 frees the packing and cannot fail (st may be NULL). */
+int clip_model_set_precision(clip_model *m, clip_precision p, ws_status *st);
+clip_precision clip_model_precision(const clip_model *m);
+
 typedef struct {
     int batch;          /* images per forward pass */
     int last_block;     /* the forward stops after this block (0-based) */

@@ -14,7 +14,7 @@
  * columns: a multiple of every kernel's tile (8, 16, 32 columns), 4, 12
  * and 16 blocks for CLIP's products (768, 2304, 3072 columns: even shares
  * on 2 and 4 threads), and few enough that repacking A (M x K) for each
- * call costs 2-5% (README, "Speed and accuracy"). */
+ * call costs 2-5% (docs/RESULTS.md, "Speed and accuracy"). */
 enum { NN_GEMM_COLUMNS = 192 };
 
 /* Columns [j0, j0 + n) of rows of c = bias + res (either may be NULL, not
@@ -85,11 +85,16 @@ void nn_matmul_backward(float *d_in, const float *d_out, const float *w, int M, 
 }
 
 /* n[0] = M, n[1] = K, n[2] = N, n[3] = w_kn; w[0] weight, w[1] bias;
- * in[1] the residual or NULL. */
+ * in[1] the residual or NULL; with w_bf16, work[0] and work[1] hold the
+ * forward's input and the backward's output gradient rounded to bf16. */
 static void forward(const nn_op *op) {
     const nn_tensor *res = op->in[1];
-    nn_matmul_forward(op->out->data, op->in[0]->data, op->w[0], op->w[1], res ? res->data : NULL,
-                      op->n[0], op->n[1], op->n[2], op->n[3]);
+    if (op->w_bf16)
+        nn_bf16_gemm(op->out->data, op->in[0]->data, &op->w_bf16->forward, op->n[0], op->w[1],
+                     res ? res->data : NULL, 0.0f, op->work[0]->data);
+    else
+        nn_matmul_forward(op->out->data, op->in[0]->data, op->w[0], op->w[1], res ? res->data : NULL,
+                          op->n[0], op->n[1], op->n[2], op->n[3]);
 }
 
 static void backward(const nn_op *op) {
@@ -97,17 +102,26 @@ static void backward(const nn_op *op) {
     if (res && res->grad) nn_grad_add(res, op->out->grad);
     if (!x->grad) return;
     int acc = nn_grad_begin(x);
-    nn_matmul_backward(x->grad, op->out->grad, op->w[0], op->n[0], op->n[1], op->n[2], op->n[3],
-                       acc);
+    if (op->w_bf16)
+        nn_bf16_gemm(x->grad, op->out->grad, &op->w_bf16->backward, op->n[0], NULL, NULL,
+                     acc ? 1.0f : 0.0f, op->work[1]->data);
+    else
+        nn_matmul_backward(x->grad, op->out->grad, op->w[0], op->n[0], op->n[1], op->n[2],
+                           op->n[3], acc);
 }
 
-nn_tensor *nn_matmul_residual(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N,
-                              int w_kn, nn_tensor *res) {
+nn_tensor *nn_matmul_residual(nn_tape *t, nn_tensor *x, const float *w, const nn_bf16_linear *w_bf16,
+                              const float *bias, int N, int w_kn, nn_tensor *res) {
     nn_op *op = nn_tape_append(t, NN_OP_MATMUL, forward, backward);
     nn_tape_read(t, op, 0, x, 0);
     if (res) nn_tape_read(t, op, 1, res, 0);
     op->w[0] = w;
     op->w[1] = bias;
+    op->w_bf16 = w_bf16;
+    if (w_bf16) {
+        nn_tape_workspace(t, op, nn_bf16_gemm_work(nn_rows(x), nn_dim(x, 0)), 0);
+        if (t->with_grad && x->needs_grad) nn_tape_workspace(t, op, nn_bf16_gemm_work(nn_rows(x), N), 1);
+    }
     op->n[0] = nn_rows(x);
     op->n[1] = nn_dim(x, 0);
     op->n[2] = N;
@@ -118,8 +132,9 @@ nn_tensor *nn_matmul_residual(nn_tape *t, nn_tensor *x, const float *w, const fl
     return nn_tape_output(t, op, x->ndim, shape);
 }
 
-nn_tensor *nn_matmul(nn_tape *t, nn_tensor *x, const float *w, const float *bias, int N, int w_kn) {
-    return nn_matmul_residual(t, x, w, bias, N, w_kn, NULL);
+nn_tensor *nn_matmul(nn_tape *t, nn_tensor *x, const float *w, const nn_bf16_linear *w_bf16,
+                     const float *bias, int N, int w_kn) {
+    return nn_matmul_residual(t, x, w, w_bf16, bias, N, w_kn, NULL);
 }
 
 int nn_op_gemm(const nn_op *op, int backward, nn_gemm *g) {

@@ -43,6 +43,9 @@ struct nn_op {
     nn_tensor *saved;          /* state the forward leaves for the backward */
     nn_tensor *work[2];        /* scratch while the forward [0] / backward [1] runs */
     const float *w[2];         /* frozen parameters (weight, bias) */
+    /* a matmul's weight packed for the bf16 kernel (gemm_bf16.h), or NULL:
+     * the op then runs in fp32 */
+    const struct nn_bf16_linear *w_bf16;
     int n[4];                  /* op-specific sizes, documented by each op */
     /* Slot holding an external gradient: a seed op's, or one an op takes
      * on its saved state (attention's probabilities); an op with a slot

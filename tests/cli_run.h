@@ -3,15 +3,17 @@
  * run_cmd(out, size, fmt, ...) runs a shell command line (stdout and stderr
  * together), stores what it printed (up to size - 1 bytes) in `out` and
  * returns its exit code, -1 when it could not run or did not exit.
- * read_text(path, buf, size) reads a file's text for a test to search. */
+ * read_text(path, buf, size) reads a file's text for a test to search.
+ * temporaries_in(dir, name) counts the program's temporary files there. */
 #ifndef WS_CLI_RUN_H
 #define WS_CLI_RUN_H
+#include <dirent.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/wait.h>
 
-static int run_cmd(char *out, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int run_cmd(char *out, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4), unused));
 static int run_cmd(char *out, size_t size, const char *fmt, ...) {
     char cmd[8192];
     va_list ap;
@@ -39,6 +41,22 @@ static inline const char *read_text(const char *path, char *buf, size_t size) {
     if (f) fclose(f);
     buf[n] = '\0';
     return buf;
+}
+
+/* The program's temporary files in folder dir (base/outfile.h:
+ * .wiresketch.tmp.PID.N.NAME), of target NAME `name` or, for NULL, any. */
+static inline int temporaries_in(const char *dir, const char *name) {
+    DIR *d = opendir(dir);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d));) {
+        const char *c = e->d_name;
+        if (strncmp(c, ".wiresketch.tmp.", 16)) continue;
+        c += 16;
+        for (int field = 0; field < 2 && c; field++) c = strchr(c, '.') ? strchr(c, '.') + 1 : NULL;
+        n += c && (!name || !strcmp(c, name));
+    }
+    if (d) closedir(d);
+    return n;
 }
 
 #endif

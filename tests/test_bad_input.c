@@ -1,4 +1,5 @@
-/* test_bad_input.c: the README's table "Bad input and faults", asserted.
+/* slow test */
+/* test_bad_input.c: the table "Bad input and faults" of docs/USAGE.md, asserted.
  *
  * Drives the wiresketch binary ($BUILD/wiresketch) through every class of
  * bad input: truncated files, wrong magic, wrong shapes, NaN and Inf values,
@@ -313,7 +314,7 @@ static void test_pngs(void) {
     CHECK(ANSWER(1, rc, "%s: truncated or corrupt PNG (unexpected end of file)", path), "cut PNG");
     path = broken_png("s_png_magic", "GIF89a\1\0\1\0", 10);
     rc = run("fit %s/s_png_magic --out %s " FIT, tmp, out);
-    CHECK(ANSWER(1, rc, "%s: not a PNG file", path), "GIF as PNG");
+    CHECK(ANSWER(1, rc, "%s: not a PNG or JPEG file", path), "GIF as PNG");
     /* IHDR claiming 100000 x 100000 pixels (40 GB of samples), crc right */
     unsigned char *big = malloc(len);
     memcpy(big, png, len);
@@ -347,7 +348,7 @@ static void test_weights(void) {
     snprintf(path, sizeof path, "%s/none.bin", tmp);
     char out[300];
     snprintf(out, sizeof out, "%s/out_weights", tmp);
-    int rc = run("fit %s/scene --out %s --size 32 --max-steps 2 --weights %s", tmp, out, path);
+    int rc = run("fit %s/scene --out %s --loss clip --size 32 --max-steps 2 --weights %s", tmp, out, path);
     CHECK(ANSWER(1, rc,
                  "%s: no CLIP weight file; convert OpenAI's ViT-B-32.pt once with `python3 "
                  "tools/convert_weights.py ViT-B-32.pt %s` (see weights/README.md), or run without "
@@ -759,6 +760,10 @@ static void test_hopeless_fits(void) {
     CHECK(ANSWER(2, rc, "--overlap: 1 is not in [0, 1)"), "--overlap 1");
     rc = run("fit %s/scene --out %s " FIT " --clip-geometric maps", tmp, out);
     CHECK(ANSWER(2, rc, "--clip-geometric: 'maps' is not blocks or attention"), "--clip-geometric maps");
+    rc = run("fit %s/scene --out %s " FIT " --precision fp16", tmp, out);
+    CHECK(ANSWER(2, rc, "--precision: 'fp16' is not fp32, bf16 or auto"), "fit --precision fp16");
+    rc = run("bench clip --precision BF16");
+    CHECK(ANSWER(2, rc, "--precision: 'BF16' is not fp32, bf16 or auto"), "bench --precision BF16");
     rc = run("fit %s/scene --out %s " FIT " --hidden-lines hidden", tmp, out);
     CHECK(ANSWER(2, rc, "--hidden-lines: 'hidden' is not hull or none"), "fit --hidden-lines hidden");
     rc = run("rank %s/scene --size 32 --hidden-lines Hull", tmp);

@@ -15,6 +15,8 @@
 #include "check.h"
 #include "synth/synth.h"
 #include "base/runtime.h"
+#include "nn/clip.h"
+#include "nn/gemm_bf16.h"
 #include "wiresketch.h"
 #include "scene_load.h"
 
@@ -137,7 +139,10 @@ static void test_splat_measure(const ws_scene *scene) {
     CHECK(r.pixel_visits[ex] == 500.0 * 64 * 64, "exact visits %g", r.pixel_visits[ex]);
 }
 
-static void test_step_and_approx(const ws_scene *scene, const clip_model *m, const ws_curves *c) {
+/* m16: m's weights with bf16 GEMMs, or NULL on a CPU without AVX512_BF16
+ * (then the approx table has no bf16 rows). */
+static void test_step_and_approx(const ws_scene *scene, const clip_model *m, const clip_model *m16,
+                                 const ws_curves *c) {
     ws_status st = {0};
     ws_bench_step_result r;
     CHECK(ws_bench_step(scene, m, c, 1, &r, &st) == WS_OK, "step bench: %s", st.msg);
@@ -149,13 +154,23 @@ static void test_step_and_approx(const ws_scene *scene, const clip_model *m, con
 
     ws_bench_approx_row rows[32];
     int n = 0;
-    ws_bench_approx_input in = {scene, m, NULL, NULL, c, 1, 4};
+    ws_bench_approx_input in = {scene, m, NULL, NULL, c, 1, 4, m16};
     CHECK(ws_bench_approx(&in, rows, 32, &n, &st) == WS_OK, "approx bench: %s", st.msg);
     static const char *const names[] = {"cutoff", "cutoff", "cutoff", "cutoff", "culling", "clip_stop",
                                         "photo_cache", "aug_bank", "threads", "num_aug", "num_aug", "num_aug"};
-    CHECK(n == 12, "%d rows", n);
-    for (int i = 0; i < n && i < 12; i++) CHECK(!strcmp(rows[i].name, names[i]), "row %d is %s", i, rows[i].name);
-    if (n != 12) return;
+    int extra = m16 ? 2 : 0; /* the bf16 rows, after aug_bank */
+    CHECK(n == 12 + extra, "%d rows", n);
+    for (int i = 0; i < n && i < 12 + extra; i++) {
+        const char *name = i < 8 ? names[i] : i < 8 + extra ? (i == 8 ? "bf16" : "aug_seed") : names[i - extra];
+        CHECK(!strcmp(rows[i].name, name), "row %d is %s, expected %s", i, rows[i].name, name);
+    }
+    if (n != 12 + extra) return;
+    if (m16) {
+        /* bf16 changes the step a little; other augmentations move it more */
+        CHECK(rows[8].grad_error > 0 && rows[8].grad_error < rows[9].grad_error && rows[9].loss_error > 0,
+              "bf16: gradient error %g, other augmentations %g", rows[8].grad_error, rows[9].grad_error);
+        memmove(&rows[8], &rows[10], (size_t)(n - 10) * sizeof rows[0]);
+    }
     for (int k = 1; k < 4; k++)
         CHECK(rows[k].grad_error < rows[k - 1].grad_error && rows[k].loss_error < rows[k - 1].loss_error,
               "cut-off rows: errors not falling");
@@ -226,6 +241,11 @@ static void test_command(void) {
     CHECK(cJSON_IsNumber(cJSON_GetObjectItem(matmul, "forward")) &&
               cJSON_GetObjectItem(matmul, "forward")->valuedouble > 0,
           "clip.ops.matmul.forward missing");
+    /* --precision auto: the bf16 rows where the CPU has AVX512_BF16, against the same fp32 floor */
+    cJSON *bf16 = cJSON_GetObjectItem(cJSON_GetObjectItem(clip, "bf16"), "ratio_forward_backward");
+    CHECK(nn_bf16_available() ? cJSON_IsNumber(bf16) && bf16->valuedouble > 0 : !bf16,
+          "clip.bf16: %s where the CPU %s AVX512_BF16", bf16 ? "present" : "missing",
+          nn_bf16_available() ? "has" : "lacks");
     CHECK(cJSON_GetArraySize(j) == 2, "bench clip printed more than the machine and its part");
     cJSON_Delete(j);
 }
@@ -259,7 +279,14 @@ int main(void) {
     if (rc) return check_summary();
     test_bank_and_timing(&scene, m, &c);
     test_splat_measure(&scene);
-    test_step_and_approx(&scene, m, &c);
+    clip_model *m16 = NULL;
+    if (nn_bf16_available()) {
+        CHECK(clip_model_random(&m16, &small_arch, 2, &st) == WS_OK &&
+                  clip_model_set_precision(m16, CLIP_BF16, &st) == WS_OK,
+              "bf16 model: %s", st.msg);
+    }
+    test_step_and_approx(&scene, m, m16, &c);
+    clip_model_free(m16);
     test_fit_with_bank();
     test_command();
     ws_curves_free(&c);

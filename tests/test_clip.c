@@ -1,3 +1,4 @@
+/* slow test */
 /* test_clip.c: CLIP's image tower (clip.h) on seeded random weights.
  *
  * A small model (width 64, 2 blocks, 4 heads, patch 16, 64 x 64, output
@@ -17,6 +18,7 @@
 #include "check.h"
 #include "cli_run.h"
 #include "nn/clip.h"
+#include "nn/gemm_bf16.h"
 #include "nn/base/rng.h"
 
 enum { MAX_BLOCKS = 12 };
@@ -264,6 +266,65 @@ static void test_errors(const clip_model *m) {
     free(grad);
 }
 
+/* ||x - y|| / ||y||. */
+static double relative_error(const float *x, const float *y, size_t n) {
+    double d = 0, r = 0;
+    for (size_t i = 0; i < n; i++) d += ((double)x[i] - y[i]) * ((double)x[i] - y[i]), r += (double)y[i] * y[i];
+    return sqrt(d / r);
+}
+
+/* The linear layers in bf16 (nn/gemm_bf16.h): embedding and gradient near
+ * fp32's (each GEMM's inputs rounded to 8 bits: a relative error of about
+ * 2^-8 / sqrt(K) a product, never above 2^-7), the same bits on 1 and 2
+ * threads, and fp32's exact bits again once the model is back in fp32.
+ * Without AVX512_BF16 the model refuses bf16 with its message. */
+static void test_bf16(clip_model *m) {
+    ws_status st;
+    ws_status_clear(&st);
+    if (!nn_bf16_available()) {
+        CHECK(clip_model_set_precision(m, CLIP_BF16, &st) == WS_EUSAGE &&
+                  !strcmp(st.msg, "clip: bf16 needs a CPU with AVX512_BF16, and this one has none (use fp32)"),
+              "bf16 without AVX512_BF16: got '%s'", st.msg);
+        return;
+    }
+    setup s[3];
+    /* OpenBLAS held at one thread, as in the program: its own threads give other fp32 bits */
+    CHECK(ws_runtime_init(1, &st) == WS_OK, "%s", st.msg);
+    if (make_run(&s[0], m, 2, 1, 1, 1)) return;
+    float *images = randoms(s[0].pixels, 0, 1), *g[4];
+    for (int k = 0; k < 4; k++) g[k] = malloc(s[0].pixels * sizeof *g[k]);
+    float *e32 = malloc(s[0].embedding * sizeof *e32);
+    s[0].w_hidden[1] = randoms(s[0].hidden, -1, 1);
+    s[0].w_embedding = randoms(s[0].embedding, -1, 1);
+    gradient(&s[0], images, g[0]);
+    memcpy(e32, clip_embedding(s[0].run), s[0].embedding * sizeof *e32);
+    CHECK(clip_model_set_precision(m, CLIP_BF16, &st) == WS_OK && clip_model_precision(m) == CLIP_BF16, "%s",
+          st.msg);
+    if (make_run(&s[1], m, 2, 1, 1, 1)) return;
+    s[1].w_hidden[1] = s[0].w_hidden[1];
+    s[1].w_embedding = s[0].w_embedding;
+    gradient(&s[1], images, g[1]);
+    double ee = relative_error(clip_embedding(s[1].run), e32, s[0].embedding);
+    double eg = relative_error(g[1], g[0], s[0].pixels);
+    CHECK(ee > 1e-5 && ee < 2e-2, "bf16: embedding off fp32's by %.2e (none at all: not bf16)", ee);
+    CHECK(eg > 1e-5 && eg < 2e-2, "bf16: gradient off fp32's by %.2e (none at all: not bf16)", eg);
+    CHECK(ws_runtime_init(2, &st) == WS_OK, "%s", st.msg);
+    gradient(&s[1], images, g[2]);
+    CHECK(same_bits(g[1], g[2], s[0].pixels), "bf16: 1 and 2 threads give other gradient bits");
+    CHECK(clip_model_set_precision(m, CLIP_FP32, &st) == WS_OK && clip_model_precision(m) == CLIP_FP32, "%s", st.msg);
+    clip_run_free(s[1].run);
+    if (make_run(&s[2], m, 2, 1, 1, 1)) return;
+    s[2].w_hidden[1] = s[0].w_hidden[1];
+    s[2].w_embedding = s[0].w_embedding;
+    gradient(&s[2], images, g[3]);
+    CHECK(same_bits(g[0], g[3], s[0].pixels), "bf16 and back to fp32: other gradient bits than fp32's");
+    clip_run_free(s[2].run);
+    free_run(&s[0]);
+    free(images);
+    free(e32);
+    for (int k = 0; k < 4; k++) free(g[k]);
+}
+
 /* ViT-B/32 at full size: one image, loss of h_3 and e. */
 static void test_full_size(void) {
     ws_status st;
@@ -363,6 +424,7 @@ int main(int argc, char **argv) {
     test_small_runs(m);
     test_blank_images(m);
     test_errors(m);
+    test_bf16(m);
     clip_model_free(m);
     test_full_size();
     test_threads(argv[0]);

@@ -264,7 +264,7 @@ int main(void) {
     ws_image png = {0};
     ws_status st;
     ws_status_clear(&st);
-    CHECK(ws_png_read(FIXTURE "/image.png", 0, 0, (const float[3]){0, 0, 0}, &png, &st) == WS_OK, "%s", st.msg);
+    CHECK(ws_image_read(FIXTURE "/image.png", 0, 0, (const float[3]){0, 0, 0}, &png, &st) == WS_OK, "%s", st.msg);
     if (images && st.code == WS_OK)
         CHECK(png.width == (int)R && png.height == (int)R && scaled_error(png.data, images, 3 * R * R) == 0,
               "image.png is not image 0 of expected.bin");

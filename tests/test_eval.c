@@ -1,8 +1,8 @@
-/* test_eval.c: `wiresketch eval` computes a loss only when asked for or
- * when it can: on the committed fixture scene, the distances alone without
- * CLIP weights (loss_kind "none"), the edge loss when asked, the CLIP loss
- * by default when the weight file exists (the tiny test model), and the
- * errors when a loss's needs are not met or there is nothing to measure. */
+/* test_eval.c: `wiresketch eval` on the committed fixture scene: by
+ * default (--loss auto) the edge loss without CLIP weights and clip+edges
+ * when the weight file exists (the tiny test model), each announced in the
+ * first line; the distances alone with --loss none; and the errors when a
+ * loss's needs are not met or there is nothing to measure. */
 #include <cJSON.h>
 #include <math.h>
 #include <stdio.h>
@@ -15,11 +15,21 @@
 #define FIXTURE "tests/fixtures/scene_small"
 static char bin[512], tmp[256];
 
-/* Runs `eval ARGS`, expecting exit 0 and one JSON object. */
+/* --loss auto's line (stderr, before the JSON) of the last eval_json, or "". */
+static char auto_line[1024];
+
+/* Runs `eval ARGS`, expecting exit 0 and one JSON object, after --loss
+ * auto's line when it chose. */
 static cJSON *eval_json(const char *what, const char *args) {
     static char out[1 << 14];
     int rc = run_cmd(out, sizeof out, "%s eval %s", bin, args);
-    cJSON *j = rc == 0 ? cJSON_Parse(out) : NULL;
+    const char *json = out, *prefix = "wiresketch: --loss auto: ";
+    auto_line[0] = '\0';
+    if (!strncmp(out, prefix, strlen(prefix)) && strchr(out, '\n')) {
+        json = strchr(out, '\n') + 1;
+        snprintf(auto_line, sizeof auto_line, "%.*s", (int)(json - out), out);
+    }
+    cJSON *j = rc == 0 ? cJSON_Parse(json) : NULL;
     CHECK(j != NULL, "%s: exit %d: %s", what, rc, out);
     return j;
 }
@@ -31,13 +41,20 @@ static const char *kind(const cJSON *j) {
 
 static void test_eval(void) {
     char args[2048], out[4096], weights[512];
-    /* no weights: distances only, to the scene's own ground truth */
-    snprintf(args, sizeof args, FIXTURE " --curves " FIXTURE "/gt_curves.json --weights %s/none.bin",
+    /* no weights: the edge loss by default, and the distances to the
+     * scene's own ground truth */
+    snprintf(args, sizeof args, FIXTURE " --curves " FIXTURE "/gt_curves.json --weights %s/none.bin --size 64",
              tmp);
     cJSON *j = eval_json("no weights", args);
+    char expect[1024];
+    snprintf(expect, sizeof expect,
+             "wiresketch: --loss auto: edges (no CLIP weight file at %s/none.bin; weights/README.md says how to "
+             "make one for CLIP)\n", tmp);
+    CHECK(!strcmp(auto_line, expect), "--loss auto's line without weights: '%s'", auto_line);
     if (j) {
         const cJSON *ch = cJSON_GetObjectItem(j, "chamfer"), *f = cJSON_GetObjectItem(j, "fscore");
-        CHECK(!strcmp(kind(j), "none") && !cJSON_GetObjectItem(j, "loss"), "no loss without weights");
+        CHECK(!strcmp(kind(j), "edges") && cJSON_IsNumber(cJSON_GetObjectItem(j, "loss")),
+              "the edge loss without weights");
         CHECK(cJSON_IsNumber(ch) && ch->valuedouble < 1e-6 && cJSON_IsNumber(f) && f->valuedouble == 1,
               "the truth against itself: chamfer %g", cJSON_IsNumber(ch) ? ch->valuedouble : -1);
         CHECK(cJSON_IsNumber(cJSON_GetObjectItem(j, "surface_mean")), "gt_points.ply measured");
@@ -94,12 +111,12 @@ static void test_eval(void) {
     CHECK(rc == 1 && strstr(out, "none.bin: no CLIP weight file") && strstr(out, "--loss edges"),
           "--loss clip without weights: %d %s", rc, out);
     /* nothing to measure: no loss and no ground truth */
-    rc = run_cmd(out, sizeof out, "%s eval %s/bare --curves " FIXTURE "/gt_curves.json --weights %s/none.bin",
-                 bin, tmp, tmp);
-    CHECK(rc == 2 && !strncmp(out, "wiresketch: nothing to evaluate: no loss (no CLIP weight file at ", 65),
+    rc = run_cmd(out, sizeof out, "%s eval %s/bare --curves " FIXTURE "/gt_curves.json --loss none", bin, tmp);
+    CHECK(rc == 2 && !strcmp(out, "wiresketch: nothing to evaluate: --loss none and no ground truth (give --gt "
+                                  "or --gt-curves)\n"),
           "no loss, no ground truth: %d %s", rc, out);
     rc = run_cmd(out, sizeof out, "%s eval --help", bin);
-    CHECK(rc == 0 && strstr(out, "[auto: clip when the CLIP weight file exists, else none]"),
+    CHECK(rc == 0 && strstr(out, "[auto: clip+edges when the CLIP weight file exists, else edges]"),
           "--help states the rule");
     /* weights present: CLIP by default (the tiny test model) */
     snprintf(weights, sizeof weights, "%s/tiny.bin", tmp);
@@ -111,9 +128,12 @@ static void test_eval(void) {
              FIXTURE " --curves " FIXTURE "/gt_curves.json --weights %s --size 64 --clip-conv-layer-weights 1 1",
              weights);
     j = eval_json("weights present", args);
+    snprintf(expect, sizeof expect, "wiresketch: --loss auto: clip+edges (the CLIP weight file %s exists)\n",
+             weights);
+    CHECK(!strcmp(auto_line, expect), "--loss auto's line with weights: '%s'", auto_line);
     if (j) {
         const cJSON *l = cJSON_GetObjectItem(j, "loss");
-        CHECK(!strcmp(kind(j), "clip") && cJSON_IsNumber(l), "CLIP loss by default with weights");
+        CHECK(!strcmp(kind(j), "clip+edges") && cJSON_IsNumber(l), "clip+edges by default with weights");
         cJSON_Delete(j);
     }
 }

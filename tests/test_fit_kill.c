@@ -20,11 +20,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 #include "check.h"
+#include "cli_run.h"
 #include "fit/checkpoint.h"
 
 static char bin[512], tmp[256], dir[300], ckpt[400];
@@ -67,17 +67,7 @@ static long checkpoint_step(void) {
 
 /* Temporaries in dir: each is a checkpoint write a kill interrupted (never
  * read; the next run writing into dir removes them). */
-static int temporaries(void) {
-    char cmd[600];
-    int n = 0;
-    snprintf(cmd, sizeof cmd, "ls %s 2>/dev/null | grep -c '^checkpoint\\.bin\\.tmp\\.'", dir);
-    FILE *p = popen(cmd, "r");
-    if (p) {
-        if (fscanf(p, "%d", &n) != 1) n = 0;
-        pclose(p);
-    }
-    return n;
-}
+static int temporaries(void) { return temporaries_in(dir, "checkpoint.bin"); }
 
 /* Starts a fit of at most `steps` steps that checkpoints after every step
  * (resume: `fit --resume DIR`, which keeps the stored settings). Its
@@ -112,67 +102,50 @@ static int fit_and_kill(int resume, int ms) {
     return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
 }
 
-/* Is process pid blocked opening a FIFO (no reader yet)? The kernel's wait
- * channel says so, or else the system call it sleeps in. */
-static int blocked_in_fifo_open(pid_t pid) {
-    char path[64], text[256] = "";
-    snprintf(path, sizeof path, "/proc/%ld/wchan", (long)pid);
-    FILE *f = fopen(path, "r");
-    if (f) {
-        text[fread(text, 1, sizeof text - 1, f)] = '\0';
-        fclose(f);
-    }
-    if (!strcmp(text, "wait_for_partner")) return 1;
-    snprintf(path, sizeof path, "/proc/%ld/syscall", (long)pid);
-    f = fopen(path, "r");
-    long nr = -1;
-    if (f) {
-        if (fscanf(f, "%ld", &nr) != 1) nr = -1;
-        fclose(f);
-    }
-    return nr == SYS_openat;
-}
-
-/* SIGTERM while an output is being written: render's first temporary name
- * is made a FIFO beforehand (the child knows its PID before exec), so the
- * render blocks opening it, its temporary file live, when the signal comes.
- * The handler removes it, and the process ends by SIGTERM. */
+/* SIGTERM while an output is being written: render is stopped (SIGSTOP)
+ * the moment one of its temporary files is seen in its output folder, and
+ * if the file is still there once it stands still, it gets SIGTERM (and
+ * SIGCONT). The handler removes the file, and the process ends by SIGTERM.
+ * Views of 512 x 512 make each PNG's write long enough to be caught. */
 static void test_sigterm_removes_temporaries(void) {
-    char out[300], fifo[400], curves[300], scene[300];
+    char out[300], curves[300], scene[300];
     snprintf(out, sizeof out, "%s/render", tmp);
     snprintf(scene, sizeof scene, "%s/scene", tmp);
     snprintf(curves, sizeof curves, "%s/scene/gt_curves.json", tmp);
-    mkdir(out, 0777);
-    pid_t pid = fork();
-    if (pid == 0) {
-        snprintf(fifo, sizeof fifo, "%s/r_0.png.tmp.%ld", out, (long)getpid());
-        int null = open("/dev/null", O_WRONLY);
-        if (mkfifo(fifo, 0644) != 0 || null < 0 || dup2(null, 1) < 0 || dup2(null, 2) < 0) _exit(126);
-        execl(bin, bin, "render", curves, "--scene", scene, "--out", out, "--size", "64", (char *)NULL);
-        _exit(127);
+    int caught = 0, status = 0;
+    for (int attempt = 0; attempt < 20 && !caught; attempt++) {
+        mkdir(out, 0777);
+        pid_t pid = fork();
+        if (pid == 0) {
+            int null = open("/dev/null", O_WRONLY);
+            if (null < 0 || dup2(null, 1) < 0 || dup2(null, 2) < 0) _exit(126);
+            execl(bin, bin, "render", curves, "--scene", scene, "--split", "train", "--out", out, "--size", "512",
+                  (char *)NULL);
+            _exit(127);
+        }
+        while (!caught && waitpid(pid, &status, WNOHANG) == 0) {
+            if (temporaries_in(out, NULL) == 0) continue;
+            kill(pid, SIGSTOP);
+            waitpid(pid, &status, WUNTRACED);
+            caught = temporaries_in(out, NULL) > 0;
+            if (caught) kill(pid, SIGTERM);
+            kill(pid, SIGCONT);
+        }
+        if (caught) waitpid(pid, &status, 0);
     }
-    snprintf(fifo, sizeof fifo, "%s/r_0.png.tmp.%ld", out, (long)pid);
-    int blocked = 0;
-    for (int i = 0; i < 6000 && !blocked; i++) { /* up to 30 s on a loaded machine */
-        blocked = blocked_in_fifo_open(pid);
-        if (!blocked) usleep(5000);
-    }
-    CHECK(blocked, "render never reached its first output");
-    kill(pid, SIGTERM);
-    int status;
-    waitpid(pid, &status, 0);
+    CHECK(caught, "render was never caught with a temporary file");
     CHECK(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM, "render did not end by SIGTERM");
-    CHECK(access(fifo, F_OK) != 0, "SIGTERM left %s", fifo);
+    CHECK(temporaries_in(out, NULL) == 0, "SIGTERM left a temporary file in %s", out);
 }
 
-/* A run writing into a directory removes NAME.tmp.PID of a dead PID and
- * keeps one of a live PID (this test's own). */
+/* A run writing into a directory removes this program's temporary files
+ * of a dead PID and keeps one of a live PID (this test's own). */
 static void test_stale_temporaries(void) {
     char out[300], dead[400], live[400], args[1024];
     snprintf(out, sizeof out, "%s/export", tmp);
     mkdir(out, 0777);
-    snprintf(dead, sizeof dead, "%s/curves.obj.tmp.999999999", out);
-    snprintf(live, sizeof live, "%s/other.obj.tmp.%ld", out, (long)getpid());
+    snprintf(dead, sizeof dead, "%s/.wiresketch.tmp.999999999.0.curves.obj", out);
+    snprintf(live, sizeof live, "%s/.wiresketch.tmp.%ld.0.other.obj", out, (long)getpid());
     fclose(fopen(dead, "w"));
     fclose(fopen(live, "w"));
     snprintf(args, sizeof args, "export %s/scene/gt_curves.json --obj %s/curves.obj", tmp, out);

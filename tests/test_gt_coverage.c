@@ -142,6 +142,11 @@ int main(void) {
     snprintf(want, sizeof want, "\n%s\n", c.line);
     CHECK(rc == 0 && strstr(out, want), "check of the cut copy: exit 0 (a fit is not refused), the line: %d %s", rc,
           out);
+    /* on a terminal (stdout and stderr the same), the line once */
+    rc = run(out, sizeof out, "python3 -c 'import pty, sys; pty.spawn(sys.argv[1:])' %s check %s", bin, cut);
+    int times = 0;
+    for (const char *at = strstr(out, c.line); at; at = strstr(at + 1, c.line)) times++;
+    CHECK(times == 1, "check on a terminal shows the line %d times: %s", times, out);
     rc = run(out, sizeof out, "%s check %s 2>&1 >/dev/null", bin, cut);
     snprintf(want, sizeof want, "wiresketch: warning: %s\n", c.line);
     CHECK(rc == 0 && !strcmp(out, want), "check's warning on stderr: %s", out);
@@ -155,6 +160,37 @@ int main(void) {
               cJSON_GetArraySize(cJSON_GetObjectItem(g, "region_centroid")) == 3,
           "eval's gt_coverage: %s", out);
     cJSON_Delete(j);
+    /* a fit says it too: metrics.json's gt_coverage with the line, the
+     * report's warning above its metrics; a fit of the complete fixture
+     * has neither flag nor warning */
+    static char text[1 << 20];
+    const char *dirs[2] = {cut, FIXTURE};
+    for (int k = 0; k < 2; k++) {
+        rc = run(out, sizeof out, "%s fit %s --out %s/fit%d --loss edges --max-steps 5 --threads 1 --quiet 2>&1",
+                 bin, dirs[k], tmp, k);
+        CHECK(rc == 0, "fit of %s: %s", dirs[k], out);
+        char path[600];
+        snprintf(path, sizeof path, "%s/fit%d/metrics.json", tmp, k);
+        FILE *f = fopen(path, "rb");
+        size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+        if (f) fclose(f);
+        text[n] = '\0';
+        j = cJSON_Parse(text);
+        g = cJSON_GetObjectItem(j, "gt_coverage");
+        const cJSON *w = cJSON_GetObjectItem(g, "warning");
+        CHECK(k == 0 ? cJSON_IsTrue(cJSON_GetObjectItem(g, "flagged")) && cJSON_IsString(w) &&
+                           !strcmp(w->valuestring, c.line)
+                     : cJSON_IsFalse(cJSON_GetObjectItem(g, "flagged")) && !w,
+              "metrics.json's gt_coverage of %s: %s", dirs[k], text);
+        cJSON_Delete(j);
+        snprintf(path, sizeof path, "%s/fit%d/report.html", tmp, k);
+        f = fopen(path, "rb");
+        n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+        if (f) fclose(f);
+        text[n] = '\0';
+        snprintf(want, sizeof want, "<p class=\"warning\" id=\"gt-warning\">Warning: %s. The distances", c.line);
+        CHECK(k == 0 ? strstr(text, want) != NULL : !strstr(text, "gt-warning"), "the report's warning of %s", dirs[k]);
+    }
     /* without a photo the sketch is still measured (the cameras are all a
      * measure needs), with a warning in place of the coverage */
     char bare[400]; /* the cut copy's files copied, not linked, one photo removed */

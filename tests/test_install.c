@@ -1,18 +1,32 @@
+/* slow test */
 /* test_install.c: `make install` into a temporary prefix serves a program
  * that embeds wiresketch through pkg-config alone: tools/embed_example.c,
  * copied away from the source tree, compiles with `pkg-config --cflags
  * --libs wiresketch`, links the shared library by its soname, and runs on
- * the fixture scene. The installed man page names every command and every
- * option that the program's --help lists. DESTDIR stages under another
- * root with the prefix unchanged in wiresketch.pc; `make uninstall` leaves
- * no file behind. Skipped for the sanitizer build (BUILD=build/san), whose
- * objects need the sanitizer runtime at link time. */
+ * the fixture scene, with the l2 loss and with a CLIP model (the tiny
+ * fixture's). The installed headers are the public interface and nothing
+ * else: exactly the files of PUBLIC_HEADERS (wiresketch.h and what it
+ * includes; a change to that list is a change of the interface, made here
+ * on purpose), each compiling on its own. The installed man page names
+ * every command and every option that the program's --help lists. DESTDIR
+ * stages under another root with the prefix unchanged in wiresketch.pc;
+ * `make uninstall` leaves no file behind. Skipped for the sanitizer build
+ * (BUILD=build/san), whose objects need the sanitizer runtime at link
+ * time. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
 #include "cli_run.h"
+
+/* Under include/wiresketch/, in C-locale order. */
+#define PUBLIC_HEADERS                                                                                       \
+    "base/paths.h base/runtime.h base/timing.h fit/fit.h fit/fit_options.h io/export.h io/image.h "          \
+    "io/pointcloud.h io/scene.h metrics/line_metrics.h metrics/metrics.h metrics/nearest.h "                 \
+    "metrics/quality.h metrics/strays.h nn/base/rng.h nn/base/status.h objective/clip_model.h "              \
+    "objective/hidden_mode.h objective/loss.h objective/objective.h render/camera.h render/curves.h "        \
+    "render/splat.h wiresketch.h "
 
 static char bin[512], build[256], tmp[256];
 static char out[1 << 16];
@@ -60,6 +74,8 @@ static void check_man(const char *man) {
     }
     CHECK(ncommands >= 9 && noptions > 60 && missing == 0, "man page: %d commands, %d options, %d missing",
           ncommands, noptions, missing);
+    /* roff's e-acute is \('e; an escaped backslash before it (\e) prints "B\('ezier" */
+    CHECK(file_has(man, "B\\('ezier") && !file_has(man, "\\e("), "man page: Bezier not written as B\\('ezier");
 }
 
 int main(void) {
@@ -79,6 +95,16 @@ int main(void) {
     char path[600];
     snprintf(path, sizeof path, "%s/usr/share/man/man1/wiresketch.1", tmp);
     check_man(path);
+    /* the public headers alone, each one compiling by itself */
+    rc = run_cmd(out, sizeof out, "cd %s/usr/include/wiresketch && find . -type f | sed 's|^\\./||' | LC_ALL=C sort | tr '\\n' ' '",
+                 tmp);
+    CHECK(rc == 0 && !strcmp(out, PUBLIC_HEADERS), "installed headers: '%s', the public ones: '%s'", out, PUBLIC_HEADERS);
+    rc = run_cmd(out, sizeof out,
+                 "cd %s/usr/include/wiresketch && export PKG_CONFIG_PATH=%s/usr/lib/pkgconfig && "
+                 "for h in $(find . -name '*.h'); do cc -std=c11 -Wall -Wextra -Werror $(pkg-config --cflags wiresketch) "
+                 "-fsyntax-only -x c $h || exit 1; done",
+                 tmp, tmp);
+    CHECK(rc == 0, "an installed header does not compile on its own: %s", out);
     /* the embedding example, away from the source tree, through pkg-config */
     rc = run_cmd(out, sizeof out,
                  "cp tools/embed_example.c %s/ && cd %s && export PKG_CONFIG_PATH=%s/usr/lib/pkgconfig && "
@@ -92,6 +118,12 @@ int main(void) {
                  "tests/fixtures/scene_small/gt_curves.json",
                  tmp, tmp);
     CHECK(rc == 0 && strstr(out, "l2 loss"), "the installed example runs: %s", out);
+    rc = run_cmd(out, sizeof out,
+                 "python3 tools/convert_weights.py tests/fixtures/clip_tiny/clip_tiny_state_dict.pt %s/tiny.bin --heads 4 && "
+                 "LD_LIBRARY_PATH=%s/usr/lib %s/embed tests/fixtures/scene_small "
+                 "tests/fixtures/scene_small/gt_curves.json %s/tiny.bin",
+                 tmp, tmp, tmp, tmp);
+    CHECK(rc == 0 && strstr(out, "CLIP loss"), "the installed example runs with a CLIP model: %s", out);
     rc = run_cmd(out, sizeof out, "PKG_CONFIG_PATH=%s/usr/lib/pkgconfig pkg-config --static --libs wiresketch", tmp);
     CHECK(rc == 0 && strstr(out, "-lwiresketch") && strstr(out, "-lgif") && strstr(out, "-lopenblas") &&
               strstr(out, "-fopenmp"),

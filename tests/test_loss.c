@@ -17,6 +17,7 @@
 #include <unistd.h>
 #include "check.h"
 #include "wiresketch.h"
+#include "objective/hidden_lines.h"
 #include "synth/synth.h"
 #include "scene_load.h"
 

@@ -6,7 +6,8 @@
  * - per-frame intrinsics, an off-centre principal point and fl_x != fl_y:
  *   the crop and the camera against the formulas of scene_nerfstudio.c;
  * - the split rule of a file without split lists;
- * - every refusal (distortion, camera model, missing w, wrong image size)
+ * - every refusal (folding lens, distortion on a pinhole or tangential on a
+ *   fisheye model, unknown camera model, missing w, wrong image size)
  *   with its exact message;
  * - --background: white, auto (border median), R,G,B, and a mask_path
  *   that sets the background. */
@@ -183,13 +184,16 @@ static void test_refusals(void) {
     static const struct {
         const char *global, *frame0, *msg;
     } cases[] = {
-        {"\"fl_x\": 80, \"w\": 96, \"h\": 64, \"k1\": 0.01", "",
-         "frame 0: distortion k1 = 0.01 is not supported (undistort the images first, e.g. with COLMAP "
-         "or ns-process-data, and give k1..k4, p1, p2 as 0)"},
-        {"\"fl_x\": 80, \"w\": 96, \"h\": 64", "\"p2\": -0.001",
-         "frame 0: distortion p2 = -0.001 is not supported"},
-        {"\"fl_x\": 80, \"w\": 96, \"h\": 64, \"camera_model\": \"OPENCV_FISHEYE\"", "",
-         "frame 0: camera_model is not OPENCV, PINHOLE or SIMPLE_PINHOLE (only pinhole cameras are supported)"},
+        {"\"fl_x\": 80, \"w\": 96, \"h\": 64, \"k1\": -0.9", "",
+         "frame 0: lens distortion folds the image (the distorted radius stops growing at 32 px from "
+         "the principal point, inside the frame, whose corner is 58 px out)"},
+        {"\"fl_x\": 80, \"w\": 96, \"h\": 64, \"camera_model\": \"PINHOLE\"", "\"p2\": -0.001",
+         "frame 0: distortion p2 = -0.001 with camera_model PINHOLE (a lens with distortion is OPENCV "
+         "or OPENCV_FISHEYE)"},
+        {"\"fl_x\": 80, \"w\": 96, \"h\": 64, \"camera_model\": \"EQUIRECTANGULAR\"", "",
+         "frame 0: camera_model is not PINHOLE, SIMPLE_PINHOLE, OPENCV or OPENCV_FISHEYE"},
+        {"\"fl_x\": 80, \"w\": 96, \"h\": 64, \"is_fisheye\": true", "\"p1\": 0.01",
+         "frame 0: distortion p1 = 0.01 with a fisheye lens (it has k1..k4 only)"},
         {"\"fl_x\": 80, \"h\": 64", "", "frame 0: missing w"},
         {"\"w\": 96, \"h\": 64", "", "frame 0: missing fl_x (or camera_angle_x)"},
         {"\"fl_x\": 80, \"w\": 96, \"h\": 64", "\"fl_y\": \"x\"", "frame 0: fl_y is not a finite number"},
@@ -248,7 +252,7 @@ static void test_background(void) {
         fputs(edited, f);
         fclose(f);
     }
-    rc = run_cmd(out, sizeof out, "%s render %s/gt_curves.json --scene %s --split train --size 64 --cutoff 0.001 --out %s/m && "
+    rc = run_cmd(out, sizeof out, "%s render %s/gt_curves.json --scene %s --split train --size 64 --cutoff 0.001 --alpha --out %s/m && "
                  "cp %s/m/r_1.png %s/black.png", bin, dir, dir, tmp, tmp, dir);
     opt.background_auto = 0;
     opt.background[0] = 0.25f;

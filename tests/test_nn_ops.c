@@ -526,8 +526,8 @@ static void test_tape(void) {
     CHECK(nn_tape_init(&t, 8, 1, &st) == WS_OK, "%s", st.msg);
     int shape[2] = {M, C};
     nn_tensor *in = nn_tape_input(&t, 2, shape);
-    nn_tensor *z = nn_matmul(&t, nn_layernorm(&t, in, gamma, beta), w1, b1, F, 0);
-    nn_tensor *y = nn_matmul_residual(&t, nn_quick_gelu(&t, z), w2, NULL, C, 0, in);
+    nn_tensor *z = nn_matmul(&t, nn_layernorm(&t, in, gamma, beta), w1, NULL, b1, F, 0);
+    nn_tensor *y = nn_matmul_residual(&t, nn_quick_gelu(&t, z), w2, NULL, NULL, C, 0, in);
     const float *slot = seed;
     nn_tape_keep(&t, y);
     nn_tape_seed(&t, y, &slot);
@@ -583,7 +583,7 @@ static void test_tape_walk(void) {
     CHECK(nn_tape_init(&t, 4, 1, &st) == WS_OK, "%s", st.msg);
     int shape[2] = {M, C};
     nn_tensor *in = nn_tape_input(&t, 2, shape);
-    nn_tensor *y = nn_matmul(&t, nn_quick_gelu(&t, nn_matmul(&t, in, w1, b1, F, 0)), w2, NULL, C, 1);
+    nn_tensor *y = nn_matmul(&t, nn_quick_gelu(&t, nn_matmul(&t, in, w1, NULL, b1, F, 0)), w2, NULL, NULL, C, 1);
     const float *slot = seed;
     nn_tape_seed(&t, y, &slot);
     CHECK(nn_tape_plan(&t, &st) == WS_OK, "%s", st.msg);

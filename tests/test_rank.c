@@ -1,3 +1,4 @@
+/* slow test */
 /* test_rank.c: every objective ranks the ground truth of the solid scenes
  * above the sketches that are worse in known ways (objective/ranking.h):
  * the empty sketch, a single dot, the truth shrunk to dots, half of its

@@ -29,7 +29,7 @@ static char scene_dir[256];
 static int load_png(const char *path, ws_status *st) {
     static const float background[3] = {0.25f, 0.5f, 0.75f};
     ws_image img;
-    int rc = ws_png_read(path, 12, 10, background, &img, st);
+    int rc = ws_image_read(path, 12, 10, background, &img, st);
     if (!rc) ws_image_free(&img);
     return rc;
 }

@@ -55,7 +55,7 @@ static void make_curves(const ws_scene *scene, ws_curves *c) {
 static void test_render(const ws_scene *scene, const ws_curves *c, const char *curves_path) {
     char out[4096], dir[512];
     snprintf(dir, sizeof dir, "%s/render", tmp);
-    int rc = run_cmd(out, sizeof out, "%s render %s --scene %s --split test --out %s", bin, curves_path,
+    int rc = run_cmd(out, sizeof out, "%s render %s --scene %s --split test --out %s --alpha", bin, curves_path,
                  SCENE, dir);
     CHECK(rc == 0, "render exits 0: %d %s", rc, out);
     const ws_split *test = &scene->split[WS_TEST];
@@ -78,7 +78,7 @@ static void test_render(const ws_scene *scene, const ws_curves *c, const char *c
         format += w == 224 && h == 224 && depth == 8 && type == 0;
         ws_image img;
         float black[3] = {0, 0, 0};
-        if (ws_png_read(path, 0, 0, black, &img, &st)) continue;
+        if (ws_image_read(path, 0, 0, black, &img, &st)) continue;
         ws_splat_forward(s, &test->views[k].cam, g.mu, g.n, c->thickness, &opt, alpha, &st);
         double worst = 0, top = 0;
         for (int p = 0; p < 224 * 224; p++) {
@@ -99,11 +99,25 @@ static void test_render(const ws_scene *scene, const ws_curves *c, const char *c
     run_cmd(count, sizeof count, "ls %s | wc -l", dir);
     CHECK(atoi(count) == test->n, "no other files in the output directory: %s", count);
 
+    /* without --alpha: black strokes on white, as the fit's test renders */
+    rc = run_cmd(out, sizeof out, "%s render %s --scene %s --split test --out %s/drawn", bin, curves_path, SCENE, tmp);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/drawn/%s.png", tmp, test->views[0].name);
+    ws_image img;
+    float black[3] = {0, 0, 0};
+    if (rc == 0 && ws_png_read(path, 0, 0, black, &img, &st) == WS_OK) {
+        ws_splat_forward(s, &test->views[0].cam, g.mu, g.n, c->thickness, &opt, alpha, &st);
+        double worst = 0;
+        for (int p = 0; p < 224 * 224; p++) worst = fmax(worst, fabs(img.data[p] - round(255 * (1 - alpha[p])) / 255));
+        CHECK(worst < 1e-6, "render: every pixel is round(255 (1 - alpha)): off by %g", worst);
+        ws_image_free(&img);
+    } else {
+        CHECK(0, "render without --alpha: %d %s", rc, out);
+    }
     rc = run_cmd(out, sizeof out, "%s render %s --scene %s --split val --out %s/small --size 64 --cutoff inf",
              bin, curves_path, SCENE, tmp);
     unsigned w = 0, h = 0;
     int depth, type;
-    char path[1024];
     snprintf(path, sizeof path, "%s/small/%s.png", tmp, scene->split[WS_VAL].views[0].name);
     CHECK(rc == 0 && png_header(path, &w, &h, &depth, &type) && w == 64 && h == 64,
           "render --split val --size 64 --cutoff inf: %d %s (%u x %u)", rc, out, w, h);

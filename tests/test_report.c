@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "check.h"
+#include "cli_run.h"
 #include "io/gif.h"
 #include "io/report.h"
 #include "io/turntable.h"
@@ -44,9 +45,10 @@ static int count(const char *s, const char *what) {
 
 /* No file and no temporary file beside it. */
 static int left_nothing(const char *path) {
-    char tmp[WS_PATH_MAX];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-    return access(path, F_OK) != 0 && access(tmp, F_OK) != 0;
+    char dir[WS_PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    return access(path, F_OK) != 0 && temporaries_in(dir, slash + 1) == 0;
 }
 
 static GifFileType *slurp(const char *path) {
@@ -326,13 +328,20 @@ static void test_report(void) {
         vstep[k] = 80 * k + 79;
         vloss[k] = tloss[vstep[k]];
     }
-    ws_report_item settings[] = {{"lr", "0.005"}, {"note<x>", "a & b \"q\" 'z' <script>"}};
-    ws_report_item metrics[] = {{"test loss", "0.25"}};
-    ws_report_view tests[] = {{"r_0", "test/r_0.png", "test/r_0 photo#1.png", 0.25},
-                              {"r<1>", "test/r_1.png", NULL, NAN}};
+    ws_report_item settings[] = {{.key = "lr", .value = "0.005"}, {.key = "note<x>", .value = "a & b \"q\" 'z' <script>"}};
+    ws_report_item metrics[] = {{"test loss", "0.25", "line loss, 0 perfect; good <= 0.15", "poor"},
+                                {"steps", "400", "", NULL}};
+    ws_report_view tests[] = {{"r_0", "test/r_0.png", "test/r_0 photo#1.png", 0.25, 200, {40, 20, 100}},
+                              {"r<1>", "test/r_1.png", NULL, NAN, 200, {0, 0, 0}}};
+    const long phase_step[] = {0, 100, 250};
+    const char *const phase_label[] = {"1 of 4 levels", "2 of 4 levels", "4 of 4 levels"};
+    const double cameras[] = {4, 0, 0, -1, 0, 0, 0, 4, 0, 0, -1, 0};
     ws_report_image images[] = {{"turntable", "turntable.gif"}};
     ws_report r = {.title = "Fit <rose> & co", .scene_path = "../scenes/a&b",
-                   .settings = settings, .n_settings = 2, .metrics = metrics, .n_metrics = 1,
+                   .settings = settings, .n_settings = 2, .metrics = metrics, .n_metrics = 2,
+                   .warning = "gt.ply: the ground truth misses <part>", .phase_step = phase_step,
+                   .phase_label = phase_label, .n_phases = 3, .phase_note = "the loss climbs where a phase begins",
+                   .cameras = cameras, .n_cameras = 2,
                    .train_step = tstep, .train_loss = tloss, .n_train = NT, .val_step = vstep,
                    .val_loss = vloss, .n_val = 5, .tests = tests, .n_tests = 2, .images = images,
                    .n_images = 1, .wall_seconds = 125.25, .curves = &c};
@@ -366,6 +375,22 @@ static void test_report(void) {
     CHECK(strstr(html, "src=\"turntable.gif\""), "animation not referenced");
     CHECK(strstr(html, "r&lt;1&gt;") && count(html, "alt=\"photo\"") == 1, "test views");
     CHECK(strstr(html, "2 min 5 s (125.2 s)"), "wall time");
+    /* metrics with scale and verdict; the warning above them */
+    CHECK(strstr(html, "<tr><th>metric</th><th>value</th><th>unit and scale</th><th>verdict</th></tr>") &&
+              strstr(html, "<tr><th>test loss</th><td>0.25</td><td class=\"scale\">line loss, 0 perfect; good "
+                           "&lt;= 0.15</td><td class=\"verdict\"><span class=\"poor\">poor</span></td></tr>") &&
+              strstr(html, "<tr><th>steps</th><td>400</td><td class=\"scale\"></td><td class=\"verdict\"></td></tr>"),
+          "the metrics' scale and verdict columns");
+    CHECK(strstr(html, "<p class=\"warning\" id=\"gt-warning\">Warning: gt.ply: the ground truth misses "
+                       "&lt;part&gt;</p>") && strstr(html, "id=\"gt-warning\"") < strstr(html, "<table"),
+          "the warning above the metrics");
+    CHECK(count(html, "<line class=\"phase\"") == 3 && strstr(html, ">2 of 4 levels</text>") &&
+              strstr(html, "<p class=\"hint\">the loss climbs where a phase begins</p>"),
+          "the phases on the plot");
+    /* r_0 cropped to 100 px at (40, 20) of 200: scaled 2.24 into 224 px */
+    CHECK(count(html, "<div class=\"crop\"><img style=\"width:448.0px;margin:-44.8px 0 0 -89.6px\"") == 2 &&
+              count(html, "<div class=\"crop\">") == 2,
+          "the test views cropped to the object");
     CHECK(strstr(html, "loss (log scale)"), "a 300x range should get a log axis");
     char *svg = between(html, "<svg", "</svg>");
     CHECK(svg && !strstr(svg, "nan") && !strstr(svg, "inf"), "non-finite numbers in the SVG");
@@ -388,6 +413,10 @@ static void test_report(void) {
                  check_close(cJSON_GetArrayItem(pn, k)->valuedouble, c.P[33 + k], 1e-5, 1e-6);
         CHECK(ok, "curve 2 polyline: %d points, ends not at its end control points", n);
     }
+    cJSON *cams = cJSON_GetObjectItemCaseSensitive(doc, "cameras");
+    CHECK(cJSON_GetArraySize(cams) == 2 && cJSON_GetArraySize(cJSON_GetArrayItem(cams, 1)) == 6 &&
+              cJSON_GetArrayItem(cJSON_GetArrayItem(cams, 1), 1)->valuedouble == 4,
+          "the cameras in the 3D view's data");
     cJSON_Delete(doc);
     free(json);
     free(html);

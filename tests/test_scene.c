@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "check.h"
+#include "cli_run.h"
 #include "io/image.h"
 #include "io/scene.h"
 
@@ -401,7 +402,7 @@ static void test_png_formats(void) {
         }
         write_png(path, w, h, kinds[t].type, depth, s, NULL, 0, NULL, 0, NULL);
         for (int b = 0; b < 2; b++) {
-            int rc = ws_png_read(path, 0, 0, bgs[b], &im, &st);
+            int rc = ws_image_read(path, 0, 0, bgs[b], &im, &st);
             CHECK(rc == WS_OK, "type %d depth %d: %s", kinds[t].type, depth, st.msg);
             if (rc) continue;
             CHECK(im.width == w && im.height == h && im.channels == 3, "size");
@@ -428,7 +429,7 @@ static void test_png_formats(void) {
     const png_byte trns[3] = {0, 128, 255};
     const uint16_t idx[6] = {0, 1, 2, 3, 2, 1};
     write_png(path, 3, 2, PNG_COLOR_TYPE_PALETTE, 8, idx, pal, 4, trns, 3, NULL);
-    int rc = ws_png_read(path, 0, 0, bg, &im, &st);
+    int rc = ws_image_read(path, 0, 0, bg, &im, &st);
     CHECK(rc == WS_OK, "palette: %s", st.msg);
     if (!rc) {
         double err = 0;
@@ -448,7 +449,7 @@ static void test_png_formats(void) {
     png_color_16 key = {0};
     key.gray = 1000;
     write_png(path, 3, 2, PNG_COLOR_TYPE_GRAY, 16, gray, NULL, 0, NULL, 0, &key);
-    rc = ws_png_read(path, 0, 0, bg, &im, &st);
+    rc = ws_image_read(path, 0, 0, bg, &im, &st);
     CHECK(rc == WS_OK, "gray tRNS: %s", st.msg);
     if (!rc) {
         double err = 0;
@@ -467,7 +468,7 @@ static void test_png_formats(void) {
     out.data[5] = NAN;
     rc = ws_png_write(path, &out, &st);
     CHECK(rc == WS_OK, "png write: %s", st.msg);
-    rc = ws_png_read(path, 0, 0, black, &im, &st);
+    rc = ws_image_read(path, 0, 0, black, &im, &st);
     CHECK(rc == WS_OK, "png read back: %s", st.msg);
     if (!rc) {
         int bad = 0;
@@ -479,15 +480,15 @@ static void test_png_formats(void) {
         ws_image_free(&im);
     }
     ws_image_free(&out);
-    char tmpname[1100];
-    snprintf(tmpname, sizeof tmpname, "%s.tmp.%ld", path, (long)getpid());
-    CHECK(access(tmpname, F_OK) != 0, "no temporary file left");
+    char dir[1100];
+    snprintf(dir, sizeof dir, "%.*s", (int)(strrchr(path, '/') - path), path);
+    CHECK(temporaries_in(dir, strrchr(path, '/') + 1) == 0, "no temporary file left");
     ws_image gray1;
     ws_image_alloc(&gray1, 2, 2, 1, &st);
     for (int k = 0; k < 4; k++) gray1.data[k] = k / 3.0f;
     rc = ws_png_write(path, &gray1, &st);
     CHECK(rc == WS_OK, "gray write: %s", st.msg);
-    if (!rc && !ws_png_read(path, 0, 0, black, &im, &st)) {
+    if (!rc && !ws_image_read(path, 0, 0, black, &im, &st)) {
         CHECK(fabs(px(&im, 2, 1, 1) - 1.0f) < 1e-6 && fabs(px(&im, 0, 0, 1) - 85 / 255.0) < 1e-6,
               "gray written as gray");
         ws_image_free(&im);
@@ -510,7 +511,7 @@ static void test_resample(void) {
             for (int c = 0; c < 3; c++)
                 s[(i * 448 + j) * 3 + c] = (uint16_t)((i * 7 + j * 13 + c * 50) % 256);
     write_png(path, 448, 448, PNG_COLOR_TYPE_RGB, 8, s, NULL, 0, NULL, 0, NULL);
-    int rc = ws_png_read(path, 224, 224, black, &im, &st);
+    int rc = ws_image_read(path, 224, 224, black, &im, &st);
     CHECK(rc == WS_OK, "448: %s", st.msg);
     if (!rc) {
         double err = 0;
@@ -534,7 +535,7 @@ static void test_resample(void) {
     for (int i = 0; i < 100; i++)
         for (int j = 0; j < 100; j++) s[i * 100 + j] = (uint16_t)(i + 2 * j);
     write_png(path, 100, 100, PNG_COLOR_TYPE_GRAY, 16, s, NULL, 0, NULL, 0, NULL);
-    rc = ws_png_read(path, 224, 224, black, &im, &st);
+    rc = ws_image_read(path, 224, 224, black, &im, &st);
     CHECK(rc == WS_OK, "100: %s", st.msg);
     if (!rc) {
         double err = 0;
@@ -724,7 +725,10 @@ static void test_errors(void) {
     expect_error(dir, want, WS_EINPUT);
     rmdir(path);
 
-    snprintf(want, sizeof want, "%s: missing (a scene needs a train split)", path);
+    snprintf(want, sizeof want,
+             "%s: missing (a scene needs a train split, a transforms.json or a COLMAP model in "
+             "sparse/0, sparse or the folder)",
+             path);
     expect_error(dir, want, WS_EINPUT);
 
     /* PNG errors name the PNG; the lowest bad frame wins whatever the schedule */
@@ -733,7 +737,7 @@ static void test_errors(void) {
     snprintf(png1, sizeof png1, "%s/rgb/train/r_1.png", dir);
     snprintf(png3, sizeof png3, "%s/rgb/train/r_3.png", dir);
     write_text(png3, "GIF89a, not a PNG at all");
-    snprintf(want, sizeof want, "%s: not a PNG file", png3);
+    snprintf(want, sizeof want, "%s: not a PNG or JPEG file", png3);
     expect_error(dir, want, WS_EINPUT);
 
     FILE *fp = fopen(png1, "rb");
@@ -810,12 +814,12 @@ static void test_errors(void) {
     fclose(fp);
     ws_image im;
     const float black[3] = {0, 0, 0};
-    rc = ws_png_read(png1, 0, 0, black, &im, &st);
+    rc = ws_image_read(png1, 0, 0, black, &im, &st);
     snprintf(want, sizeof want, "%s: image too large (20000 x 20000 pixels)", png1);
     CHECK(rc == WS_EINPUT && !strcmp(st.msg, want), "huge image: %s", st.msg);
 
     snprintf(path, sizeof path, "%s/missing.png", tmp);
-    rc = ws_png_read(path, 0, 0, black, &im, &st);
+    rc = ws_image_read(path, 0, 0, black, &im, &st);
     snprintf(want, sizeof want, "%s: cannot open: No such file or directory", path);
     CHECK(rc == WS_EINPUT && !strcmp(st.msg, want), "missing PNG: %s", st.msg);
 

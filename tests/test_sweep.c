@@ -26,18 +26,33 @@ static int count_in(const char *path, const char *text) {
     return k;
 }
 
+/* The contact sheet at --sheet-cell 32: a row is its name's strip (the
+ * font at scale 1: 7 px and 2 px above and below), 32 px of images and
+ * 4 px of gap. */
+#define LABEL 11
+#define PITCH (LABEL + 36)
+
+/* The rightmost column with ink in row `row`'s name strip, or -1. */
+static int label_end(const ws_image *sheet, int row) {
+    int end = -1;
+    for (int i = 0; i < LABEL; i++)
+        for (int j = 0; j < sheet->width; j++)
+            if (sheet->data[(size_t)(4 + row * PITCH + i) * sheet->width + j] < 0.5f && j > end) end = j;
+    return end;
+}
+
 /* The contact sheet's cell (row, col) is the image at path, resampled. */
 static int cell_is(const ws_image *sheet, int row, int col, const char *path) {
     const float white[3] = {1, 1, 1};
     ws_image img;
     ws_status st;
-    if (ws_png_read(path, 32, 32, white, &img, &st)) return 0;
+    if (ws_image_read(path, 32, 32, white, &img, &st)) return 0;
     int same = 1;
     size_t plane = (size_t)sheet->width * sheet->height;
     for (int c = 0; c < 3; c++)
         for (int i = 0; i < 32; i++)
             for (int j = 0; j < 32; j++) {
-                size_t at = (size_t)(4 + row * 36 + i) * sheet->width + 4 + col * 36 + j;
+                size_t at = (size_t)(4 + row * PITCH + LABEL + i) * sheet->width + 4 + col * 36 + j;
                 float want = img.data[((size_t)c * 32 + i) * 32 + j];
                 same &= (int)(sheet->data[c * plane + at] * 255 + 0.5f) == (int)(want * 255 + 0.5f);
             }
@@ -78,8 +93,16 @@ int main(void) {
     ws_status st;
     const float black[3] = {0, 0, 0};
     snprintf(path, sizeof path, "%s/sw/contact_sheet.png", tmp);
-    if (ws_png_read(path, 0, 0, black, &sheet, &st) == WS_OK) {
-        CHECK(sheet.width == 4 + 4 * 36 && sheet.height == 4 + 5 * 36, "sheet %d x %d", sheet.width, sheet.height);
+    if (ws_image_read(path, 0, 0, black, &sheet, &st) == WS_OK) {
+        /* as wide as the longest name, 25 characters of 6 px and a gap each side */
+        CHECK(sheet.width == 8 + 25 * 6 && sheet.height == 4 + 5 * PITCH, "sheet %d x %d", sheet.width, sheet.height);
+        /* each row named: "photos", then each run's name, ending where its
+         * last character does (6 px each from x = 4) */
+        CHECK(label_end(&sheet, 0) >= 4 + 6 * 5 && label_end(&sheet, 0) <= 4 + 6 * 6 - 2, "row 0's name ends at %d",
+              label_end(&sheet, 0));
+        for (int k = 0; k < 4; k++)
+            CHECK(label_end(&sheet, k + 1) >= 4 + 6 * 24 && label_end(&sheet, k + 1) <= 4 + 6 * 25 - 2,
+                  "row %d's name ends at %d", k + 1, label_end(&sheet, k + 1));
         snprintf(other, sizeof other, "%s/sw/%s/test/r_2_photo.png", tmp, runs[0]);
         CHECK(cell_is(&sheet, 0, 2, other), "row 0 shows the photos");
         snprintf(other, sizeof other, "%s/sw/%s/test/r_3.png", tmp, runs[2]);

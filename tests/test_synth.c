@@ -416,8 +416,8 @@ static void test_room(void) {
     snprintf(pa, sizeof pa, "%s/rgb/train/r_1.png", a);
     snprintf(pb, sizeof pb, "%s/rgb/train/r_1.png", b);
     ws_image with = {0}, without = {0};
-    rc = ws_png_read(pa, 0, 0, (const float[3]){0, 0, 0}, &with, &st) ||
-         ws_png_read(pb, 0, 0, (const float[3]){0, 0, 0}, &without, &st);
+    rc = ws_image_read(pa, 0, 0, (const float[3]){0, 0, 0}, &with, &st) ||
+         ws_image_read(pb, 0, 0, (const float[3]){0, 0, 0}, &without, &st);
     double moved = 0;
     for (size_t p = 0; !rc && p < (size_t)3 * 96 * 72; p++) moved = fmax(moved, fabs(with.data[p] - without.data[p]));
     CHECK(!rc && moved <= 1.0 / 255 + 1e-6, "the photo with masks and without: %g apart (%s)", moved, st.msg);
@@ -443,8 +443,8 @@ static void test_room(void) {
     ws_image photo = {0}, mask = {0}, room = {0};
     snprintf(pb, sizeof pb, "%s/masks/train/r_1.png", a);
     rc = ws_camera_init_pinhole(&cam, v->cam.c2w, 0.5 * 72 / tan(atan(18.0 / 50.0)), 58, 30, 96, 72, "cam", &st) ||
-         ws_png_read(v->image_path, 0, 0, (const float[3]){0, 0, 0}, &photo, &st) ||
-         ws_png_read(pb, 0, 0, (const float[3]){0, 0, 0}, &mask, &st) ||
+         ws_image_read(v->image_path, 0, 0, (const float[3]){0, 0, 0}, &photo, &st) ||
+         ws_image_read(pb, 0, 0, (const float[3]){0, 0, 0}, &mask, &st) ||
          ws_room_render(&cam, sc.center, 3, &room, &st);
     CHECK(rc == 0 && v->mask.data, "room view: %s", st.msg);
     long background = 0, object = 0;

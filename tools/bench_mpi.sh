@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# tools/bench_mpi.sh: the README's MPI tables (`make bench-mpi`).
+# tools/bench_mpi.sh: the MPI tables of docs/RESULTS.md (`make bench-mpi`).
 # Needs `make MPI=1` and weights/random-f32.bin (ViT-B/32 with random
 # weights: python3 tools/make_random_weights.py weights/random-f32.bin).
 # 1. Measured: fits of STEPS steps (default 8) at 224 x 224, 25 curves,

@@ -804,10 +804,26 @@ def tensor_chunks(t, out_dtype, name):
         yield from encode(t, out_dtype, name)
 
 
+def written_through(out_path):
+    """Is OUT a character device, FIFO or socket (/dev/null, a named pipe), or one of the
+    process's descriptors (/dev/stdout)? Such an OUT is written to, never replaced: renaming
+    a file onto it would replace the device or the link, not write to what it stands for."""
+    try:
+        mode = os.stat(out_path).st_mode
+    except OSError:
+        return False
+    if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode):
+        return True
+    link = os.readlink(out_path) if os.path.islink(out_path) else ""
+    parent = os.path.realpath(os.path.dirname(os.path.abspath(out_path)))
+    return link.startswith("/proc/") or parent.startswith("/proc/")
+
+
 def write_weight_file(out_path, arch, tower, expected, out_dtype, display):
-    """Writes OUT.tmp.PID and renames it to OUT, so that OUT is complete or untouched; the
-    temporary file is removed on any failure, SIGINT and SIGTERM included (Interrupted), and
-    a write error names OUT, the file the user asked for."""
+    """Writes OUT.tmp.PID (created new) and renames it to OUT, so that OUT is complete or
+    untouched; the temporary file is removed on any failure, SIGINT and SIGTERM included
+    (Interrupted), and a write error names OUT, the file the user asked for. A character
+    device, FIFO or descriptor OUT (written_through) is written to directly instead."""
     element = ELEMENT[out_dtype][0]
     count = len(expected)
     offset = HEADER.size + count * ENTRY.size
@@ -822,9 +838,15 @@ def write_weight_file(out_path, arch, tower, expected, out_dtype, display):
         offset += nbytes
     head = HEADER.pack(MAGIC, VERSION, arch["width"], arch["layers"], arch["heads"], arch["patch"],
                        arch["resolution"], arch["output_dim"], count) + b"".join(table)
-    tmp = f"{out_path}.tmp.{os.getpid()}"
+    through = written_through(out_path)
+    tmp = None if through else f"{out_path}.tmp.{os.getpid()}"
+    created = False
     try:
-        with open(tmp, "wb") as f:
+        # the temporary file is created new (O_EXCL), never opened through a link planted at its name
+        fd = (os.open(out_path, os.O_WRONLY | os.O_APPEND) if through else
+              os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666))
+        created = not through
+        with os.fdopen(fd, "wb") as f:
             crc, pos = 0, 0
 
             def put(b):
@@ -840,10 +862,12 @@ def write_weight_file(out_path, arch, tower, expected, out_dtype, display):
                     put(piece)
             f.write(struct.pack("<I", crc & 0xffffffff))
             f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, out_path)
+            if not through:
+                os.fsync(f.fileno())
+        if not through:
+            os.replace(tmp, out_path)
     except BaseException as e:
-        if os.path.lexists(tmp):
+        if created and os.path.lexists(tmp):
             os.unlink(tmp)
         if isinstance(e, OSError):  # reading the input raises ConvertError, not OSError
             raise ConvertError(f"cannot write ({e.strerror or e})", out_path) from None

@@ -26,7 +26,7 @@ wiresketch \- 3D wireframe sketches of an object from multi-view photos
 .I COMMAND
 .B \-\-help
 .SH DESCRIPTION
-wiresketch fits cubic B\e('ezier curves to multi-view photos of an object
+wiresketch fits cubic B\('ezier curves to multi-view photos of an object
 (NeRF-synthetic or nerfstudio scenes) and writes them as a curve file,
 renders, animations and a report. Option names accept underscores for
 dashes. Exit status: 0 on success, 1 for bad input, 2 for bad usage.
@@ -63,5 +63,6 @@ the CLIP weight file (made once from OpenAI's ViT-B-32.pt; without it, use
 .B \-\-loss edges
 )
 .SH SEE ALSO
-README.md and docs/METHOD.md in the source tree.
+README.md, docs/USAGE.md (every command in full), docs/METHOD.md (the method)
+and docs/RESULTS.md (the measurements) in the source tree.
 TAIL

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Quality against wall time (METHOD.md sections 7 and 8; issue 10): fits the
 # shared scenes rose and duck with the weight-free line loss and its
-# defaults (README, "fit") from the visual hull and from the original's
+# defaults (docs/USAGE.md, "fit") from the visual hull and from the original's
 # random sphere, side by side, at three budgets of schedule (6, 24 and 48
 # epochs of 96 views x 5 steps: 2,880, 11,520 and 23,040 steps; 24 is the
 # line loss's default), and

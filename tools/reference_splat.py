@@ -168,7 +168,7 @@ def compare(args):
             tks = sample_parameters(P, thickness, 0.6)
             mu = torch.from_numpy(np.concatenate([bernstein(t) @ P[i] for i, t in enumerate(tks)]))
             out = os.path.join(tmp, "r%d" % k)
-            run([args.bin, "render", path, "--scene", args.scene, "--split", args.split, "--out",
+            run([args.bin, "render", path, "--alpha", "--scene", args.scene, "--split", args.split, "--out",
                  out, "--cutoff", "inf", "--size", str(args.size)])
             set_px = 0.0
             for cam in cams:

@@ -5,7 +5,7 @@
 # the sanitizer runtimes, clang's OpenMP, llvm-symbolizer); CI does not fuzz.
 # `tools/setup.sh mpi` adds Open MPI for `make MPI=1` and `make test-mpi`.
 set -euo pipefail
-packages="build-essential pkg-config libopenblas-dev libpng-dev zlib1g-dev libcjson-dev libgif-dev python3"
+packages="build-essential pkg-config libopenblas-dev libpng-dev zlib1g-dev libcjson-dev libgif-dev libjpeg62-turbo-dev python3"
 if [ "${1:-}" = fuzz ]; then
     packages="$packages clang libclang-rt-14-dev libomp-14-dev llvm-14"
 fi

@@ -15,6 +15,7 @@ import json
 import os
 import random
 import signal
+import stat
 import struct
 import subprocess
 import sys
@@ -550,6 +551,32 @@ def hostile_paths(tower, sd, hf_dir, st):
     out_dir = os.path.join(TMP, "out_dir")
     os.mkdir(out_dir)
     expect_failure("a directory as OUT", (sd, out_dir, "--heads", "2"), out_dir, "is a directory")
+
+    # a special OUT is written through, never replaced; a link planted at OUT.tmp.PID is not followed
+    fifo_out, got = os.path.join(TMP, "out_fifo"), []
+    os.mkfifo(fifo_out)
+    reader = subprocess.Popen(["timeout", "60", "cat", fifo_out], stdout=subprocess.PIPE)
+    rc, _, err = convert(sd, fifo_out, "--heads", "2")
+    got = reader.communicate()[0]
+    check("a FIFO as OUT is written through", rc == 0 and stat.S_ISFIFO(os.lstat(fifo_out).st_mode) and
+          got[:8] == b"WSKCLIP\0", f"exit {rc}: {err}")
+    device = os.path.join(TMP, "null_copy")
+    try:
+        os.mknod(device, stat.S_IFCHR | 0o666, os.makedev(1, 3))  # a copy of /dev/null, as root
+    except OSError:
+        device = "/dev/null"  # without root, which cannot replace it
+    rc, _, err = convert(sd, device, "--heads", "2")
+    check("a character device as OUT stays one", rc == 0 and stat.S_ISCHR(os.lstat(device).st_mode), err)
+    victim, planted = os.path.join(TMP, "victim.txt"), os.path.join(TMP, "planted.bin")
+    with open(victim, "w") as f:
+        f.write("precious")
+    p = subprocess.run([sys.executable, CONVERTER, sd, planted, "--heads", "2"], capture_output=True, text=True,
+                       timeout=60, preexec_fn=lambda: os.symlink(victim, f"{planted}.tmp.{os.getpid()}"))
+    with open(victim, "rb") as f:
+        kept = f.read() == b"precious"
+    check("a link planted at OUT.tmp.PID is not written through", p.returncode == 1 and kept and
+          p.stderr.strip() == f"convert_weights.py: {planted}: cannot write (File exists)",
+          f"exit {p.returncode}, victim kept {kept}: {p.stderr.strip()}")
 
     signalled("SIGTERM removes OUT.tmp.PID", signal.SIGTERM, sd, out)
     signalled("SIGINT removes OUT.tmp.PID", signal.SIGINT, sd, out)

@@ -94,6 +94,7 @@ typedef struct {
     const ws_curves *sketch;
     int rounds;
     int aug_bank;                 /* N of the bank row */
+    const clip_model *model_bf16; /* model's weights with bf16 GEMMs (clip.h), or NULL: no bf16 rows */
 } ws_bench_approx_input;
 
 /* Fills rows[0..*nrows) (at most max rows). */

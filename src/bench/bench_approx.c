@@ -24,6 +24,7 @@ typedef struct {
     double cutoff;
     int threads;
     int view;
+    uint64_t seed;  /* the step's generator (augmentations); 0: the row's common one */
 } setting;
 
 /* What a setting's fastest run measured. */
@@ -75,7 +76,7 @@ static double relative_norm(const double *a, const double *b, int n) {
     return sqrt(diff) / fmax(sqrt(ref), 1e-300);
 }
 
-enum { MAX_SETTINGS = 8 };
+enum { MAX_SETTINGS = 8, COMMON_SEED = 21 };
 
 /* Runs settings s[0..n) in alternation, s[0] the exact one, and fills
  * rows[k - 1] for each s[k], k >= 1: errors (unless compare is 0) and the
@@ -89,10 +90,10 @@ static int measure(const setting *s, int n, int rounds, int part, int compare,
         o[k].best.seconds[WS_TIME_TOTAL] = INFINITY;
         if (!(o[k].grad = ws_malloc((size_t)np * sizeof(double), "gradient", st))) rc = st->code;
     }
-    ws_rng rng0;
-    ws_rng_seed(&rng0, 21);
+    ws_rng rng[MAX_SETTINGS];
+    for (int k = 0; k < n; k++) ws_rng_seed(&rng[k], s[k].seed ? s[k].seed : COMMON_SEED);
     for (int r = -1; r < rounds && !rc; r++)
-        for (int k = 0; k < n && !rc; k++) rc = run(&s[k], &rng0, &o[k], r >= 0, st);
+        for (int k = 0; k < n && !rc; k++) rc = run(&s[k], &rng[k], &o[k], r >= 0, st);
     for (int k = 1; k < n && !rc; k++) {
         ws_bench_approx_row *row = rows[k - 1];
         row->loss_error = compare ? relative(o[k].loss, o[0].loss) : NAN;
@@ -162,7 +163,7 @@ static int cutoff_rows(const ws_bench_approx_input *in, ws_bench_approx_row *row
     if (!rc) rc = ws_bench_scaled(in->sketch, 3.0, in->scene->center, &big, st);
     setting set[WS_BENCH_CUTOFFS];
     ws_bench_approx_row *row[WS_BENCH_CUTOFFS];
-    set[0] = (setting){s, in->sketch, INFINITY, 0, 0};
+    set[0] = (setting){s, in->sketch, INFINITY, 0, 0, 0};
     for (int k = 1; k < WS_BENCH_CUTOFFS && !rc; k++) {
         set[k] = set[0];
         set[k].cutoff = ws_bench_cutoffs[k - 1];
@@ -272,7 +273,7 @@ static int clip_stop_row(const ws_bench_approx_input *in, ws_bench_approx_row *r
         ws_loss_options lo = loss_options(in->model, A, 0, 0);
         rc = step_for(&s, in, &lo, st);
         ws_bench_approx_row timing, *timed = &timing;
-        setting stopped[2] = {{s, in->sketch, 4, 0, 0}, {s, in->sketch, 4, 0, 0}};
+        setting stopped[2] = {{s, in->sketch, 4, 0, 0, 0}, {s, in->sketch, 4, 0, 0, 0}};
         if (!rc) rc = measure(stopped, 2, in->rounds, PART_STEP, 0, &timed, st);
         ws_objective_free(s);
         row->step_approx = timing.step_approx;
@@ -312,7 +313,7 @@ static int photo_cache_row(const ws_bench_approx_input *in, ws_bench_approx_row 
     double worst_loss = 0, worst_grad = 0;
     /* a fresh view every round: its first step computes the features */
     for (int r = 0; r < in->rounds && r + 1 < in->scene->split[WS_TRAIN].n && !rc; r++) {
-        setting v = {s, in->sketch, 4, 0, r + 1};
+        setting v = {s, in->sketch, 4, 0, r + 1, 0};
         rc = run(&v, &rng0, &o[0], 1, st) || run(&v, &rng0, &o[1], 1, st) ? st->code : WS_OK;
         worst_loss = fmax(worst_loss, relative(o[1].loss, o[0].loss));
         worst_grad = fmax(worst_grad, relative_norm(o[1].grad, o[0].grad, np));
@@ -342,7 +343,7 @@ static int aug_bank_row(const ws_bench_approx_input *in, ws_bench_approx_row *ro
     ws_loss_options lo = loss_options(in->model, 4, 0, 1), lb = loss_options(in->model, 4, in->aug_bank, 1);
     int rc = step_for(&fresh, in, &lo, st);
     if (!rc) rc = step_for(&banked, in, &lb, st);
-    setting set[2] = {{fresh, in->sketch, 4, 0, 0}, {banked, in->sketch, 4, 0, 0}};
+    setting set[2] = {{fresh, in->sketch, 4, 0, 0, 0}, {banked, in->sketch, 4, 0, 0, 0}};
     /* the first, unmeasured run of `measure` fills the view's bank */
     if (!rc) rc = measure(set, 2, in->rounds, PART_PHOTO, 0, &row, st);
     if (!rc) {
@@ -372,7 +373,7 @@ static int f16_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, i
         ws_loss_options lo = loss_options(m[k], 4, 0, 1);
         rc = step_for(&s[k], in, &lo, st);
     }
-    setting set[2] = {{s[0], in->sketch, 4, 0, 0}, {s[1], in->sketch, 4, 0, 0}};
+    setting set[2] = {{s[0], in->sketch, 4, 0, 0, 0}, {s[1], in->sketch, 4, 0, 0, 0}};
     if (!rc) rc = measure(set, 2, in->rounds, PART_CLIP, 1, &row, st);
     if (!rc) {
         struct stat sb[2];
@@ -390,6 +391,37 @@ static int f16_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, i
     return rc;
 }
 
+/* Rows: CLIP's weight GEMMs in bf16 against fp32 on the same step, and
+ * the yardstick of its error: the same fp32 step with other augmentations
+ * (another seed of the step's generator), what the augmentations' own
+ * randomness moves the loss and the gradient by from one step to the
+ * next. bf16 is the default of fit where its error stays below that. */
+static int bf16_rows(const ws_bench_approx_input *in, ws_bench_approx_row *rows, int max, int *n,
+                     ws_status *st) {
+    ws_bench_approx_row *row[2] = {new_row(rows, max, n, "bf16", "fp32 GEMMs", "clip", st), NULL};
+    if (!row[0] || !(row[1] = new_row(rows, max, n, "aug_seed", "the same step", "clip", st))) return st->code;
+    snprintf(row[0]->setting, sizeof row[0]->setting, "bf16 GEMMs");
+    snprintf(row[1]->setting, sizeof row[1]->setting, "other augmentations");
+    ws_objective *s[2] = {NULL, NULL};
+    int rc = WS_OK;
+    for (int k = 0; k < 2 && !rc; k++) {
+        ws_loss_options lo = loss_options(k ? in->model_bf16 : in->model, 4, 0, 1);
+        rc = step_for(&s[k], in, &lo, st);
+    }
+    setting set[3] = {{s[0], in->sketch, 4, 0, 0, 0}, {s[1], in->sketch, 4, 0, 0, 0},
+                      {s[0], in->sketch, 4, 0, 0, COMMON_SEED + 1}};
+    if (!rc) rc = measure(set, 3, in->rounds, PART_CLIP, 1, row, st);
+    if (!rc) {
+        snprintf(row[0]->note, sizeof row[0]->note,
+                 "gradient error %.2g of the augmentations' own (aug_seed row); weights packed once, 4 bytes each",
+                 row[0]->grad_error / row[1]->grad_error);
+        snprintf(row[1]->note, sizeof row[1]->note,
+                 "fp32, another seed of the augmentations: the noise of one step's gradient");
+    }
+    for (int k = 0; k < 2; k++) ws_objective_free(s[k]);
+    return rc;
+}
+
 /* Row: all cores against one thread. */
 static int threads_row(const ws_bench_approx_input *in, ws_bench_approx_row *rows, int max, int *n,
                        ws_status *st) {
@@ -400,7 +432,7 @@ static int threads_row(const ws_bench_approx_input *in, ws_bench_approx_row *row
     ws_objective *s = NULL;
     ws_loss_options lo = loss_options(in->model, 4, 0, 1);
     int rc = step_for(&s, in, &lo, st);
-    setting set[2] = {{s, in->sketch, 4, 1, 0}, {s, in->sketch, 4, threads, 0}};
+    setting set[2] = {{s, in->sketch, 4, 1, 0, 0}, {s, in->sketch, 4, threads, 0, 0}};
     if (!rc) rc = measure(set, 2, in->rounds, PART_STEP, 1, &row, st);
     if (!rc) rc = ws_runtime_init(threads, st);
     snprintf(row->note, sizeof row->note, "%s",
@@ -424,7 +456,7 @@ static int num_aug_rows(const ws_bench_approx_input *in, ws_bench_approx_row *ro
     for (int k = 0; k < NCOUNTS && !rc; k++) {
         ws_loss_options lo = loss_options(in->model, counts[k], 0, 1);
         rc = step_for(&s[k], in, &lo, st);
-        set[k] = (setting){s[k], in->sketch, 4, 0, 0};
+        set[k] = (setting){s[k], in->sketch, 4, 0, 0, 0};
         if (!rc && k > 0) {
             if (!(row[k - 1] = new_row(rows, max, n, "num_aug", "A = 4", "step", st))) {
                 rc = st->code;
@@ -447,6 +479,7 @@ int ws_bench_approx(const ws_bench_approx_input *in, ws_bench_approx_row *rows, 
         photo_cache_row(in, rows, max, nrows, st) || aug_bank_row(in, rows, max, nrows, st))
         return st->code;
     if (in->weights_f32 && in->weights_f16 && f16_row(in, rows, max, nrows, st)) return st->code;
+    if (in->model_bf16 && bf16_rows(in, rows, max, nrows, st)) return st->code;
     return threads_row(in, rows, max, nrows, st) || num_aug_rows(in, rows, max, nrows, st) ? st->code
                                                                                            : WS_OK;
 }

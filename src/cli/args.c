@@ -108,19 +108,35 @@ int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char
     return WS_OK;
 }
 
+/* What a text option's value is, in its usage line: an option means the
+ * same in every command that has it. */
+static const char *text_metavar(const char *name) {
+    static const char *const names[][2] = {
+        {"--out", "DIR"},        {"--resume", "DIR"},      {"--scene", "DIR"},        {"--edge-maps", "DIR"},
+        {"--write-fixed", "DIR"}, {"--config", "FILE"},    {"--curves", "FILE"},      {"--gt", "FILE"},
+        {"--gt-curves", "FILE"}, {"--obj", "FILE"},        {"--ply", "FILE"},         {"--svg", "FILE"},
+        {"--weights", "FILE"},   {"--weights-f16", "FILE"}, {"--weights-f32", "FILE"}, {"--init", "HOW|FILE"},
+        {"--loss", "NAME"},      {"--split", "NAME"},      {"--layout", "NAME"},      {"--clip-geometric", "MODE"},
+        {"--hidden-lines", "MODE"}, {"--background", "COLOR"},
+    };
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+        if (!strcmp(names[k][0], name)) return names[k][1];
+    return "TEXT";
+}
+
 void ws_args_usage(const ws_command_spec *spec) {
     printf("usage: wiresketch %s\n%s\n", spec->usage, spec->summary);
     if (spec->nargs) printf("\noptions:\n");
     for (int k = 0; k < spec->nargs; k++) {
         const ws_arg *a = &spec->args[k];
         const char *value = a->kind == WS_ARG_FLAG     ? ""
-                            : a->kind == WS_ARG_INT    ? " N"
-                            : a->kind == WS_ARG_STRING ? " VALUE"
-                            : a->kind == WS_ARG_CUTOFF ? " K|inf"
-                            : a->kind == WS_ARG_DOUBLES ? " X..."
-                                                        : " X";
+                            : a->kind == WS_ARG_INT    ? "N"
+                            : a->kind == WS_ARG_STRING ? text_metavar(a->name)
+                            : a->kind == WS_ARG_CUTOFF ? "K|inf"
+                            : a->kind == WS_ARG_DOUBLES ? "X..."
+                                                        : "X";
         char head[64];
-        snprintf(head, sizeof head, "%s%s", a->name, value);
+        snprintf(head, sizeof head, "%s%s%s", a->name, *value ? " " : "", value);
         printf("  %-26s  %s\n", head, a->help); /* two spaces at least: tools/make_man.sh splits there */
     }
 }

@@ -1,25 +1,5 @@
-/* cli_gt.c: the ground-truth coverage for `check` and `eval` (cli_gt.h). */
-#include <math.h>
+/* cli_gt.c: the ground-truth coverage as `check` shows it (cli_gt.h). */
 #include "cli/cli_gt.h"
-#include "geometry/check.h"
-#include "render/curves.h"
-
-int ws_cli_gt_coverage(const ws_scene *scene, ws_view_targets *targets, const char *gt_points,
-                       const char *gt_curves, ws_gt_coverage *c, ws_status *st) {
-    const ws_silhouette *sil[WS_NSPLITS];
-    ws_pointcloud pc = {0};
-    ws_curves tubes = {0};
-    int rc = WS_OK;
-    for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = ws_view_targets_silhouettes(targets, s, &sil[s], st);
-    if (!rc) rc = ws_pointcloud_load_ply(gt_points, &pc, st);
-    if (!rc && gt_curves && *gt_curves) rc = ws_curves_load(gt_curves, &tubes, st);
-    if (!rc)
-        rc = ws_gt_coverage_measure(scene, sil, &pc, gt_curves && *gt_curves ? tubes.thickness : 0, gt_points,
-                                    WS_CHECK_RESOLUTION, c, st);
-    ws_curves_free(&tubes);
-    ws_pointcloud_free(&pc);
-    return rc;
-}
 
 void ws_cli_gt_coverage_table(FILE *fp, const ws_scene *scene, const ws_gt_coverage *c) {
     fprintf(fp, "%-6s %5s %9s %9s  %s\n", "split", "views", "uncovered", "worst", "ground truth: worst view");
@@ -32,18 +12,4 @@ void ws_cli_gt_coverage_table(FILE *fp, const ws_scene *scene, const ws_gt_cover
     if (c->reference >= 0)
         fprintf(fp, "ground truth: point spacing %.4g, %ld voxels of the %s hull uncovered in most views\n",
                 c->spacing, c->region_voxels, ws_split_names[c->reference]);
-}
-
-void ws_cli_gt_coverage_json(FILE *fp, const ws_gt_coverage *c) {
-    fprintf(fp, "\"gt_coverage\": {\"spacing\": %.9g, \"flagged\": %s, \"region_voxels\": %ld", c->spacing,
-            c->flagged ? "true" : "false", c->region_voxels);
-    for (int s = 0; s < WS_NSPLITS; s++)
-        if (c->split[s].n)
-            fprintf(fp, ", \"%s_uncovered\": %.9g, \"%s_uncovered_worst\": %.9g", ws_split_names[s],
-                    c->split[s].mean, ws_split_names[s], c->split[s].worst);
-    if (c->region_voxels)
-        fprintf(fp, ", \"region_centroid\": [%.9g, %.9g, %.9g], \"region_lo\": [%.9g, %.9g, %.9g], "
-                "\"region_hi\": [%.9g, %.9g, %.9g]", c->centroid[0], c->centroid[1], c->centroid[2], c->lo[0],
-                c->lo[1], c->lo[2], c->hi[0], c->hi[1], c->hi[2]);
-    fprintf(fp, "}");
 }

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "cli/args.h"
 #include "cli/cli_bench.h"
+#include "cli/cli_loss.h"
 #include "cli/commands.h"
 #include "base/runtime.h"
 
@@ -25,7 +26,17 @@ static const struct {
 };
 enum { NPARTS = sizeof parts / sizeof parts[0] };
 
-cJSON *ws_cli_bench_number(double x) { return isfinite(x) ? cJSON_CreateNumber(x) : cJSON_CreateNull(); }
+void ws_cli_bench_add(cJSON *o, const char *key, double x) {
+    if (isfinite(x)) {
+        cJSON_AddNumberToObject(o, key, x);
+        return;
+    }
+    char why_key[128], why[96];
+    snprintf(why_key, sizeof why_key, "%s_why", key);
+    snprintf(why, sizeof why, "the value is %s, which JSON cannot hold", isnan(x) ? "nan" : x > 0 ? "inf" : "-inf");
+    cJSON_AddNullToObject(o, key);
+    cJSON_AddStringToObject(o, why_key, why);
+}
 
 int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st) {
     if (ctx->have_scene) return WS_OK;
@@ -36,11 +47,27 @@ int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st) {
     return WS_OK;
 }
 
-int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st) {
-    if (ctx->model) return WS_OK;
+/* The bench's weights: the file of --weights, or a random ViT-B/32. */
+static int make_model(const ws_cli_bench *ctx, clip_model **m, ws_status *st) {
     static const wf_arch vit_b32 = {768, 12, 12, 32, 224, 512};
-    return ctx->weights ? clip_model_load(&ctx->model, ctx->weights, st)
-                        : clip_model_random(&ctx->model, &vit_b32, 1, st);
+    return ctx->weights ? clip_model_load(m, ctx->weights, st) : clip_model_random(m, &vit_b32, 1, st);
+}
+
+int ws_cli_bench_model(ws_cli_bench *ctx, ws_status *st) {
+    return ctx->model ? WS_OK : make_model(ctx, &ctx->model, st);
+}
+
+int ws_cli_bench_model_of(ws_cli_bench *ctx, int precision, const clip_model **m, ws_status *st) {
+    if (precision == CLIP_FP32) {
+        if (ws_cli_bench_model(ctx, st)) return st->code;
+        *m = ctx->model;
+        return WS_OK;
+    }
+    if (!ctx->model_bf16 && (make_model(ctx, &ctx->model_bf16, st) ||
+                             clip_model_set_precision(ctx->model_bf16, CLIP_BF16, st)))
+        return st->code;
+    *m = ctx->model_bf16;
+    return WS_OK;
 }
 
 int ws_cli_bench_sketch(ws_cli_bench *ctx, ws_status *st) {
@@ -69,20 +96,21 @@ static cJSON *machine(void) {
     if (f) fclose(f);
     cJSON *m = cJSON_CreateObject();
     cJSON_AddStringToObject(m, "cpu", cpu);
-    cJSON_AddNumberToObject(m, "cores", omp_get_num_procs());
-    cJSON_AddNumberToObject(m, "threads", ws_runtime_threads());
+    ws_cli_bench_add(m, "cores", omp_get_num_procs());
+    ws_cli_bench_add(m, "threads", ws_runtime_threads());
     cJSON_AddStringToObject(m, "openblas", openblas_get_config());
     const ws_blas_kernels *k = ws_runtime_kernels();
     cJSON_AddStringToObject(m, "kernels", openblas_get_corename());
     cJSON_AddStringToObject(m, "kernels_openblas_chose", k->before);
     cJSON_AddStringToObject(m, "kernels_why", k->why);
-    cJSON_AddItemToObject(m, "load_average", ws_cli_bench_number(load[0]));
+    ws_cli_bench_add(m, "load_average", load[0]);
     return m;
 }
 
 static void free_ctx(ws_cli_bench *ctx) {
     if (ctx->have_scene) ws_scene_free(&ctx->scene);
     clip_model_free(ctx->model);
+    clip_model_free(ctx->model_bf16);
     ws_curves_free(&ctx->sketch);
 }
 
@@ -96,6 +124,7 @@ int cmd_bench(int argc, char **argv) {
     ctx.weights_f32 = "weights/random-f32.bin";
     ctx.weights_f16 = "weights/random-f16.bin";
     ctx.exe = "/proc/self/exe";
+    const char *precision = "auto";
     const ws_arg args[] = {
         {"--json", WS_ARG_FLAG, &ctx.json, 0, "one JSON object instead of tables"},
         {"--threads", WS_ARG_INT, &ctx.threads, 0, "threads, 0 = one per core [0]"},
@@ -107,6 +136,9 @@ int cmd_bench(int argc, char **argv) {
          "random weights as f32 (tools/make_random_weights.py) [weights/random-f32.bin]"},
         {"--weights-f16", WS_ARG_STRING, &ctx.weights_f16, 0, "the same as f16 [weights/random-f16.bin]"},
         {"--aug-bank", WS_ARG_INT, &ctx.aug_bank, 0, "approx: transforms per view of the bank row [8]"},
+        {"--precision", WS_ARG_STRING, &precision, 0,
+         "CLIP's weight GEMMs in the step part and clip's second row: fp32, bf16 or auto (bf16 where the CPU "
+         "has AVX512_BF16) [auto]"},
     };
     const ws_command_spec spec = {
         "bench [clip|splat|step|approx|memory] [options]",
@@ -134,7 +166,8 @@ int cmd_bench(int argc, char **argv) {
                                 "--aug-bank at least 4");
         return ws_cli_fail(&st);
     }
-    if (ws_runtime_init(ctx.threads, &st)) return ws_cli_fail(&st);
+    if (ws_cli_choose_precision(precision, &ctx.precision, &st) || ws_runtime_init(ctx.threads, &st))
+        return ws_cli_fail(&st);
     cJSON *out = cJSON_CreateObject(), *m = machine();
     /* the header below reads these two fields back: without them there is no result to fill */
     if (!out || !cJSON_GetObjectItem(m, "cpu") || !cJSON_GetObjectItem(m, "load_average") ||

@@ -20,8 +20,10 @@ static void error_text(double e, char text[16]) {
 int ws_cli_bench_approx(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     if (ws_cli_bench_scene(ctx, st) || ws_cli_bench_model(ctx, st) || ws_cli_bench_sketch(ctx, st)) return st->code;
     int pair = access(ctx->weights_f32, R_OK) == 0 && access(ctx->weights_f16, R_OK) == 0;
+    const clip_model *mb = NULL;
+    if (ctx->precision == CLIP_BF16 && ws_cli_bench_model_of(ctx, CLIP_BF16, &mb, st)) return st->code;
     ws_bench_approx_input in = {&ctx->scene, ctx->model, pair ? ctx->weights_f32 : NULL,
-                                pair ? ctx->weights_f16 : NULL, &ctx->sketch, ctx->rounds, ctx->aug_bank};
+                                pair ? ctx->weights_f16 : NULL, &ctx->sketch, ctx->rounds, ctx->aug_bank, mb};
     ws_bench_approx_row rows[MAX_ROWS];
     int n;
     if (ws_bench_approx(&in, rows, MAX_ROWS, &n, st)) return st->code;
@@ -33,14 +35,14 @@ int ws_cli_bench_approx(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
         cJSON_AddStringToObject(o, "setting", r->setting);
         cJSON_AddStringToObject(o, "exact", r->exact);
         cJSON_AddStringToObject(o, "part", r->part);
-        cJSON_AddItemToObject(o, "loss_error", ws_cli_bench_number(r->loss_error));
-        cJSON_AddItemToObject(o, "grad_error", ws_cli_bench_number(r->grad_error));
-        cJSON_AddNumberToObject(o, "part_exact", r->part_exact);
-        cJSON_AddNumberToObject(o, "part_approx", r->part_approx);
-        cJSON_AddNumberToObject(o, "step_exact", r->step_exact);
-        cJSON_AddNumberToObject(o, "step_approx", r->step_approx);
-        cJSON_AddItemToObject(o, "speedup", ws_cli_bench_number(r->step_exact / r->step_approx));
-        cJSON_AddNumberToObject(o, "bytes", r->bytes);
+        ws_cli_bench_add(o, "loss_error", r->loss_error);
+        ws_cli_bench_add(o, "grad_error", r->grad_error);
+        ws_cli_bench_add(o, "part_exact", r->part_exact);
+        ws_cli_bench_add(o, "part_approx", r->part_approx);
+        ws_cli_bench_add(o, "step_exact", r->step_exact);
+        ws_cli_bench_add(o, "step_approx", r->step_approx);
+        ws_cli_bench_add(o, "speedup", r->step_exact / r->step_approx);
+        ws_cli_bench_add(o, "bytes", r->bytes);
         cJSON_AddStringToObject(o, "note", r->note);
         cJSON_AddItemToArray(j, o);
     }

@@ -60,7 +60,7 @@ int ws_cli_bench_memory(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
         snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
         if (system(cmd) != 0 && !rc) rc = ws_fail(st, WS_EIO, "bench memory: cannot remove %s", dir);
         if (rc) return rc;
-        cJSON_AddNumberToObject(j, names[k], 1024.0 * kb);
+        ws_cli_bench_add(j, names[k], 1024.0 * kb);
         if (!ctx->json)
             printf("- `fit %s --weights %s --max-steps 5`: peak resident memory **%.0f MB** (%.2f GiB)\n",
                    ctx->scene_dir, files[k], kb * 1024 / 1e6, kb / 1048576.0);

@@ -27,18 +27,18 @@ int ws_cli_bench_splat(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
         for (int k = 0; k < WS_BENCH_CUTOFFS; k++) {
             double cut = ws_bench_cutoffs[k];
             cJSON *o = cJSON_CreateObject();
-            cJSON_AddNumberToObject(o, "gaussians", r.gaussians);
+            ws_cli_bench_add(o, "gaussians", r.gaussians);
             if (isfinite(cut))
-                cJSON_AddNumberToObject(o, "cutoff", cut);
+                ws_cli_bench_add(o, "cutoff", cut);
             else
                 cJSON_AddStringToObject(o, "cutoff", "exact");
-            cJSON_AddNumberToObject(o, "pixel_visits", r.pixel_visits[k]);
-            cJSON_AddNumberToObject(o, "forward", r.forward[k]);
-            cJSON_AddNumberToObject(o, "backward", r.backward[k]);
-            cJSON_AddNumberToObject(o, "alpha_max_error", r.alpha_max[k]);
-            cJSON_AddNumberToObject(o, "alpha_mean_error", r.alpha_mean[k]);
-            cJSON_AddNumberToObject(o, "grad_max_error", r.grad_max[k]);
-            cJSON_AddNumberToObject(o, "grad_mean_error", r.grad_mean[k]);
+            ws_cli_bench_add(o, "pixel_visits", r.pixel_visits[k]);
+            ws_cli_bench_add(o, "forward", r.forward[k]);
+            ws_cli_bench_add(o, "backward", r.backward[k]);
+            ws_cli_bench_add(o, "alpha_max_error", r.alpha_max[k]);
+            ws_cli_bench_add(o, "alpha_mean_error", r.alpha_mean[k]);
+            ws_cli_bench_add(o, "grad_max_error", r.grad_max[k]);
+            ws_cli_bench_add(o, "grad_mean_error", r.grad_mean[k]);
             cJSON_AddItemToArray(j, o);
             if (ctx->json) continue;
             char cutoff[16];

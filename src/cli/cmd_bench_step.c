@@ -5,33 +5,37 @@
 
 int ws_cli_bench_step(ws_cli_bench *ctx, cJSON *out, ws_status *st) {
     ws_bench_step_result r;
-    if (ws_cli_bench_scene(ctx, st) || ws_cli_bench_model(ctx, st) || ws_cli_bench_sketch(ctx, st) ||
-        ws_bench_step(&ctx->scene, ctx->model, &ctx->sketch, ctx->rounds, &r, st))
+    const clip_model *m;
+    if (ws_cli_bench_scene(ctx, st) || ws_cli_bench_model_of(ctx, ctx->precision, &m, st) ||
+        ws_cli_bench_sketch(ctx, st) || ws_bench_step(&ctx->scene, m, &ctx->sketch, ctx->rounds, &r, st))
         return st->code;
+    const char *precision = ctx->precision == CLIP_BF16 ? "bf16" : "fp32";
     const double *t = r.best.seconds, total = t[WS_TIME_TOTAL];
     double named = 0;
     for (int k = 0; k < WS_TIME_TOTAL; k++) named += t[k];
     double other = total - named;
     double clip = t[WS_TIME_CLIP_FORWARD] + t[WS_TIME_CLIP_PHOTO] + t[WS_TIME_CLIP_BACKWARD];
     cJSON *j = cJSON_AddObjectToObject(out, "step");
-    cJSON_AddNumberToObject(j, "gaussians", r.gaussians);
-    cJSON_AddNumberToObject(j, "curves", r.curves);
-    cJSON_AddNumberToObject(j, "num_aug", r.num_aug);
-    cJSON_AddNumberToObject(j, "threads", r.threads);
+    ws_cli_bench_add(j, "gaussians", r.gaussians);
+    ws_cli_bench_add(j, "curves", r.curves);
+    ws_cli_bench_add(j, "num_aug", r.num_aug);
+    ws_cli_bench_add(j, "threads", r.threads);
+    cJSON_AddStringToObject(j, "precision", precision);
     cJSON *parts = cJSON_AddObjectToObject(j, "seconds");
-    for (int k = 0; k < WS_TIME_PARTS; k++) cJSON_AddNumberToObject(parts, ws_time_names[k], t[k]);
-    cJSON_AddNumberToObject(parts, "other", other);
-    cJSON_AddNumberToObject(j, "floor", r.floor);
-    cJSON_AddNumberToObject(j, "floor_forward", r.floor_forward);
-    cJSON_AddNumberToObject(j, "floor_backward", r.floor_backward);
-    cJSON_AddNumberToObject(j, "floor_photo", r.floor_photo);
-    cJSON_AddNumberToObject(j, "ratio", total / r.floor);
-    cJSON_AddNumberToObject(j, "non_clip_share", (total - clip) / total);
+    for (int k = 0; k < WS_TIME_PARTS; k++) ws_cli_bench_add(parts, ws_time_names[k], t[k]);
+    ws_cli_bench_add(parts, "other", other);
+    ws_cli_bench_add(j, "floor", r.floor);
+    ws_cli_bench_add(j, "floor_forward", r.floor_forward);
+    ws_cli_bench_add(j, "floor_backward", r.floor_backward);
+    ws_cli_bench_add(j, "floor_photo", r.floor_photo);
+    ws_cli_bench_add(j, "ratio", total / r.floor);
+    ws_cli_bench_add(j, "non_clip_share", (total - clip) / total);
     if (ctx->json) return WS_OK;
     printf("\n## One default training step\n\n");
-    printf("%s, training view 0, %d curves (%d Gaussians), %d augmentations, cut-off 4, %d threads; "
-           "the fastest of %d steps (after one that caches the view's photo features)\n\n",
-           ctx->scene_dir, r.curves, r.gaussians, r.num_aug, r.threads, ctx->rounds);
+    printf("%s, training view 0, %d curves (%d Gaussians), %d augmentations, cut-off 4, %d threads, CLIP's "
+           "weight GEMMs in %s (the floor: fp32's); the fastest of %d steps (after one that caches the view's "
+           "photo features)\n\n",
+           ctx->scene_dir, r.curves, r.gaussians, r.num_aug, r.threads, precision, ctx->rounds);
     static const char *const label[WS_TIME_PARTS] = {
         "splatting (forward + backward)", "augmentation (forward + backward)",
         "CLIP forward, 5 stroke images", "CLIP forward, 4 augmented photos", "CLIP backward, 5 stroke images",

@@ -5,13 +5,16 @@
  * has a gt_points.ply, also how much of the silhouettes it leaves
  * uncovered (geometry/gt_coverage.h) and, where it misses a part, a warning
  * line; that leaves the exit status alone, as the ground truth does not
- * enter a fit (README "check"). A scene with no usable silhouette gets its
- * line alone (exit 1). */
+ * enter a fit (docs/METHOD.md section 12). A scene with no usable
+ * silhouette gets its line alone (exit 1). */
 #include <math.h>
 #include <stdio.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "cli/args.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_view.h"
+#include "base/outfile.h"
 #include "cli/commands.h"
 #include "geometry/check.h"
 #include "io/scene_crops.h"
@@ -43,11 +46,12 @@ static void print_table(const ws_scene *scene, const ws_check_report *r) {
 }
 
 int cmd_check(int argc, char **argv) {
-    const char *fixed_dir = NULL;
+    const char *fixed_dir = NULL, *images = NULL;
     int size = 224, resolution = WS_CHECK_RESOLUTION;
     const ws_arg args[] = {
         {"--size", WS_ARG_INT, &size, 0, "working resolution in pixels, square [224]"},
         {"--resolution", WS_ARG_INT, &resolution, 0, "hull voxels along its longest side [64]"},
+        {"--images", WS_ARG_STRING, &images, 0, "a COLMAP scene's images folder [SCENE/images]"},
         {"--write-fixed", WS_ARG_STRING, &fixed_dir, 0,
          "write a corrected copy of the scene here when the cause is found [none]"},
     };
@@ -67,10 +71,13 @@ int cmd_check(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--resolution: %d is not in [8, 512]", resolution);
         return ws_cli_fail(&st);
     }
+    if (fixed_dir && (ws_outfile_protect(NULL, 0, pos, 1, &st) || ws_outfile_check(fixed_dir, &st)))
+        return ws_cli_fail(&st);
     ws_scene scene = {0};
     ws_scene_options opt;
     ws_scene_options_default(&opt);
     opt.width = opt.height = size;
+    opt.images_dir = images;
     ws_view_targets *targets = NULL;
     const ws_silhouette *sil[WS_NSPLITS];
     int rc = ws_scene_load(&scene, pos[0], &opt, &st) || ws_view_targets_create(&targets, &scene, &st);
@@ -81,6 +88,11 @@ int cmd_check(int argc, char **argv) {
         ws_scene_free(&scene);
         return ws_cli_fail(&st);
     }
+    /* a line that is both the report's (stdout) and the failure's or the
+     * warning's (stderr) is shown once when both are the same terminal */
+    struct stat out_st, err_st;
+    int one_terminal = isatty(1) && isatty(2) && fstat(1, &out_st) == 0 && fstat(2, &err_st) == 0 &&
+                       out_st.st_rdev == err_st.st_rdev;
     char crops[1024];
     ws_scene_crop_line(&scene, crops, sizeof crops);
     if (crops[0]) printf("%s\n", crops);
@@ -89,20 +101,20 @@ int cmd_check(int argc, char **argv) {
     if (r.consistent) {
         printf("consistent: every view agrees with the others\n");
     } else {
-        printf("%s\n", r.line);
+        if (!one_terminal) printf("%s\n", r.line);
         fprintf(stderr, "wiresketch: %s\n", r.line);
     }
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], gt_points, gt_curves);
     ws_gt_coverage cov;
     if (r.no_silhouette) gt_points[0] = 0; /* it measures silhouettes */
-    if (gt_points[0] && ws_cli_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
+    if (gt_points[0] && ws_scene_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
         code = ws_cli_fail(&st);
     } else if (gt_points[0]) {
         printf("\n");
         ws_cli_gt_coverage_table(stdout, &scene, &cov);
         if (cov.flagged) {
-            printf("%s\n", cov.line);
+            if (!one_terminal) printf("%s\n", cov.line);
             fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
         } else {
             printf("%s: the ground truth covers the silhouettes\n", gt_points);

@@ -30,7 +30,7 @@ static int embed_files(const clip_model *m, const char *const *paths, int n, ws_
         int count = n - first < batch ? n - first : batch;
         for (int k = 0; k < count && !st->code; k++) {
             ws_image img;
-            if (!ws_png_read(paths[first + k], R, R, black, &img, st)) {
+            if (!ws_image_read(paths[first + k], R, R, black, &img, st)) {
                 memcpy(images + k * image, img.data, image * sizeof *images);
                 ws_image_free(&img);
             }

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "base/json_number.h"
 #include "base/paths.h"
 #include "cli/args.h"
 #include "cli/cli_gt.h"
@@ -23,10 +24,8 @@
 #include "base/runtime.h"
 
 static void print_number(const char *key, double v) {
-    if (isfinite(v))
-        printf(", \"%s\": %.9g", key, v);
-    else
-        printf(", \"%s\": null", key);
+    fputs(", ", stdout);
+    ws_json_number(stdout, key, v, 9);
 }
 
 /* *per (n_curves, allocated): where the surface distance of the Gaussians
@@ -88,7 +87,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         }
     }
     if (!rc && coverage) rc = ws_view_targets_create(&targets, seen, st);
-    if (!rc && coverage) rc = ws_cli_gt_coverage(seen, targets, gt_points, gt_curves, &cov, st);
+    if (!rc && coverage) rc = ws_scene_gt_coverage(seen, targets, gt_points, gt_curves, &cov, st);
     if (!rc) {
         printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
                "\"loss_kind\": \"%s\"",
@@ -101,9 +100,12 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
             printf(", \"surface_stray_curves\": %d", q.surface_strays.stray_curves);
             if (per) {
                 printf(", \"surface_curves\": [");
-                for (int ci = 0; ci < curves.n; ci++)
-                    printf("%s{\"gaussians\": %d, \"mean\": %.9g, \"adds\": %.9g, \"beyond_p90\": %d}",
-                           ci ? ", " : "", per[ci].n, per[ci].mean, per[ci].adds, per[ci].beyond_p90);
+                for (int ci = 0; ci < curves.n; ci++) {
+                    printf("%s{\"gaussians\": %d", ci ? ", " : "", per[ci].n);
+                    print_number("mean", per[ci].mean);
+                    print_number("adds", per[ci].adds);
+                    printf(", \"beyond_p90\": %d}", per[ci].beyond_p90);
+                }
                 printf("]");
             }
         }
@@ -119,7 +121,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         }
         if (coverage) {
             printf(", ");
-            ws_cli_gt_coverage_json(stdout, &cov);
+            ws_gt_coverage_json(stdout, &cov);
         }
         printf("}\n");
         if (coverage && cov.flagged) fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
@@ -156,7 +158,7 @@ int cmd_eval(int argc, char **argv) {
         {"--edge-maps", WS_ARG_STRING, &edge_maps, 0,
          "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
         {"--loss", WS_ARG_STRING, &loss_name, 0,
-         "auto, none, clip, edges, clip+edges or l2 [auto: clip when the CLIP weight file exists, else none]"},
+         WS_CLI_LOSS_HELP("none, clip, edges, clip+edges or l2")},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
          "weight of block 0, 1, ... [0 0 1 1 0]"},
@@ -180,7 +182,8 @@ int cmd_eval(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
         return ws_cli_fail(&st);
     }
-    if (!strcmp(loss_name, "auto")) loss_name = access(lo.weights_path, R_OK) == 0 ? "clip" : "none";
+    const char *given_loss = loss_name;
+    loss_name = ws_cli_auto_loss(loss_name, lo.weights_path);
     int with_loss = strcmp(loss_name, "none") != 0;
     ws_scene_options sopt;
     ws_scene_options_default(&sopt);
@@ -196,9 +199,7 @@ int cmd_eval(int argc, char **argv) {
     if (!gt_curves) gt_curves = scene_curves[0] ? scene_curves : NULL;
     if (!with_loss && !gt_points && !gt_curves) {
         ws_fail(&st, WS_EUSAGE,
-                "nothing to evaluate: no loss (no CLIP weight file at %s; choose one with --loss) "
-                "and no ground truth (give --gt or --gt-curves)",
-                lo.weights_path);
+                "nothing to evaluate: --loss none and no ground truth (give --gt or --gt-curves)");
         return ws_cli_fail(&st);
     }
     if (per_curve && !(gt_points && *gt_points)) {
@@ -206,6 +207,7 @@ int cmd_eval(int argc, char **argv) {
         return ws_cli_fail(&st);
     }
     if (ws_runtime_init(threads, &st)) return ws_cli_fail(&st);
+    ws_cli_announce_loss(given_loss, lo.weights_path);
     if (evaluate_sketch(pos[0], curves_path, split_name, &sopt, loss_name, with_loss ? &lo : NULL,
                         &so, gt_points, gt_curves, per_curve, &st))
         return ws_cli_fail(&st);

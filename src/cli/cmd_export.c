@@ -1,39 +1,57 @@
 /* cmd_export.c: `wiresketch export`: a sketch as OBJ, PLY and SVG files. */
 #include <stdio.h>
+#include <string.h>
 #include "cli/args.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "render/curves.h"
 #include "io/export.h"
+#include "base/outfile.h"
+#include "cli/cli_loss.h"
+#include "objective/hidden_lines.h"
 
-/* The SVG of the sketch seen from view `view` of a split of the scene. */
-static int export_svg(const char *path, const ws_curves *curves, const char *scene_dir,
-                      const char *split_name, int view, int size, ws_status *st) {
+/* The SVG of the sketch seen from view `view` of a split of the scene;
+ * with hidden lines removed, by the training views' visual hull as the
+ * fit's stroke images are (objective/hidden_lines.h). */
+static int export_svg(const char *path, const ws_curves *curves, const char *scene_dir, const char *split_name,
+                      int view, int size, int hidden, const char *background, ws_status *st) {
     ws_scene scene;
     int split;
-    if (ws_cli_load_split(scene_dir, size, 0, NULL, split_name, &scene, &split, st))
-        return st->code;
-    if (!ws_cli_check_view(&scene, split, view, st))
-        ws_export_svg(path, curves, &scene.split[split].views[view].cam, st);
+    if (ws_cli_load_split(scene_dir, size, hidden, background, split_name, &scene, &split, st)) return st->code;
+    ws_view_targets *targets = NULL;
+    ws_hidden_lines *hl = NULL;
+    const float *far = NULL;
+    if (!ws_cli_check_view(&scene, split, view, st) &&
+        (!hidden || (!ws_view_targets_create(&targets, &scene, st) &&
+                     !ws_hidden_lines_create(&hl, &scene, NULL, targets, st) &&
+                     !ws_hidden_lines_far(hl, split, view, &far, st))))
+        ws_export_svg(path, curves, &scene.split[split].views[view].cam, far, st);
+    ws_hidden_lines_free(hl);
+    ws_view_targets_free(targets);
     ws_scene_free(&scene);
     return st->code;
 }
 
 int cmd_export(int argc, char **argv) {
     const char *obj = NULL, *ply = NULL, *svg = NULL, *scene_dir = NULL, *split_name = "test";
+    const char *hidden = "none", *background = "black";
     int view = 0, size = 224;
     const ws_arg args[] = {
-        {"--obj", WS_ARG_STRING, &obj, 0, "write the curves as OBJ polylines"},
+        {"--obj", WS_ARG_STRING, &obj, 0, "write the curves as OBJ polylines, one object per curve"},
         {"--ply", WS_ARG_STRING, &ply, 0, "write the curves as a PLY of vertices and edges"},
-        {"--svg", WS_ARG_STRING, &svg, 0, "write the sketch seen from a view as SVG"},
+        {"--svg", WS_ARG_STRING, &svg, 0, "write the sketch seen from a view as SVG, a path of cubic Beziers per curve"},
         {"--scene", WS_ARG_STRING, &scene_dir, 0, "scene directory, for --svg's camera"},
         {"--split", WS_ARG_STRING, &split_name, 0, "split of --svg's view [test]"},
         {"--view", WS_ARG_INT, &view, 0, "index of --svg's view in the split [0]"},
         {"--size", WS_ARG_INT, &size, 0, "--svg's image size in pixels, square [224]"},
+        {"--hidden-lines", WS_ARG_STRING, &hidden, 0,
+         "--svg: hull (leave out what the training views' visual hull hides, as a fit with hidden lines "
+         "draws) or none [none]"},
+        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP " (--hidden-lines hull)"},
     };
     const ws_command_spec spec = {
-        "export CURVES.json [--obj F] [--ply F] [--svg F --scene DIR [--split S --view K]]",
-        "Write a sketch as OBJ or PLY polylines, or as an SVG drawing from one camera.",
+        "export CURVES.json [--obj FILE] [--ply FILE] [--svg FILE --scene DIR [--split S --view K]]",
+        "Write a sketch as OBJ or PLY polylines, or as an SVG drawing of Bezier paths from one camera.",
         args, sizeof args / sizeof args[0], 1, 1};
     const char *pos[1];
     int npos, help;
@@ -46,10 +64,13 @@ int cmd_export(int argc, char **argv) {
         return ws_cli_fail(&st);
     }
     if (svg && ws_cli_require(scene_dir, "--scene", &st)) return ws_cli_fail(&st);
+    ws_hidden_mode mode;
+    if (ws_cli_hidden_mode(hidden, &mode, &st)) return ws_cli_fail(&st);
     ws_curves curves;
-    if (ws_curves_load(pos[0], &curves, &st)) return ws_cli_fail(&st);
+    const char *folders[] = {svg ? scene_dir : NULL};
+    if (ws_outfile_protect(pos, 1, folders, 1, &st) || ws_curves_load(pos[0], &curves, &st)) return ws_cli_fail(&st);
     if (!(obj && ws_export_obj(obj, &curves, &st)) && !(ply && ws_export_ply(ply, &curves, &st)))
-        if (svg) export_svg(svg, &curves, scene_dir, split_name, view, size, &st);
+        if (svg) export_svg(svg, &curves, scene_dir, split_name, view, size, mode == WS_HIDDEN_HULL, background, &st);
     ws_curves_free(&curves);
     return st.code ? ws_cli_fail(&st) : 0;
 }

@@ -12,7 +12,10 @@
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
+#include "cli/run_record.h"
 #include "fit/fit.h"
+#include "io/report.h"
+#include "objective/hidden_lines.h"
 #include "base/distributed.h"
 #include "base/runtime.h"
 
@@ -60,33 +63,39 @@ typedef struct {
     int n;
     ws_report_item items[MAX_SETTINGS];
     char text[MAX_SETTINGS][2][512];
+    ws_arg_kind kind[MAX_SETTINGS];
+    const char *loss;          /* the loss in effect (--loss auto's choice) */
+    const char *loss_given;    /* --loss as given ("auto") */
+    const char *config;        /* --config FILE, or NULL */
+    int overwrite;             /* --overwrite */
 } fit_settings;
 
 static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
     out->n = 0;
     for (int k = 0; k < nargs && out->n < MAX_SETTINGS; k++) {
-        if (!strcmp(args[k].name, "--resume")) continue;
+        if (ws_run_record_invocation_option(args[k].name)) continue;
+        out->kind[out->n] = args[k].kind;
         char(*text)[512] = out->text[out->n];
         snprintf(text[0], sizeof text[0], "%s", args[k].name + 2);
         ws_arg_value(&args[k], text[1], sizeof text[1]);
-        out->items[out->n++] = (ws_report_item){text[0], text[1]};
+        out->items[out->n++] = (ws_report_item){.key = text[0], .value = text[1]};
     }
 }
 
 /* The defaults of the options a loss wants otherwise, where the command
  * line left them unset (NAN, -1): the original's for CLIP (no silhouette
  * term); for the line loss alone (`--loss edges`) those measured on the
- * solid scenes (README, "Fits on the synthetic scenes"): thin strokes, long
+ * solid scenes (docs/RESULTS.md, "Where it stands now"): thin strokes, long
  * initial strokes (0.15: at 0.3 a hull-start stroke spans two turns of a
- * coil, README "Where it stands now"), a small step, and 5 steps per batch
+ * coil, docs/RESULTS.md "Where it stands now"), a small step, and 5 steps per batch
  * over 24 epochs (the 4 x 30 of before in as many steps: 30 steps on one
  * view fit each view's own errors, such as the one line its line target
  * draws where two wires of the flat clip merge, and moved whole wires off
- * their place; README "Where it stands now"), validated every 60 batches
+ * their place; docs/RESULTS.md "Where it stands now"), validated every 60 batches
  * (every 300 steps, as before: every 10 of 5 steps cost 15% more time); and
  * the silhouette term at
  * weight 3, measured on the shared rose and duck and the synthetic scenes
- * (README, "Silhouettes, the visual hull and `check`"). */
+ * (docs/RESULTS.md, "Hull against random initialisation, and the silhouette term"). */
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
     if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;
@@ -108,16 +117,21 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     /* unset: loss_defaults */
     opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
     opt->epochs = opt->inner_steps = opt->eval_every = -1;
-    const char *loss_name = "clip", *background = "black", *geometric = "blocks", *hidden = NULL;
+    const char *loss_name = "auto", *background = "black", *geometric = "blocks", *hidden = NULL;
+    const char *precision = "auto";
     double edges_weight = 1.0;
-    int seed = 0;
+    int seed = 0, overwrite = 0;
     ws_arg_list layers = {0};
+    const char *config = NULL;
     *resume_dir = NULL;
     opt->out_dir = "out";
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &opt->out_dir, 0, "output directory [out]"},
         {"--resume", WS_ARG_STRING, resume_dir, 0, "continue the fit whose output directory is DIR"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [clip]"},
+        {"--overwrite", WS_ARG_FLAG, &overwrite, 0, "replace another run's outputs in --out (refused otherwise)"},
+        {"--config", WS_ARG_STRING, &config, 0,
+         "run the fit that FILE (a run's config.json) records again; options after it override"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0, WS_CLI_LOSS_HELP("clip, edges, clip+edges, sobel or l2")},
         {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
         {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
@@ -141,12 +155,15 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
+        {"--precision", WS_ARG_STRING, &precision, 0, WS_CLI_PRECISION_HELP},
         {"--clip-batch", WS_ARG_INT, &opt->loss.pass_items, 0,
          "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
         {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
         {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
         {"--edge-maps", WS_ARG_STRING, &opt->edge_maps, 0,
          "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
+        {"--images", WS_ARG_STRING, &opt->images, 0,
+         "a COLMAP scene's images folder [SCENE/images]"},
         {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
         {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
         {"--threads", WS_ARG_INT, &opt->threads, 0, "threads, 0 = all cores [0]"},
@@ -169,13 +186,20 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const char *pos[1];
     int npos;
     if (ws_args_parse(&spec, argc, argv, pos, &npos, help, st) || *help) return st->code;
-    if (*resume_dir) return WS_OK;
+    if (settings) {
+        settings->config = config;
+        settings->overwrite = overwrite;
+    }
+    if (*resume_dir || config) return WS_OK;
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
     opt->seed = (uint64_t)(unsigned)seed;
+    const char *loss_given = loss_name;
+    loss_name = ws_cli_auto_loss(loss_name, opt->loss.weights_path);
     if (ws_cli_check_size(opt->size, st) ||
         ws_cli_background(background, opt->background, &opt->background_auto, st) ||
         ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &opt->loss, st) ||
+        ws_cli_choose_precision(precision, &opt->loss.precision, st) ||
         (loss_defaults(opt, &original), ws_fit_options_check(opt, st)))
         return st->code;
     if (settings) {
@@ -183,6 +207,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         layers.n = opt->loss.n_layer_weights;
         hidden = ws_hidden_mode_names[opt->loss.hidden_lines];
         memcpy(layers.v, opt->loss.layer_weights, sizeof(double) * layers.n);
+        settings->loss = loss_name;
+        settings->loss_given = loss_given;
         fill_settings(args, (int)(sizeof args / sizeof args[0]), settings);
         opt->settings = settings->items;
         opt->n_settings = settings->n;
@@ -198,7 +224,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
  * resumed run, with its overrides, uses them. */
 static int check_stored_arguments(const char *path, int argc, char **argv, ws_status *st) {
     for (int i = 0; i < argc; i++)
-        if (!strcmp(argv[i], "--resume") || !strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
+        if (!strcmp(argv[i], "--resume") || !strcmp(argv[i], "--config") || !strcmp(argv[i], "--help") ||
+            !strcmp(argv[i], "-h"))
             return ws_fail(st, WS_EINPUT, "%s: stored arguments contain %s", path, argv[i]);
     ws_fit_options stored;
     const char *resume_dir;
@@ -237,30 +264,63 @@ static int fixed_on_resume(const char *arg, ws_status *st) {
     return WS_OK;
 }
 
+/* The arguments of a run: the saved ones (nsaved of saved), then those
+ * given now but `skip` and its value, so that later ones override (e.g. a
+ * larger --max-steps); fixed: refuse those fixed_on_resume names. The
+ * strings stay owned by saved/argv. */
+static int append_given(int nsaved, char **saved, int argc, char **argv, const char *skip, int fixed,
+                        int *run_argc, char ***run_argv, ws_status *st) {
+    *run_argv = ws_calloc((size_t)(nsaved + argc + 1), sizeof(char *), "arguments", st);
+    if (!*run_argv) return st->code;
+    int n = 0;
+    for (int i = 0; i < nsaved; i++) (*run_argv)[n++] = saved[i];
+    for (int i = 0; i < argc; i++) {
+        if (ws_arg_same_name(argv[i], skip)) {
+            i++;
+            continue;
+        }
+        if (fixed && fixed_on_resume(argv[i], st)) return st->code;
+        (*run_argv)[n++] = argv[i];
+    }
+    *run_argc = n;
+    return WS_OK;
+}
+
 /* The arguments of a resumed run: those its checkpoint stored, then the
- * ones given now except --resume DIR, so that later ones override (e.g. a
- * larger --max-steps). The strings stay owned by saved/argv. */
+ * ones given now except --resume DIR. */
 static int resume_arguments(const char *dir, int argc, char **argv, int *run_argc, char ***run_argv,
                             int *nsaved, char ***saved, ws_status *st) {
     char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
     if (access(path, F_OK) != 0) return ws_fail(st, WS_EINPUT, "%s: no checkpoint to resume from", path);
-    if (ws_checkpoint_load(path, NULL, nsaved, saved, st)) return st->code;
-    if (check_stored_arguments(path, *nsaved, *saved, st)) return st->code;
-    *run_argv = ws_calloc((size_t)(*nsaved + argc + 1), sizeof(char *), "arguments", st);
-    if (!*run_argv) return st->code;
-    int n = 0;
-    for (int i = 0; i < *nsaved; i++) (*run_argv)[n++] = (*saved)[i];
-    for (int i = 0; i < argc; i++) {
-        if (!strcmp(argv[i], "--resume")) {
-            i++;
-            continue;
-        }
-        if (fixed_on_resume(argv[i], st)) return st->code;
-        (*run_argv)[n++] = argv[i];
-    }
-    *run_argc = n;
-    return WS_OK;
+    if (ws_checkpoint_load(path, NULL, nsaved, saved, st) || check_stored_arguments(path, *nsaved, *saved, st))
+        return st->code;
+    return append_given(*nsaved, *saved, argc, argv, "--resume", 1, run_argc, run_argv, st);
+}
+
+/* The arguments of a run of config.json FILE: those it records, then the
+ * ones given now except --config FILE. */
+static int config_arguments(const char *file, int argc, char **argv, int *run_argc, char ***run_argv,
+                            int *nsaved, char ***saved, ws_status *st) {
+    if (ws_run_record_read(file, nsaved, saved, st) || check_stored_arguments(file, *nsaved, *saved, st))
+        return st->code;
+    return append_given(*nsaved, *saved, argc, argv, "--config", 0, run_argc, run_argv, st);
+}
+
+/* Rank 0: DIR/config.json, the record of this run (cli/run_record.h), in
+ * the output directory the fit made. */
+static int write_record(const ws_fit_options *opt, const fit_settings *settings, int argc, char **argv,
+                        ws_status *st) {
+    if (ws_dist_rank() > 0) return WS_OK;
+    const char **line = ws_calloc((size_t)argc + 2, sizeof *line, "command line", st);
+    if (!line) return st->code;
+    line[0] = "wiresketch";
+    line[1] = "fit";
+    for (int i = 0; i < argc; i++) line[i + 2] = argv[i];
+    int rc = ws_run_record_write(opt->out_dir, opt->scene_dir, argc + 2, line, settings->items, settings->kind,
+                                 settings->n, st);
+    free(line);
+    return rc ? st->code : WS_OK;
 }
 
 static int fit_command(int argc, char **argv) {
@@ -280,22 +340,46 @@ static int fit_command(int argc, char **argv) {
     int rc = parse_fit(argc, argv, &opt, &resume_dir, &help, &settings, &st);
     if (rc) return ws_dist_rank() == 0 ? ws_cli_fail(&st) : ws_exit_code(&st);
     if (help) return 0;
-    int run_argc = argc, nsaved = 0, interrupted = 0;
-    char **run_argv = argv, **saved = NULL;
+    int run_argc = argc, nsaved = 0, interrupted = 0, from_record = settings.config != NULL;
+    int overwrite = settings.overwrite;
+    char **run_argv = argv, **saved = NULL, **final_argv = NULL;
     const char *dir = resume_dir;
     if (dir) {
         rc = resume_arguments(dir, argc, argv, &run_argc, &run_argv, &nsaved, &saved, &st);
         if (!rc) rc = parse_fit(run_argc, run_argv, &opt, &resume_dir, &help, &settings, &st);
         opt.out_dir = dir; /* the run continues where its checkpoint is now */
+    } else if (from_record) {
+        rc = config_arguments(settings.config, argc, argv, &run_argc, &run_argv, &nsaved, &saved, &st);
+        if (!rc) rc = parse_fit(run_argc, run_argv, &opt, &resume_dir, &help, &settings, &st);
+        overwrite |= settings.overwrite;
     }
+    /* a new run stores the loss `auto` chose with its arguments, so that
+     * resuming it keeps that loss whatever weight files exist by then */
+    if (!rc && !dir &&
+        (final_argv = ws_calloc((size_t)run_argc + 3, sizeof(char *), "arguments", &st)) != NULL) {
+        memcpy(final_argv, run_argv, (size_t)run_argc * sizeof(char *));
+        final_argv[run_argc] = "--loss";
+        final_argv[run_argc + 1] = (char *)settings.loss;
+    } else if (!rc && !dir) {
+        rc = st.code;
+    }
+    if (!rc && !dir && !overwrite && ws_dist_rank() == 0) rc = ws_run_record_check_free(opt.out_dir, &st);
     if (!rc) rc = ws_runtime_init(opt.threads, &st);
     rc = ws_dist_agree(rc, &st);
     if (ws_dist_size() > 1) install_end_handler(opt.out_dir);
+    if (!rc && ws_dist_rank() == 0) ws_cli_announce_loss(settings.loss_given, opt.loss.weights_path);
     if (!rc) {
-        rc = ws_fit(&opt, (const char *const *)run_argv, run_argc, dir != NULL, &interrupted, &st);
+        rc = ws_fit(&opt, (const char *const *)(final_argv ? final_argv : run_argv), final_argv ? run_argc + 2 : run_argc,
+                    dir != NULL, &interrupted, &st);
     }
-    if (dir && run_argv != argv) free(run_argv);
-    ws_checkpoint_free_args(nsaved, saved);
+    /* beside the outputs, which exist now (also those of an interrupted run) */
+    if (!rc) rc = write_record(&opt, &settings, argc, argv, &st);
+    free(final_argv);
+    if ((dir || from_record) && run_argv != argv) free(run_argv);
+    if (from_record)
+        ws_run_record_free_args(nsaved, saved);
+    else
+        ws_checkpoint_free_args(nsaved, saved);
     if (rc) return fail(&st);
     if (ws_dist_rank() > 0) return 0;
     if (interrupted)

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/json_number.h"
 #include "cli/args.h"
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
@@ -27,20 +28,29 @@ static int view_gradient(const ws_curves *curves, const ws_scene *scene, int spl
 }
 
 static void print_gradient(double value, const double *dP, int n) {
-    printf("{\"loss\": %.17g, \"grad\": [", value);
+    putchar('{');
+    ws_json_number(stdout, "loss", value, 17);
+    printf(", \"grad\": [");
+    int bad = 0;
     for (int c = 0; c < n; c++) {
         printf("%s\n  [", c ? "," : "");
         for (int j = 0; j < 4; j++) {
             const double *d = dP + (size_t)c * WS_CURVE_FLOATS + j * 3;
-            printf("%s[%.17g, %.17g, %.17g]", j ? ", " : "", d[0], d[1], d[2]);
+            for (int a = 0; a < 3; a++) {
+                fputs(a ? ", " : j ? ", [" : "[", stdout);
+                bad += ws_json_value(stdout, d[a], 17);
+            }
+            putchar(']');
         }
         printf("]");
     }
-    printf("%s]}\n", n ? "\n" : "");
+    printf("%s]", n ? "\n" : "");
+    if (bad) printf(", \"grad_why\": \"%d of its values are not finite, which JSON cannot hold\"", bad);
+    printf("}\n");
 }
 
 int cmd_grad(int argc, char **argv) {
-    const char *curves_path = NULL, *split_name = "test", *loss_name = "l2", *background = "black";
+    const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
     const char *geometric = "blocks", *hidden = NULL;
     int view = 0, size = 224, threads = 0;
     double edges_weight = 1.0;
@@ -54,7 +64,7 @@ int cmd_grad(int argc, char **argv) {
         {"--split", WS_ARG_STRING, &split_name, 0, "train, val or test [test]"},
         {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
         {"--view", WS_ARG_INT, &view, 0, "view index within the split [0]"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, "l2, edges, clip or clip+edges [l2]"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0, WS_CLI_LOSS_HELP("l2, edges, clip or clip+edges")},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--clip-conv-loss", WS_ARG_DOUBLE, &lo.conv_weight, 0, "geometric term weight [1]"},
         {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
@@ -80,9 +90,10 @@ int cmd_grad(int argc, char **argv) {
     if (help) return 0;
     lo.global_weight = 0; /* it compares augmented items only */
     if (ws_cli_require(curves_path, "--curves", &st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &lo, &st) ||
+        ws_cli_choose_loss(ws_cli_auto_loss(loss_name, lo.weights_path), edges_weight, &layers, geometric, hidden, &lo, &st) ||
         ws_runtime_init(threads, &st))
         return ws_cli_fail(&st);
+    ws_cli_announce_loss(loss_name, lo.weights_path);
     ws_curves curves = {0};
     ws_scene scene = {0};
     int split;

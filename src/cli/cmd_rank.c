@@ -14,14 +14,14 @@
 int cmd_rank(int argc, char **argv) {
     ws_status st;
     ws_status_clear(&st);
-    const char *split_name = "test", *loss_name = "edges", *gt_path = NULL, *edge_maps = NULL;
+    const char *split_name = "test", *loss_name = "auto", *gt_path = NULL, *edge_maps = NULL;
     const char *geometric = "blocks", *hidden_name = NULL;
     int size = 224, threads = 0;
     ws_arg_list thick = {4, {0.005, 0.01, 0.02, 0.04}};
     ws_loss_options lo;
     ws_loss_options_default(&lo);
     const ws_arg args[] = {
-        {"--loss", WS_ARG_STRING, &loss_name, 0, "clip, edges, clip+edges, sobel or l2 [edges]"},
+        {"--loss", WS_ARG_STRING, &loss_name, 0, WS_CLI_LOSS_HELP("clip, edges, clip+edges, sobel or l2")},
         {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
         {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
         {"--hidden-lines", WS_ARG_STRING, &hidden_name, 0, WS_CLI_HIDDEN_HELP},
@@ -44,6 +44,8 @@ int cmd_rank(int argc, char **argv) {
     if (split < 0) ws_fail(&st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     for (int k = 0; k < thick.n && !st.code; k++)
         if (!(thick.v[k] > 0)) ws_fail(&st, WS_EUSAGE, "--thickness: %g is not positive", thick.v[k]);
+    const char *given_loss = loss_name;
+    loss_name = ws_cli_auto_loss(loss_name, lo.weights_path);
     if (st.code || ws_cli_check_size(size, &st) ||
         ws_cli_choose_loss(loss_name, 1.0, NULL, geometric, hidden_name, &lo, &st) ||
         ws_runtime_init(threads, &st))
@@ -65,6 +67,7 @@ int cmd_rank(int argc, char **argv) {
     if (!rc) rc = ws_objective_create(&obj, &scene, &lo, &splat, ws_rank_curves(&gt), &st);
     for (int k = 0; k < thick.n && !rc; k++) rc = ws_rank_losses(obj, split, &gt, thick.v[k], 0, table[k], &st);
     if (!rc) {
+        ws_cli_announce_loss(given_loss, lo.weights_path);
         printf("| %s loss, %s (%d views, %d px) |", loss_name, pos[0], scene.split[split].n, size);
         for (int k = 0; k < thick.n; k++) printf(" %g |", thick.v[k]);
         printf("\n| --- |");

@@ -1,5 +1,7 @@
 /* cmd_render.c: `wiresketch render`: the stroke image of a sketch in every
- * view of a split, one 8-bit gray PNG per view (pixel = round(255 alpha)). */
+ * view of a split, one 8-bit gray PNG per view: black strokes on white as
+ * the fit's test renders (pixel = round(255 (1 - alpha))), or with --alpha
+ * the stroke alpha itself (pixel = round(255 alpha)). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,7 +15,7 @@
 
 /* Splats every view of `split` and writes OUT/<view name>.png. */
 static int render_split(const ws_curves *curves, const ws_split *split, const char *out_dir,
-                        const ws_splat_options *opt, ws_status *st) {
+                        const ws_splat_options *opt, int raw_alpha, ws_status *st) {
     ws_gaussians g = {0};
     ws_splat *splat = NULL;
     ws_image img = {0};
@@ -29,7 +31,7 @@ static int render_split(const ws_curves *curves, const ws_split *split, const ch
         snprintf(path, sizeof path, "%s/%s.png", out_dir, v->name);
         if (ws_splat_forward(splat, &v->cam, g.mu, g.n, curves->thickness, opt, alpha, st))
             goto done;
-        for (size_t p = 0; p < (size_t)W * H; p++) img.data[p] = (float)alpha[p];
+        for (size_t p = 0; p < (size_t)W * H; p++) img.data[p] = (float)(raw_alpha ? alpha[p] : 1 - alpha[p]);
         if (ws_png_write(path, &img, st)) goto done;
     }
 done:
@@ -42,7 +44,7 @@ done:
 
 int cmd_render(int argc, char **argv) {
     const char *scene_dir = NULL, *split_name = "test", *out_dir = NULL;
-    int size = 224;
+    int size = 224, raw_alpha = 0;
     ws_splat_options opt;
     ws_splat_options_default(&opt);
     const ws_arg args[] = {
@@ -51,10 +53,13 @@ int cmd_render(int argc, char **argv) {
         {"--out", WS_ARG_STRING, &out_dir, 0, "output directory, created if missing [required]"},
         {"--cutoff", WS_ARG_CUTOFF, &opt.cutoff, 0, "Gaussian cut-off radius in sigmas [4]"},
         {"--size", WS_ARG_INT, &size, 0, "working resolution in pixels, square [224]"},
+        {"--alpha", WS_ARG_FLAG, &raw_alpha, 0,
+         "write the stroke alpha itself (white strokes on black) instead of black strokes on white"},
     };
     const ws_command_spec spec = {
         "render CURVES.json --scene DIR --out DIR [options]",
-        "Splat a sketch into every view of a split: OUT/<view>.png, 8-bit gray alpha.",
+        "Splat a sketch into every view of a split: OUT/<view>.png, 8-bit gray, black strokes on white\n"
+        "as the fit's test renders (--alpha: the alpha, white on black).",
         args, sizeof args / sizeof args[0], 1, 1};
     const char *pos[1];
     int npos, help;
@@ -67,9 +72,9 @@ int cmd_render(int argc, char **argv) {
     ws_curves curves = {0};
     ws_scene scene = {0};
     int split;
-    if (!ws_curves_load(pos[0], &curves, &st) &&
+    if (!ws_outfile_protect(pos, 1, &scene_dir, 1, &st) && !ws_outfile_check(out_dir, &st) && !ws_curves_load(pos[0], &curves, &st) &&
         !ws_cli_load_split(scene_dir, size, 0, NULL, split_name, &scene, &split, &st)) {
-        if (!ws_mkdir(out_dir, &st)) render_split(&curves, &scene.split[split], out_dir, &opt, &st);
+        if (!ws_mkdir(out_dir, &st)) render_split(&curves, &scene.split[split], out_dir, &opt, raw_alpha, &st);
         ws_scene_free(&scene);
     }
     ws_curves_free(&curves);

@@ -10,7 +10,8 @@
 int cmd_scene(int argc, char **argv) {
     ws_synth_options opt;
     ws_synth_options_default(&opt);
-    const char *out = NULL, *background = "black", *layout = "nerf", *size = "224", *principal = "0,0";
+    const char *out = NULL, *background = "black", *layout = "nerf", *lens = NULL, *size = "224",
+               *principal = "0,0";
     int seed = 0;
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &out, 0, "directory to write the scene into (required)"},
@@ -25,13 +26,18 @@ int cmd_scene(int argc, char **argv) {
         {"--principal", WS_ARG_STRING, &principal, 0,
          "DX,DY: the principal point DX, DY pixels right of and below the image centre, nerfstudio layout [0,0]"},
         {"--layout", WS_ARG_STRING, &layout, 0,
-         "nerf (transforms_SPLIT.json) or nerfstudio (one transforms.json with intrinsics) [nerf]"},
+         "nerf (transforms_SPLIT.json), nerfstudio (one transforms.json with intrinsics), colmap "
+         "or colmap-text (images/, sparse/0/*.bin or *.txt with a noisy sparse cloud) [nerf]"},
+        {"--lens", WS_ARG_STRING, &lens, 0,
+         "k1,k2,p1,p2: the views seen through an OPENCV lens (nerfstudio, colmap) [none]"},
+        {"--jpeg", WS_ARG_FLAG, &opt.jpeg, 0, "images as JPEG (quality 95), not PNG"},
         {"--width", WS_ARG_INT, &opt.width, 0, "image width, nerfstudio layout [--size]"},
         {"--height", WS_ARG_INT, &opt.height, 0, "image height, nerfstudio layout [--size]"},
     };
     const ws_command_spec spec = {
         "scene NAME --out DIR [options]   (NAME: trefoil, chair, spring, flat, cube, dodecahedron, nut)",
-        "Render a synthetic object into a NeRF-synthetic scene. Wire objects, drawn as\n"
+        "Render a synthetic object into a NeRF-synthetic scene (or, with --layout, a\n"
+        "nerfstudio or COLMAP capture, --lens and --jpeg as a camera takes it). Wire objects, drawn as\n"
         "shaded tubes along Bezier curves: trefoil (a knot), chair (a wire chair),\n"
         "spring (a coil of 5 turns, radius 0.3, 1 unit tall), flat (a paper clip lying\n"
         "in one tilted plane, seen edge-on by some views). Solids with sharp edges:\n"
@@ -73,11 +79,21 @@ int cmd_scene(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--principal: '%s' is not DX,DY", principal);
         return ws_cli_fail(&st);
     }
-    if (strcmp(layout, "nerf") && strcmp(layout, "nerfstudio")) {
-        ws_fail(&st, WS_EUSAGE, "--layout: '%s' is not nerf or nerfstudio", layout);
+    if (strcmp(layout, "nerf") && strcmp(layout, "nerfstudio") && strcmp(layout, "colmap") &&
+        strcmp(layout, "colmap-text")) {
+        ws_fail(&st, WS_EUSAGE, "--layout: '%s' is not nerf, nerfstudio, colmap or colmap-text",
+                layout);
         return ws_cli_fail(&st);
     }
     opt.nerfstudio = !strcmp(layout, "nerfstudio");
+    opt.colmap = !strcmp(layout, "colmap") ? 1 : !strcmp(layout, "colmap-text") ? 2 : 0;
+    used = 0;
+    if (lens && (sscanf(lens, "%lf,%lf,%lf,%lf%n", &opt.lens[0], &opt.lens[1], &opt.lens[2],
+                        &opt.lens[3], &used) != 4 ||
+                 lens[used] != '\0' || !isfinite(opt.lens[0] + opt.lens[1] + opt.lens[2] + opt.lens[3]))) {
+        ws_fail(&st, WS_EUSAGE, "--lens: '%s' is not k1,k2,p1,p2 (four numbers)", lens);
+        return ws_cli_fail(&st);
+    }
     opt.seed = (uint64_t)seed;
     if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);
     printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, "

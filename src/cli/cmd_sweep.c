@@ -27,6 +27,7 @@
 #include "cli/commands.h"
 #include "io/html.h"
 #include "io/image.h"
+#include "io/label.h"
 #include "nn/base/bytes.h"
 
 extern char **environ;
@@ -35,6 +36,11 @@ extern char **environ;
 #define MAX_VALUES 32
 #define MAX_RUNS 1024
 #define GAP 4 /* pixels of white between the contact sheet's cells */
+
+/* The contact sheet's rows are named (the photos, then each run) in a
+ * strip above their cells: the font at twice its size from 96 px cells. */
+static int label_scale(int cell) { return cell >= 96 ? 2 : 1; }
+static int label_height(int cell) { return WS_LABEL_HEIGHT * label_scale(cell) + 4; }
 
 typedef struct {
     char name[64];
@@ -276,17 +282,19 @@ static void put_number(FILE *f, double v, const char *fmt) {
 }
 
 /* Pastes the PNG at path (resampled to cell x cell) into the sheet at cell
- * (row, col); a missing image leaves the cell grey. */
+ * (row, col), below the row's label; a missing image leaves the cell grey. */
 static void paste(ws_image *sheet, const char *path, int row, int col, int cell) {
     static const float white[3] = {1, 1, 1};
     ws_image img;
     ws_status st;
-    int ok = exists(path) && ws_png_read(path, cell, cell, white, &img, &st) == WS_OK;
+    int ok = exists(path) && ws_image_read(path, cell, cell, white, &img, &st) == WS_OK;
     const size_t plane = (size_t)sheet->width * sheet->height;
     for (int i = 0; i < cell; i++)
         for (int j = 0; j < cell; j++)
             for (int c = 0; c < 3; c++) {
-                size_t at = (size_t)(GAP + row * (cell + GAP) + i) * sheet->width + GAP + col * (cell + GAP) + j;
+                size_t at = (size_t)(GAP + row * (label_height(cell) + cell + GAP) + label_height(cell) + i) *
+                                sheet->width +
+                            GAP + col * (cell + GAP) + j;
                 sheet->data[c * plane + at] = ok ? img.data[((size_t)c * cell + i) * cell + j] : 0.5f;
             }
     if (ok) ws_image_free(&img);
@@ -303,9 +311,18 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
     if (nviews == 0) return ws_fail(st, WS_EINPUT, "%s/test: no test renders to show (a scene without a test split?)", first);
     ws_image sheet;
     const int cell = p->cell;
-    if (ws_image_alloc(&sheet, GAP + nviews * (cell + GAP), GAP + (nruns + 1) * (cell + GAP), 3, st))
-        return st->code;
+    /* wide enough for every row's name */
+    const int pitch = label_height(cell) + cell + GAP;
+    int width = GAP + nviews * (cell + GAP);
+    for (int k = 0; k < nruns; k++) {
+        run_of(p, k, index, name, sizeof name);
+        int w = 2 * GAP + (int)strlen(name) * WS_LABEL_ADVANCE * label_scale(cell);
+        if (w > width) width = w;
+    }
+    run_of(p, 0, index, name, sizeof name);
+    if (ws_image_alloc(&sheet, width, GAP + (nruns + 1) * pitch, 3, st)) return st->code;
     for (size_t k = 0; k < (size_t)sheet.width * sheet.height * 3; k++) sheet.data[k] = 1;
+    ws_label_draw(&sheet, GAP, GAP + 2, "photos", label_scale(cell), 0);
     snprintf(path, sizeof path, "%s/index.html", p->out);
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) {
@@ -319,7 +336,7 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
           "img{display:block}</style></head><body>\n<h1>wiresketch sweep</h1>\n<p>scene ", h);
     ws_html_text(h, p->scene);
     fprintf(h, "; contact sheet: <a href=\"contact_sheet.png\">contact_sheet.png</a> (row 1: the photos, "
-               "then one row per run in this order)</p>\n<table>\n<tr><th>run</th><th>test loss</th>"
+               "then one row per run in this order, each named above its images)</p>\n<table>\n<tr><th>run</th><th>test loss</th>"
                "<th>Chamfer / diag.</th><th>F-score</th><th>surface mean / diag.</th><th>steps</th>"
                "<th>time (s)</th>");
     for (int v = 0; v < nviews; v++) {
@@ -334,6 +351,7 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
     for (int k = 0; k < nruns; k++) {
         char dir[4200];
         run_of(p, k, index, name, sizeof name);
+        ws_label_draw(&sheet, GAP, GAP + (k + 1) * pitch + 2, name, label_scale(cell), 0);
         snprintf(dir, sizeof dir, "%s/%s", p->out, name);
         snprintf(path, sizeof path, "%s/metrics.json", dir);
         unsigned char *bytes = NULL;
@@ -393,7 +411,7 @@ int cmd_sweep(int argc, char **argv) {
     for (int a = 0; a < p.nvary; a++) nruns *= p.vary[a].n;
     int rc = nruns > MAX_RUNS ? ws_fail(&st, WS_EUSAGE, "--vary: %ld runs; at most %d", nruns, MAX_RUNS)
                               : check_runs(&p, (int)nruns, &st);
-    if (!rc) rc = ws_mkdir(p.out, &st);
+    if (!rc && !(rc = ws_outfile_protect(NULL, 0, &p.scene, 1, &st))) rc = ws_mkdir(p.out, &st);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;

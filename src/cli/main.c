@@ -4,10 +4,11 @@
 #include <string.h>
 #include "base/outfile.h"
 #include "base/runtime.h"
+#include "base/version.h"
 #include "cli/commands.h"
 
 static void usage(FILE *out) {
-    fprintf(out, "usage: wiresketch COMMAND [options]   (wiresketch COMMAND --help for details)\n\n"
+    fprintf(out, "usage: wiresketch COMMAND [options]   (wiresketch help COMMAND for details; --version)\n\n"
                  "commands:\n");
     for (int i = 0; i < ws_ncommands; i++)
         fprintf(out, "  %-8s %s\n", ws_commands[i].name, ws_commands[i].summary);
@@ -28,12 +29,22 @@ int main(int argc, char **argv) {
         usage(stderr);
         return 2;
     }
-    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+    if (!strcmp(argv[1], "--version")) {
+        printf("wiresketch %s (commit %s)\n", ws_version(), ws_build_commit());
+        return 0;
+    }
+    /* `help CMD` is `CMD --help` */
+    int is_help = !strcmp(argv[1], "help");
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || (is_help && argc == 2)) {
         usage(stdout);
         return 0;
     }
+    const char *name = argv[is_help ? 2 : 1];
     for (int i = 0; i < ws_ncommands; i++)
-        if (!strcmp(argv[1], ws_commands[i].name)) return ws_commands[i].run(argc - 2, argv + 2);
-    fprintf(stderr, "wiresketch: %s: unknown command (see wiresketch --help)\n", argv[1]);
+        if (!strcmp(name, ws_commands[i].name)) {
+            char *help_argv[] = {"--help", NULL};
+            return is_help ? ws_commands[i].run(1, help_argv) : ws_commands[i].run(argc - 2, argv + 2);
+        }
+    fprintf(stderr, "wiresketch: %s: unknown command (see wiresketch --help)\n", name);
     return 2;
 }

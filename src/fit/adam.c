@@ -26,15 +26,18 @@ void ws_adam_free(ws_adam *a) {
     a->m = a->v = NULL;
 }
 
-void ws_adam_update(ws_adam *a, double *params, const double *grad) {
+int ws_adam_update(ws_adam *a, double *params, const double *grad) {
     a->step++;
     double bias1 = 1.0 - pow(a->beta1, (double)a->step);
     double bias2 = 1.0 - pow(a->beta2, (double)a->step);
+    int overflow = 0;
     for (int i = 0; i < a->n; i++) {
         a->m[i] = a->beta1 * a->m[i] + (1.0 - a->beta1) * grad[i];
         a->v[i] = a->beta2 * a->v[i] + (1.0 - a->beta2) * grad[i] * grad[i];
         double mhat = a->m[i] / bias1;
         double vhat = a->v[i] / bias2;
         params[i] -= a->lr * mhat / (sqrt(vhat) + a->eps);
+        overflow |= !isfinite(a->v[i]) || !isfinite(params[i]);
     }
+    return overflow;
 }

@@ -14,7 +14,10 @@ typedef struct {
 int ws_adam_init(ws_adam *a, int n, double lr, ws_status *st);
 void ws_adam_free(ws_adam *a);
 /* One update of params from grad (both n). The caller has checked grad is
- * finite: a non-finite gradient must never reach the moments. */
-void ws_adam_update(ws_adam *a, double *params, const double *grad);
+ * finite: a non-finite gradient must never reach the moments. Returns 0
+ * when the new moments and params are finite, 1 when a finite but huge
+ * gradient overflowed them (its square past 1e308): the caller undoes the
+ * update, so that the state, and a checkpoint of it, stays finite. */
+int ws_adam_update(ws_adam *a, double *params, const double *grad);
 
 #endif

@@ -10,7 +10,6 @@
 
 #define CHECKPOINT_MAGIC "WSKCKPT"
 #define CHECKPOINT_VERSION 1
-#define CHECKPOINT_MAX_BYTES ((size_t)1 << 31)
 
 static void put_state(ws_bytes_writer *w, const ws_fit_state *s) {
     ws_put_u32(w, (uint32_t)s->epoch);
@@ -46,6 +45,13 @@ static void put_state(ws_bytes_writer *w, const ws_fit_state *s) {
     ws_put_u64(w, (uint64_t)s->respawned);
 }
 
+/* put_state's bytes, field by field */
+double ws_checkpoint_state_bytes(int n_curves, int n_train, long log_rows, long snapshots) {
+    double np = (double)n_curves * WS_CURVE_FLOATS;
+    return 4 * 3 + 8 + 4 + 8 + 8 + 4 * 8 + 4 + 4.0 * n_train + 4 + 8 + 8 + 8 * np + 8 + 8 + 2 * 8 * np + 4 +
+           (4 + 8 + 3 * 8) * (double)log_rows + 4 + 8 * np * (double)snapshots + 8;
+}
+
 int ws_checkpoint_save(const char *path, const ws_fit_state *s, int argc,
                        const char *const *argv, ws_status *st) {
     ws_bytes_writer w = {0};
@@ -59,6 +65,11 @@ int ws_checkpoint_save(const char *path, const ws_fit_state *s, int argc,
     if (w.failed) {
         ws_bytes_writer_free(&w);
         return ws_fail(st, WS_ENOMEM, "%s: out of memory building the checkpoint", path);
+    }
+    if (w.len > WS_CHECKPOINT_MAX_BYTES) {
+        ws_bytes_writer_free(&w);
+        return ws_fail(st, WS_EUSAGE, "%s: a checkpoint of %zu bytes is over the %zu its reader accepts", path,
+                       w.len, WS_CHECKPOINT_MAX_BYTES);
     }
     ws_outfile f;
     int rc = ws_outfile_open(&f, path, st);
@@ -180,7 +191,7 @@ int ws_checkpoint_load(const char *path, ws_fit_state *s, int *argc, char ***arg
     *argv = NULL;
     unsigned char *data;
     size_t len;
-    if (ws_read_file(path, CHECKPOINT_MAX_BYTES, &data, &len, st)) return st->code;
+    if (ws_read_file(path, WS_CHECKPOINT_MAX_BYTES, &data, &len, st)) return st->code;
     int rc = WS_OK;
     if (len < 20 || memcmp(data, CHECKPOINT_MAGIC, 8) != 0) {
         rc = ws_fail(st, WS_EINPUT, "%s: not a wiresketch checkpoint", path);

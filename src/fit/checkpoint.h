@@ -10,6 +10,16 @@
 #define WS_CHECKPOINT_H
 #include "fit/fit_state.h"
 
+/* The most bytes a checkpoint may have: the reader refuses a larger file,
+ * so the writer refuses to write one, and a fit checks before it starts
+ * (ws_checkpoint_state_bytes) that its checkpoints will stay below. */
+#define WS_CHECKPOINT_MAX_BYTES ((size_t)1 << 31)
+
+/* The bytes of the state of a fit of n_curves curves and n_train training
+ * views after log_rows steps that kept `snapshots` snapshots (what a
+ * checkpoint holds but its header and arguments). */
+double ws_checkpoint_state_bytes(int n_curves, int n_train, long log_rows, long snapshots);
+
 int ws_checkpoint_save(const char *path, const ws_fit_state *s, int argc,
                        const char *const *argv, ws_status *st);
 

@@ -23,6 +23,7 @@
 #include "fit/init.h"
 #include "fit/respawn.h"
 #include "fit/fit_outputs.h"
+#include "fit/fit_time.h"
 #include "base/distributed.h"
 #include "base/outfile.h"
 #include "base/timing.h"
@@ -46,6 +47,7 @@ typedef struct {
     ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
                                * the respawn and hidden-line removal (empty when none of them is on) */
     double start;             /* ws_seconds() when this process began fitting */
+    ws_fit_time time;         /* the schedule's phases and what their steps cost (fit_time.h) */
 } fit_run;
 
 /* Rank 0 speaks for the job (one rank: always). */
@@ -99,8 +101,9 @@ static int train_step(fit_run *r, const int *views, int nviews, double *loss, ws
     memcpy(r->backup, r->s.curves.P, np * sizeof(double));
     memcpy(r->backup + np, adam->m, np * sizeof(double));
     memcpy(r->backup + 2 * np, adam->v, np * sizeof(double));
-    ws_adam_update(adam, r->s.curves.P, r->grad);
-    rc = ws_objective_sample(r->objective, &r->s.curves, st);
+    rc = ws_adam_update(adam, r->s.curves.P, r->grad)
+             ? ws_fail(st, WS_ENUMERIC, "the gradient's square overflowed Adam's moments")
+             : ws_objective_sample(r->objective, &r->s.curves, st);
     if (rc == WS_ENUMERIC) {
         memcpy(r->s.curves.P, r->backup, np * sizeof(double));
         memcpy(adam->m, r->backup + np, np * sizeof(double));
@@ -151,11 +154,12 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     last_print = t;
     double rate = steps_this_run / fmax(t - rate_start, 1e-9);
     char left[32], spent[32];
-    clock_text(rate > 0 ? (total_steps(r) - r->s.global_step) / rate : 0, left);
+    clock_text(ws_fit_time_left(&r->time, r->s.global_step), left);
     clock_text(ws_fit_state_elapsed(&r->s, r->start), spent);
     if (final) {
         fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
                 tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
+        ws_fit_time_print(&r->time, stderr);
         return;
     }
     fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
@@ -241,7 +245,7 @@ static int respawn(fit_run *r, ws_status *st) {
 }
 
 /* On several ranks, unless quiet: the bytes all ranks sent each other per
- * step since `before` (this rank's count then), for the README's scaling
+ * step since `before` (this rank's count then), for docs/RESULTS.md's scaling
  * table. */
 static void report_traffic(const fit_run *r, size_t before, long steps) {
     int N = ws_dist_size();
@@ -267,6 +271,14 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
     double rate_start = ws_seconds(), last_checkpoint = rate_start;
     long steps_this_run = 0;
     double loss = NAN;
+    /* what the steps will take, timed before the first */
+    if (ws_fit_time_phases(&r->time, total_steps(r), schedule_steps(r), o->loss.lines_weight != 0, st) ||
+        ws_fit_time_calibrate(&r->time, r->objective, &s->curves, s->order, s->n_train, o->batch_size, &s->rng,
+                              r->grad, st))
+        return st->code;
+    if (speaks() && !o->quiet) ws_fit_time_announce(&r->time, s->global_step, o, stderr);
+    rate_start = last_checkpoint = ws_seconds();
+    double step_wall = rate_start, step_cpu = ws_cpu_seconds();
     while (s->epoch < o->epochs && !(o->max_steps > 0 && s->global_step >= o->max_steps)) {
         if (ws_dist_max(ws_fit_stop_requested)) {
             *interrupted = 1;
@@ -274,10 +286,16 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         }
         int first = s->batch_in_epoch * o->batch_size;
         int nviews = s->n_train - first < o->batch_size ? s->n_train - first : o->batch_size;
-        if (train_step(r, s->order + first, nviews, &loss, st) || advance(r, loss, st) ||
-            respawn(r, st))
-            return st->code;
+        double batch[2] = {ws_seconds(), ws_cpu_seconds()};
+        if (train_step(r, s->order + first, nviews, &loss, st)) return st->code;
+        batch[0] = ws_seconds() - batch[0];
+        batch[1] = ws_cpu_seconds() - batch[1];
+        if (advance(r, loss, st) || respawn(r, st)) return st->code;
         steps_this_run++;
+        double wall = ws_seconds(), cpu = ws_cpu_seconds(), all[2] = {wall - step_wall, cpu - step_cpu};
+        ws_fit_time_add(&r->time, s->global_step - 1, batch, all);
+        step_wall = wall;
+        step_cpu = cpu;
         progress(r, loss, rate_start, steps_this_run, 0);
         if (ws_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
             if (save_checkpoint(r, argv, argc, st)) return ws_dist_fail_alone(st);
@@ -290,6 +308,7 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
 }
 
 static void fit_run_free(fit_run *r) {
+    ws_fit_time_free(&r->time);
     ws_respawn_free(r->respawn);
     ws_objective_free(r->objective);
     ws_view_targets_free(r->targets);
@@ -300,16 +319,40 @@ static void fit_run_free(fit_run *r) {
     ws_scene_free(&r->scene);
 }
 
+/* What a fit writes its --resume must read: its last checkpoint, the
+ * largest (every step's log row, every snapshot), must stay under the
+ * reader's limit. Checked before the first step, where the options that
+ * size it can still be changed. */
+static int check_checkpoint_size(const fit_run *r, const char *const *argv, int argc, ws_status *st) {
+    const ws_fit_options *o = r->opt;
+    long steps = total_steps(r);
+    long snapshots = 1 + (o->snapshot_every > 0 ? steps / o->snapshot_every : 0);
+    double bytes = 8 + 4 + 4 + 4 + ws_checkpoint_state_bytes(o->n_curves, r->scene.split[WS_TRAIN].n, steps, snapshots);
+    for (int i = 0; i < argc; i++) bytes += 4 + (double)strlen(argv[i]);
+    if (bytes <= (double)WS_CHECKPOINT_MAX_BYTES) return WS_OK;
+    return ws_fail(st, WS_EUSAGE,
+                   "--n-curves %d: %ld steps keeping %ld snapshots (--snapshot-every %d) make a checkpoint of "
+                   "%.3g bytes, over the %zu it may hold; lower --n-curves or --max-steps, or raise --snapshot-every",
+                   o->n_curves, steps, snapshots, o->snapshot_every, bytes, WS_CHECKPOINT_MAX_BYTES);
+}
+
 static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int argc, ws_status *st) {
     const ws_fit_options *o = r->opt;
-    if (ws_fit_options_check(o, st)) return st->code;
+    /* what the fit reads, which no output may replace (base/outfile.h) */
+    const char *files[] = {o->init_curves, ws_loss_uses_clip(&o->loss) ? o->loss.weights_path : NULL};
+    const char *folders[] = {o->scene_dir, o->edge_maps};
+    if (ws_fit_options_check(o, st) || ws_outfile_protect(files, 2, folders, 2, st) ||
+        ws_outfile_check(o->out_dir, st) || ws_fit_outputs_check(o->out_dir, st))
+        return st->code;
     ws_scene_options so;
     ws_scene_options_default(&so);
     so.width = so.height = o->size;
     memcpy(so.background, o->background, sizeof so.background);
     so.background_auto = o->background_auto;
     so.edge_maps_dir = o->edge_maps;
-    if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || ws_view_targets_create(&r->targets, &r->scene, st))
+    so.images_dir = o->images;
+    if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || check_checkpoint_size(r, argv, argc, st) ||
+        ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
     char crops[1024];

@@ -8,7 +8,6 @@
 #define WS_FIT_H
 #include <signal.h>
 #include "fit/fit_options.h"
-#include "fit/fit_state.h"
 #include "nn/base/status.h"
 
 /* Set from a signal handler: the fit finishes its current step, checkpoints,

@@ -3,9 +3,10 @@
 #ifndef WS_FIT_OPTIONS_H
 #define WS_FIT_OPTIONS_H
 #include <stdint.h>
-#include "io/report.h"
 #include "nn/base/status.h"
 #include "objective/loss.h"
+
+struct ws_report_item;
 
 typedef struct {
     const char *scene_dir;
@@ -27,9 +28,10 @@ typedef struct {
     float background[3];       /* the photos' background (scene.h) [black] */
     int background_auto;       /* 1: each image's border median instead */
     const char *edge_maps;     /* NULL, or the directory of the views' edge maps (scene.h) */
+    const char *images;        /* NULL, or a COLMAP scene's images folder (scene.h) */
     /* report.html's settings table: every option of the run with its value
      * (the command line derives it from its option list); NULL: none */
-    const ws_report_item *settings;
+    const struct ws_report_item *settings;
     int n_settings;
 } ws_fit_options;
 

@@ -3,15 +3,25 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/json_number.h"
 #include "base/paths.h"
 #include "metrics/quality.h"
 #include "io/export.h"
+#include "fit/fit_metrics.h"
 #include "fit/fit_outputs.h"
+#include "fit/fit_time.h"
+#include "objective/lines.h"
+#include "objective/scene_gt_coverage.h"
 #include "io/gif.h"
 #include "io/image.h"
 #include "base/outfile.h"
 #include "io/report.h"
 #include "io/turntable.h"
+
+/* The files of the output directory, by what they hold. */
+enum { OUT_METRICS, OUT_CURVES, OUT_OBJ, OUT_PLY, OUT_LOG, OUT_EVOLUTION, OUT_TURNTABLE, OUT_REPORT, OUT_FILES };
+static const char *const output_files[OUT_FILES] = {"metrics.json", "curves.json", "curves.obj",   "curves.ply",
+                                                    "log.csv",      "evolution.gif", "turntable.gif", "report.html"};
 
 #define TURNTABLE_FRAMES 72
 #define EVOLUTION_DELAY_CS 10
@@ -46,16 +56,51 @@ static int write_gray_png(const char *path, const ws_sketch_renderer *r, ws_stat
     return rc;
 }
 
+/* The square the report shows a test view in: around the object, which is
+ * the photo's (its mask, else what differs from its background by more
+ * than 0.1) and the sketch's ink together, with a margin of a tenth of
+ * its side and at least 16 px; crop[2] = 0 when neither shows anything. */
+static void object_square(const ws_view *view, const unsigned char *gray, const float background[3], int W, int H,
+                          int crop[3]) {
+    int x0 = W, y0 = H, x1 = -1, y1 = -1;
+    const size_t plane = (size_t)W * H;
+    const float *photo = view->photo.data, *mask = view->mask.data;
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            size_t k = (size_t)i * W + j;
+            int object = gray[k] < 250;
+            if (mask)
+                object |= mask[k] >= 0.5f;
+            else
+                for (int c = 0; c < 3 && !object; c++) object = fabsf(photo[c * plane + k] - background[c]) > 0.1f;
+            if (!object) continue;
+            if (j < x0) x0 = j;
+            if (j > x1) x1 = j;
+            if (i < y0) y0 = i;
+            if (i > y1) y1 = i;
+        }
+    crop[0] = crop[1] = crop[2] = 0;
+    if (x1 < 0) return;
+    int side = (x1 - x0 > y1 - y0 ? x1 - x0 : y1 - y0) + 1;
+    side += side / 5 > 16 ? side / 5 : 16;
+    if (side > W) side = W;
+    if (side > H) side = H;
+    int x = (x0 + x1 + 1 - side) / 2, y = (y0 + y1 + 1 - side) / 2;
+    crop[0] = x < 0 ? 0 : x + side > W ? W - side : x;
+    crop[1] = y < 0 ? 0 : y + side > H ? H - side : y;
+    crop[2] = side;
+}
+
 /* test/NAME.png (the sketch) and test/NAME_photo.png for every test view;
  * fills the report's view list (paths relative to the output directory). */
-static int write_tests(const char *out, const ws_scene *scene, const ws_curves *c,
+static int write_tests(const char *out, const ws_scene *scene, const ws_curves *c, const float background[3],
                        ws_sketch_renderer *r, const double *losses, ws_report_view *views,
                        char (*paths)[2][300], ws_status *st) {
     const ws_split *test = &scene->split[WS_TEST];
     if (test->n == 0) return WS_OK;
     char dir[PATH_BYTES], path[PATH_BYTES];
     join(dir, out, "test");
-    if (ws_mkdir(dir, st)) return st->code;
+    if (ws_mkdir_inside(dir, st)) return st->code;
     for (int v = 0; v < test->n; v++) {
         const ws_view *view = &test->views[v];
         snprintf(paths[v][0], 300, "test/%s.png", view->name);
@@ -63,7 +108,8 @@ static int write_tests(const char *out, const ws_scene *scene, const ws_curves *
         if (ws_sketch_render(r, c, &view->cam, st) || write_gray_png(join(path, out, paths[v][0]), r, st) ||
             ws_png_write(join(path, out, paths[v][1]), &view->photo, st))
             return st->code;
-        views[v] = (ws_report_view){view->name, paths[v][0], paths[v][1], losses ? losses[v] : NAN};
+        views[v] = (ws_report_view){view->name, paths[v][0], paths[v][1], losses ? losses[v] : NAN, r->width, {0}};
+        object_square(view, r->gray, background, r->width, r->height, views[v].crop);
     }
     return WS_OK;
 }
@@ -88,31 +134,42 @@ static int write_evolution(const char *path, const ws_scene *scene, const ws_fit
 
 /* metrics.json: the numbers of the report, for scripts. */
 static int write_metrics(const char *path, const ws_fit_state *s, int retired, double test_loss,
-                         const ws_quality *q, ws_status *st) {
+                         const ws_quality *q, const ws_fit_metrics *m, const ws_gt_coverage *cov, ws_status *st) {
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
             "\"seconds\": %.3f", s->global_step, s->skipped_steps, s->respawned, retired, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
-    if (q->have_surface)
-        fprintf(f.fp, ", \"surface_mean\": %.9g, \"surface_p90\": %.9g, \"surface_precision\": %.9g, "
-                "\"surface_stray_curves\": %d", q->surface.mean, q->surface.p90,
-                q->surface_strays.precision, q->surface_strays.stray_curves);
-    if (q->have_curves)
-        fprintf(f.fp, ", \"chamfer\": %.9g, \"fscore\": %.9g, \"recall\": %.9g, \"gaussian_precision\": %.9g, "
-                "\"stray_curves\": %d", q->curves.chamfer, q->curves.fscore, q->curves.recall,
-                q->curve_strays.precision, q->curve_strays.stray_curves);
+    const char *const surface_keys[3] = {"surface_mean", "surface_p90", "surface_precision"};
+    const double surface[3] = {q->surface.mean, q->surface.p90, q->surface_strays.precision};
+    for (int k = 0; k < 3 && q->have_surface; k++) {
+        fputs(", ", f.fp);
+        ws_json_number(f.fp, surface_keys[k], surface[k], 9);
+    }
+    if (q->have_surface) fprintf(f.fp, ", \"surface_stray_curves\": %d", q->surface_strays.stray_curves);
+    const char *const curve_keys[4] = {"chamfer", "fscore", "recall", "gaussian_precision"};
+    const double curve[4] = {q->curves.chamfer, q->curves.fscore, q->curves.recall, q->curve_strays.precision};
+    for (int k = 0; k < 4 && q->have_curves; k++) {
+        fputs(", ", f.fp);
+        ws_json_number(f.fp, curve_keys[k], curve[k], 9);
+    }
     if (q->have_curves) {
-        fprintf(f.fp, ", ");
+        fprintf(f.fp, ", \"stray_curves\": %d, ", q->curve_strays.stray_curves);
         ws_line_metrics_json(f.fp, &q->lines);
+    }
+    fprintf(f.fp, ", ");
+    ws_fit_metrics_verdicts_json(f.fp, m);
+    if (cov) {
+        fprintf(f.fp, ", ");
+        ws_gt_coverage_json(f.fp, cov);
     }
     fprintf(f.fp, "}\n");
     return ws_outfile_commit(&f, st);
 }
 
 static int write_report(const char *path, const ws_fit_options *opt, const ws_scene *scene,
-                        const ws_fit_state *s, const ws_curves *sketch, int retired,
-                        const ws_report_view *views, double test_loss, const ws_quality *q, ws_status *st) {
+                        const ws_fit_state *s, const ws_curves *sketch, const ws_report_view *views,
+                        const ws_fit_metrics *m, const char *warning, ws_status *st) {
     int nval = 0;
     long *steps = ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(long), "report", st);
     double *losses = steps ? ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(double), "report", st) : NULL;
@@ -130,46 +187,49 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
             val_losses[nval++] = s->log[i].val_loss;
         }
     }
-    char text[19][64];
-    snprintf(text[1], 64, "%ld (%ld skipped; %ld respawned, %d retired)", s->global_step,
-             s->skipped_steps, s->respawned, retired);
-    snprintf(text[2], 64, "%.6g", test_loss);
-    ws_report_item metrics[13] = {{"steps", text[1]}, {"test loss (item 0)", text[2]}};
-    int nmetrics = 2;
-    if (q->have_surface) {
-        snprintf(text[8], 64, "%.5f", q->surface.mean);
-        snprintf(text[9], 64, "%.5f", q->surface.p90);
-        metrics[nmetrics++] = (ws_report_item){"surface distance, mean / diagonal", text[8]};
-        metrics[nmetrics++] = (ws_report_item){"surface distance, 90th percentile / diagonal", text[9]};
-        snprintf(text[12], 64, "%.4f (%d stray of %d)", q->surface_strays.precision,
-                 q->surface_strays.stray_curves, q->surface_strays.n_curves);
-        metrics[nmetrics++] = (ws_report_item){"Gaussians within 1% of the diagonal of the surface", text[12]};
+    /* the line loss's coarse-to-fine phases (fit_time.h), where it has them */
+    int ntrain = scene->split[WS_TRAIN].n, bs = opt->batch_size > 0 ? opt->batch_size : 1;
+    long schedule = (long)opt->epochs * ((ntrain + bs - 1) / bs) * opt->inner_steps, first[WS_FIT_TIME_PHASES + 1];
+    int levels[WS_FIT_TIME_PHASES], lines = opt->loss.lines_weight != 0;
+    int nphases = lines ? ws_fit_time_boundaries(s->global_step, schedule, 1, first, levels) : 0;
+    char labels[WS_FIT_TIME_PHASES][48];
+    const char *label_ptr[WS_FIT_TIME_PHASES];
+    for (int k = 0; k < nphases; k++) {
+        snprintf(labels[k], sizeof labels[k], "%d of %d levels", levels[k], WS_LINES_LEVELS);
+        label_ptr[k] = labels[k];
     }
-    if (q->have_curves) {
-        snprintf(text[10], 64, "%.5f", q->curves.chamfer);
-        snprintf(text[11], 64, "%.4f", q->curves.fscore);
-        metrics[nmetrics++] = (ws_report_item){"curve Chamfer / diagonal", text[10]};
-        metrics[nmetrics++] = (ws_report_item){"curve F-score at 1% of the diagonal", text[11]};
-        snprintf(text[13], 64, "%.4f / %.4f", q->curve_strays.precision, q->curves.recall);
-        metrics[nmetrics++] = (ws_report_item){"precision over Gaussians / recall over arc length, at 1%", text[13]};
-        snprintf(text[14], 64, "%d of %d", q->curve_strays.stray_curves, q->curve_strays.n_curves);
-        metrics[nmetrics++] = (ws_report_item){"stray curves (most Gaussians beyond 5% of the diagonal)", text[14]};
-        const ws_line_metrics *l = &q->lines;
-        snprintf(text[16], 64, "%.4f / %.4f / %.4f", l->accuracy, l->completeness, l->chamfer);
-        snprintf(text[17], 64, "%.3f / %.3f / %.3f", l->precision[0], l->recall[0], l->fscore[0]);
-        snprintf(text[18], 64, "%.3f / %.3f / %.3f", l->precision[1], l->recall[1], l->fscore[1]);
-        metrics[nmetrics++] = (ws_report_item){"accuracy / completeness / Chamfer (their sum), over the largest side", text[16]};
-        metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 1% of the largest side", text[17]};
-        metrics[nmetrics++] = (ws_report_item){"precision / recall / F-score at 2% of the largest side", text[18]};
+    /* the training cameras: centre and viewing direction (-z) */
+    const ws_split *train = &scene->split[WS_TRAIN];
+    double *cameras = ws_malloc((size_t)(train->n ? train->n : 1) * 6 * sizeof(double), "report", st);
+    if (!cameras) {
+        free(steps);
+        free(losses);
+        return st->code;
     }
-    ws_report_image images[] = {{"turntable", "turntable.gif"}, {"evolution during the fit", "evolution.gif"}};
+    for (int v = 0; v < train->n; v++)
+        for (int i = 0; i < 3; i++) {
+            cameras[6 * v + i] = train->views[v].cam.c2w[i][3];
+            cameras[6 * v + 3 + i] = -train->views[v].cam.c2w[i][2];
+        }
+    ws_report_image images[] = {{"turntable", output_files[OUT_TURNTABLE]},
+                                {"evolution during the fit", output_files[OUT_EVOLUTION]}};
     ws_report rep = {0};
     rep.title = "wiresketch fit";
     rep.scene_path = scene->dir;
     rep.settings = opt->settings;
     rep.n_settings = opt->settings ? opt->n_settings : 0;
-    rep.metrics = metrics;
-    rep.n_metrics = nmetrics;
+    rep.metrics = m->items;
+    rep.n_metrics = m->n;
+    rep.warning = warning;
+    rep.phase_step = first;
+    rep.phase_label = label_ptr;
+    rep.n_phases = nphases > 1 ? nphases : 0;
+    rep.phase_note = "Dashed lines: the line loss brings in its finer levels as the fit goes (coarse to fine, "
+                     "docs/METHOD.md, the line loss). Each level it adds is a harder comparison, so the training "
+                     "loss climbs where a phase begins: the fit is not getting worse. Validation always uses "
+                     "every level.";
+    rep.cameras = cameras;
+    rep.n_cameras = train->n;
     rep.train_step = steps;
     rep.train_loss = losses;
     rep.n_train = s->nlog;
@@ -183,6 +243,7 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
     rep.wall_seconds = s->elapsed;
     rep.curves = sketch;
     int rc = ws_report_write(path, &rep, st);
+    free(cameras);
     free(steps);
     free(losses);
     return rc;
@@ -202,6 +263,13 @@ static int final_sketch(const ws_curves *c, const int *retire, ws_curves *sketch
         if (!*retired || !retire[ci])
             memcpy(sketch->P + (size_t)k++ * WS_CURVE_FLOATS, c->P + (size_t)ci * WS_CURVE_FLOATS,
                    sizeof(double) * WS_CURVE_FLOATS);
+    return WS_OK;
+}
+
+int ws_fit_outputs_check(const char *out_dir, ws_status *st) {
+    char path[PATH_BYTES];
+    for (int k = 0; k < OUT_FILES; k++)
+        if (ws_outfile_check(join(path, out_dir, output_files[k]), st)) return st->code;
     return WS_OK;
 }
 
@@ -226,19 +294,35 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
     ws_quality q;
     if (!rc) rc = ws_quality_measure(&c, gt_points, gt_curves, &q, st);
-    if (!rc) rc = write_metrics(join(path, out, "metrics.json"), s, retired, test_loss, &q, st);
-    if (!rc) rc = ws_curves_save(join(path, out, "curves.json"), &c, st);
-    if (!rc) rc = ws_export_obj(join(path, out, "curves.obj"), &c, st);
-    if (!rc) rc = ws_export_ply(join(path, out, "curves.ply"), &c, st);
-    if (!rc) rc = write_log(join(path, out, "log.csv"), s, st);
-    if (!rc) rc = write_tests(out, scene, &c, &r, test_losses, views, paths, st);
-    if (!rc) rc = write_evolution(join(path, out, "evolution.gif"), scene, s, &r, st);
+    /* whether the ground truth holds all that the photos show: where it
+     * misses a part, a fit that left that part out scores better */
+    ws_gt_coverage cov;
+    ws_view_targets *targets = NULL;
+    int coverage = !rc && gt_points[0];
+    if (coverage) rc = ws_view_targets_create(&targets, scene, st);
+    if (coverage && !rc) rc = ws_scene_gt_coverage(scene, targets, gt_points, gt_curves, &cov, st);
+    ws_view_targets_free(targets);
+    char warning[WS_GT_LINE + 160];
+    if (coverage && !rc && cov.flagged)
+        snprintf(warning, sizeof warning, "%s. The distances to the ground truth do not see that part: a sketch "
+                 "that left it out scores as well as one that drew it.", cov.line);
+    ws_fit_metrics m;
+    int lines_loss = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss) && opt->loss.l2_weight == 0 &&
+                     opt->loss.edges_weight == 0;
+    if (!rc) ws_fit_metrics_fill(&m, s, retired, test_loss, lines_loss, &q);
+    if (!rc) rc = write_metrics(join(path, out, output_files[OUT_METRICS]), s, retired, test_loss, &q, &m, coverage ? &cov : NULL, st);
+    if (!rc) rc = ws_curves_save(join(path, out, output_files[OUT_CURVES]), &c, st);
+    if (!rc) rc = ws_export_obj(join(path, out, output_files[OUT_OBJ]), &c, st);
+    if (!rc) rc = ws_export_ply(join(path, out, output_files[OUT_PLY]), &c, st);
+    if (!rc) rc = write_log(join(path, out, output_files[OUT_LOG]), s, st);
+    if (!rc) rc = write_tests(out, scene, &c, opt->background, &r, test_losses, views, paths, st);
+    if (!rc) rc = write_evolution(join(path, out, output_files[OUT_EVOLUTION]), scene, s, &r, st);
     if (!rc)
-        rc = ws_turntable_gif(join(path, out, "turntable.gif"), &c, scene->center, distance,
+        rc = ws_turntable_gif(join(path, out, output_files[OUT_TURNTABLE]), &c, scene->center, distance,
                               scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
     if (!rc)
-        rc = write_report(join(path, out, "report.html"), opt, scene, s, &c, retired, ntest ? views : NULL,
-                          test_loss, &q, st);
+        rc = write_report(join(path, out, output_files[OUT_REPORT]), opt, scene, s, &c, ntest ? views : NULL, &m,
+                          coverage && cov.flagged ? warning : NULL, st);
     free(views);
     free(paths);
     ws_sketch_renderer_free(&r);

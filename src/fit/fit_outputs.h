@@ -16,4 +16,9 @@
 int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
                          const int *retire, const double *test_losses, double test_loss, ws_status *st);
 
+/* Refuses, before the fit, an output of the files above that would replace
+ * one of the fit's inputs (base/outfile.h: `--init OUT/curves.json`), so
+ * that a fit never ends refused halfway through writing them. */
+int ws_fit_outputs_check(const char *out_dir, ws_status *st);
+
 #endif

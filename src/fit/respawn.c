@@ -8,7 +8,6 @@
 #include "geometry/surface.h"
 #include "objective/view_targets.h"
 
-#define PIXEL_SLACK 1.42
 #define DIRECTION_RADIUS 3 /* px: the edge pixels that give an edge's direction */
 #define END_SLOPE 3.0      /* a stroke's end is searched this many times its image offset in depth */
 
@@ -123,7 +122,7 @@ static int gaussian_outside(const ws_respawn *r, const double mu[3], double radi
             continue;
         }
         seen++;
-        outside += s->distance[(size_t)(int)v * cam->width + (int)u] > reach + PIXEL_SLACK;
+        outside += s->distance[(size_t)(int)v * cam->width + (int)u] > reach + WS_SILHOUETTE_PIXEL_SLACK;
     }
     return 2 * outside > seen;
 }

@@ -3,7 +3,7 @@
  *
  * The ground-truth point cloud (gt_points.ply) is data too, and can miss a
  * part (the shared rose's has no stem although every photo shows one;
- * README "check"). Its points are projected into every view: the pixels
+ * docs/METHOD.md section 12). Its points are projected into every view: the pixels
  * they fall in are marked, and a silhouette pixel is covered when a marked
  * pixel lies within
  *     r = f (WS_GT_DISC_SPACINGS spacing + tube) / d_near + WS_GT_SLACK px
@@ -32,7 +32,7 @@
  * WS_GT_UNCOVERED_FLAG and at least WS_GT_REGION_VOXELS such voxels exist
  * (a rim of stray pixels leaves a voxel or two, a missing part a run of
  * them); the line names the file, the fraction, and the voxels' centroid
- * and extent (README "check" gives the numbers measured and the margins). */
+ * and extent (docs/RESULTS.md gives the numbers measured and the margins). */
 #ifndef WS_GEOMETRY_GT_COVERAGE_H
 #define WS_GEOMETRY_GT_COVERAGE_H
 #include "geometry/silhouette.h"

@@ -5,7 +5,6 @@
 #include <string.h>
 #include "geometry/hull.h"
 
-#define PIXEL_SLACK 1.42 /* 2 x sqrt(2) / 2: see hull.h */
 #define TIGHT_REACH 0.5  /* the tight test's share of the ball's projected radius */
 
 int ws_hull_default_tolerance(int nviews) { return nviews / 20; }
@@ -16,7 +15,9 @@ void ws_hull_voxel_center(const ws_hull *h, int x, int y, int z, double p[3]) {
     p[2] = h->origin[2] + (z + 0.5) * h->voxel;
 }
 
-int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho, int tight) {
+/* Whether view v sees the ball (p, rho) outside its silhouette (hull.h;
+ * tight: the tight test). */
+static int sees_outside(const ws_hull_view *v, const double p[3], double rho, int tight) {
     const ws_camera *cam = v->cam;
     const ws_silhouette *s = v->sil;
     double c[3], u, w;
@@ -31,7 +32,7 @@ int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho, i
         return hypot(u - cu, w - cv) > reach;
     }
     int j = (int)u < cam->width ? (int)u : cam->width - 1, i = (int)w < cam->height ? (int)w : cam->height - 1;
-    return s->distance[(size_t)i * cam->width + j] > reach + (tight ? 0.0 : PIXEL_SLACK);
+    return s->distance[(size_t)i * cam->width + j] > reach + (tight ? 0.0 : WS_SILHOUETTE_PIXEL_SLACK);
 }
 
 /* Counts, for every voxel of h's grid, the views that see it outside, up
@@ -48,7 +49,7 @@ static void count_outside(const ws_hull_view *views, int nviews, ws_hull *h) {
                 ws_hull_voxel_center(h, x, y, z, p);
                 int count = 0;
                 for (int k = 0; k < nviews && count < cap; k++)
-                    count += ws_hull_sees_outside(&views[k], p, rho, h->tight);
+                    count += sees_outside(&views[k], p, rho, h->tight);
                 size_t at = ws_hull_index(h, x, y, z);
                 h->outside[at] = (uint8_t)count;
                 kept += count <= h->tolerance;
@@ -141,7 +142,7 @@ static long project_others(const ws_hull_view *views, int self, int carved, cons
                 if (count > h->tolerance + carved) continue;
                 double p[3], c[3], u, w;
                 ws_hull_voxel_center(h, x, y, z, p);
-                if (count > h->tolerance && !ws_hull_sees_outside(v, p, rho, h->tight)) continue;
+                if (count > h->tolerance && !sees_outside(v, p, rho, h->tight)) continue;
                 ws_camera_to_cam(cam, p, c);
                 double d = ws_camera_project(cam, c, &u, &w);
                 if (!(d > inscribed)) continue;

@@ -67,10 +67,6 @@ static inline int ws_hull_in(const ws_hull *h, size_t k) { return h->outside[k] 
 /* World centre of voxel (x, y, z). */
 void ws_hull_voxel_center(const ws_hull *h, int x, int y, int z, double p[3]);
 
-/* Whether view v sees the ball (p, rho) outside its silhouette (see above;
- * tight: the tight test). */
-int ws_hull_sees_outside(const ws_hull_view *v, const double p[3], double rho, int tight);
-
 /* Agreement of every view with the hull: agreement[k] is the share of
  * view k's silhouette covered by the projection of the hull, each voxel
  * drawn as the disc of its inscribed ball (an empty silhouette and an

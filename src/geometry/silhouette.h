@@ -20,6 +20,10 @@
 #include "nn/base/status.h"
 
 #define WS_SILHOUETTE_THRESHOLD 0.02
+/* What a point projected near a silhouette may miss it by and still be on
+ * the object: half a pixel's diagonal twice, once for the pixel centre the
+ * distance is read at, once for the silhouette pixel's own extent. */
+#define WS_SILHOUETTE_PIXEL_SLACK 1.42
 
 typedef struct {
     int width, height;

@@ -1,10 +1,18 @@
 /* export.h: curves as files other programs read.
  *
  * OBJ and PLY hold every curve as a polyline of WS_EXPORT_SEGMENTS straight
- * segments at uniform parameter steps (OBJ: `v` and `l` lines; PLY: ascii
- * with vertex and edge elements). SVG is the sketch seen by one camera:
- * black strokes on white, each curve a polyline path of its projection
- * (the perspective image of a Bezier is not a Bezier). The stroke width is
+ * segments at uniform parameter steps (OBJ: one object `o curve_K` per
+ * curve, its `v` lines and one `l` line; PLY: ascii with vertex and edge
+ * elements). SVG is the sketch seen by one camera: black strokes on white,
+ * one path per curve made of cubic Bezier segments (`C`), so that a vector
+ * editor edits them as Beziers. The perspective image of a cubic is a
+ * rational cubic, not a cubic: each segment is the cubic with the image's
+ * end points and end tangents (Hermite), halved until it lies within
+ * WS_EXPORT_SVG_TOLERANCE px of the image at its quarter points (most
+ * curves take one segment). With a far map (hidden lines, see
+ * objective/hidden_lines.h) a curve is drawn only where it is not hidden:
+ * its parameter range is cut where WS_EXPORT_SVG_SAMPLES samples change
+ * between seen and hidden, and each seen run is a subpath. The stroke width is
  * where the splatted stroke reaches alpha 1/2, from the Gaussian footprint
  * sigma (METHOD.md section 3) at the depth of the curve's midpoint and the spacing: about
  * 3.5 sigma with the default overlap 0.6, never below 2 sigma.
@@ -18,9 +26,14 @@
 #include "nn/base/status.h"
 
 #define WS_EXPORT_SEGMENTS 32
+#define WS_EXPORT_SVG_TOLERANCE 0.05
+#define WS_EXPORT_SVG_SAMPLES 128
 
 int ws_export_obj(const char *path, const ws_curves *c, ws_status *st);
 int ws_export_ply(const char *path, const ws_curves *c, ws_status *st);
-int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, ws_status *st);
+/* far: the view's far limit (H x W of the camera's image; a point at
+ * depth d in pixel (i, j) is hidden when d > far[i W + j]), or NULL to
+ * draw every curve whole. */
+int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, const float *far, ws_status *st);
 
 #endif

@@ -1,4 +1,5 @@
-/* image.c: float images, PNG input/output through libpng, resampling (see image.h).
+/* image.c: float images, PNG input/output through libpng (JPEG: jpeg.c), resampling
+ * (see image.h).
  *
  * libpng reports errors by calling an error function that must not return.
  * Ours records libpng's reason and longjmps back into the one small "stage"
@@ -14,15 +15,17 @@
 #include <stdlib.h>
 #include <string.h>
 #include "io/image.h"
+#include "io/jpeg.h"
 #include "base/outfile.h"
 #include "nn/base/fileopen.h"
 
-/* The largest PNG we agree to decode, checked right after the header is
- * read and before anything the size of the image is allocated: at most
- * 8 bytes per pixel (16-bit RGBA), so 512 MB of decoded samples. */
+/* The largest image (PNG or JPEG) we agree to decode, checked right after
+ * the header is read and before anything the size of the image is
+ * allocated: at most 8 bytes per pixel (16-bit RGBA), so 512 MB of decoded
+ * samples. */
 #define MAX_PNG_SIDE 32768
 #define MAX_PNG_PIXELS (64u * 1024u * 1024u)
-/* The largest PNG file opened: the largest image's samples, uncompressed. */
+/* The largest image file opened: the largest image's samples, uncompressed. */
 #define MAX_PNG_FILE_BYTES ((uint64_t)MAX_PNG_PIXELS * 8)
 
 int ws_image_alloc(ws_image *img, int width, int height, int channels, ws_status *st) {
@@ -194,6 +197,21 @@ done:
     return rc;
 }
 
+/* A JPEG (jpeg.c) as a 3-channel image; gray is copied to R, G and B. */
+static int decode_jpeg(FILE *fp, const char *path, ws_image *out, ws_status *st) {
+    unsigned char *pixels;
+    int w, h, nc;
+    if (ws_jpeg_decode(fp, path, MAX_PNG_SIDE, MAX_PNG_PIXELS, &pixels, &w, &h, &nc, st))
+        return st->code;
+    int rc = ws_image_alloc(out, w, h, 3, st);
+    const size_t plane = (size_t)w * h;
+    for (size_t p = 0; !rc && p < plane; p++)
+        for (int c = 0; c < 3; c++)
+            out->data[c * plane + p] = pixels[p * nc + (nc == 3 ? c : 0)] * (1.0f / 255.0f);
+    free(pixels);
+    return rc;
+}
+
 /* Replaces img by its resampling to width x height. */
 static int resample_in_place(ws_image *img, int width, int height, ws_status *st) {
     ws_image full = *img;
@@ -202,26 +220,29 @@ static int resample_in_place(ws_image *img, int width, int height, ws_status *st
     return rc;
 }
 
-int ws_png_read(const char *path, int width, int height, const float background[3], ws_image *out,
-                ws_status *st) {
-    return ws_png_read_alpha(path, width, height, background, out, NULL, st);
+int ws_image_read(const char *path, int width, int height, const float background[3],
+                  ws_image *out, ws_status *st) {
+    return ws_image_read_alpha(path, width, height, background, out, NULL, st);
 }
 
-int ws_png_read_alpha(const char *path, int width, int height, const float background[3],
-                      ws_image *out, ws_image *alpha, ws_status *st) {
+int ws_image_read_alpha(const char *path, int width, int height, const float background[3],
+                        ws_image *out, ws_image *alpha, ws_status *st) {
     *out = (ws_image){0};
     if (alpha) *alpha = (ws_image){0};
     FILE *fp;
     if (ws_fopen_regular(path, MAX_PNG_FILE_BYTES, &fp, st)) return st->code;
     png_byte sig[8];
     size_t got = fread(sig, 1, sizeof sig, fp);
+    static const png_byte jpeg_sig[3] = {0xFF, 0xD8, 0xFF}; /* SOI, then a marker */
     int rc;
     if (got < sizeof sig && ferror(fp))
         rc = ws_fail(st, WS_EINPUT, "%s: cannot read: %s", path, strerror(errno));
-    else if (got < sizeof sig || png_sig_cmp(sig, 0, sizeof sig))
-        rc = ws_fail(st, WS_EINPUT, "%s: not a PNG file", path);
-    else
+    else if (got == sizeof sig && !png_sig_cmp(sig, 0, sizeof sig))
         rc = decode_png(fp, path, background, out, alpha, st);
+    else if (got >= 3 && !memcmp(sig, jpeg_sig, 3) && fseek(fp, 0, SEEK_SET) == 0)
+        rc = decode_jpeg(fp, path, out, st);
+    else
+        rc = ws_fail(st, WS_EINPUT, "%s: not a PNG or JPEG file", path);
     fclose(fp);
     if (!rc && width > 0 && height > 0 && (out->width != width || out->height != height)) {
         rc = resample_in_place(out, width, height, st);
@@ -290,6 +311,25 @@ int ws_png_write(const char *path, const ws_image *img, ws_status *st) {
     }
     png_destroy_write_struct(png ? &png : NULL, info ? &info : NULL);
     free(row);
+    return rc;
+}
+
+int ws_image_write_jpeg(const char *path, const ws_image *img, int quality, ws_status *st) {
+    if (img->channels != 1 && img->channels != 3)
+        return ws_fail(st, WS_EINTERNAL, "%s: cannot write a %d-channel image as JPEG", path,
+                       img->channels);
+    const int w = img->width, h = img->height, nc = img->channels;
+    unsigned char *pixels = ws_malloc((size_t)w * h * nc, path, st);
+    if (!pixels) return st->code;
+    const size_t plane = (size_t)w * h;
+    for (size_t p = 0; p < plane; p++)
+        for (int c = 0; c < nc; c++) {
+            float v = img->data[c * plane + p];
+            v = v > 0 ? (v < 1 ? v : 1) : 0; /* also maps NaN to 0 */
+            pixels[p * nc + c] = (unsigned char)(255.0f * v + 0.5f);
+        }
+    int rc = ws_jpeg_encode(path, pixels, w, h, nc, quality, st);
+    free(pixels);
     return rc;
 }
 

@@ -1,4 +1,4 @@
-/* image.h: float images and PNG input/output.
+/* image.h: float images, PNG and JPEG input and output.
  *
  * A ws_image is planar (channel-major): pixel (row i, column j) of channel c
  * is data[(c * height + i) * width + j], values in [0, 1]. Photos are always
@@ -15,23 +15,29 @@ typedef struct {
 int ws_image_alloc(ws_image *img, int width, int height, int channels, ws_status *st);
 void ws_image_free(ws_image *img);
 
-/* Reads a PNG: 8- or 16-bit; gray, gray+alpha, RGB, RGBA or palette. Alpha
- * is composited onto `background` (RGB in [0,1]); the result is 3 channels,
- * resampled to width x height when the file has another size (width = 0
- * keeps the file's size). Every failure names the file: "PATH: not a PNG
- * file", "PATH: truncated or corrupt PNG (...)", "PATH: cannot open: ...". */
-int ws_png_read(const char *path, int width, int height, const float background[3],
-                ws_image *out, ws_status *st);
+/* Reads a PNG or a JPEG, told apart by the file's first bytes (never by
+ * its name). PNG: 8- or 16-bit; gray, gray+alpha, RGB, RGBA or palette.
+ * JPEG: see jpeg.h. Alpha is composited onto `background` (RGB in [0,1]);
+ * the result is 3 channels, resampled to width x height when the file has
+ * another size (width = 0 keeps the file's size). Both formats have the
+ * same size limit. Every failure names the file: "PATH: not a PNG or JPEG
+ * file", "PATH: truncated or corrupt PNG (...)", "PATH: truncated or
+ * corrupt JPEG (...)", "PATH: cannot open: ...". */
+int ws_image_read(const char *path, int width, int height, const float background[3],
+                  ws_image *out, ws_status *st);
 
-/* ws_png_read, and the file's alpha channel (values in [0, 1]) into
+/* ws_image_read, and the file's alpha channel (values in [0, 1]) into
  * `alpha` (1 channel, resampled like the colours), whose data is NULL when
- * the file has no alpha channel or every pixel is opaque. */
-int ws_png_read_alpha(const char *path, int width, int height, const float background[3],
-                      ws_image *out, ws_image *alpha, ws_status *st);
+ * the file has no alpha channel (every JPEG) or every pixel is opaque. */
+int ws_image_read_alpha(const char *path, int width, int height, const float background[3],
+                        ws_image *out, ws_image *alpha, ws_status *st);
 
 /* Writes a 1- or 3-channel image as an 8-bit gray or RGB PNG, each value
  * round(255 * clamp(v, 0, 1)), through a temporary file (outfile.h). */
 int ws_png_write(const char *path, const ws_image *img, ws_status *st);
+
+/* The same as a baseline JPEG of `quality` (1-100; 4:4:4, see jpeg.h). */
+int ws_image_write_jpeg(const char *path, const ws_image *img, int quality, ws_status *st);
 
 /* The rectangle of columns [x0, x0 + width) and rows [y0, y0 + height) of
  * `in` (which must contain it) into `out` (allocated here). */

@@ -5,13 +5,30 @@
 #include "io/html.h"
 #include "io/report.h"
 
+/* Two columns, or four (with the unit and scale and the verdict) when
+ * any item has a scale. */
 static void put_table(FILE *f, const ws_report_item *items, int n) {
+    int scaled = 0;
+    for (int k = 0; k < n; k++) scaled |= items[k].scale != NULL;
     fputs("<table>\n", f);
+    if (scaled) fputs("<tr><th>metric</th><th>value</th><th>unit and scale</th><th>verdict</th></tr>\n", f);
     for (int k = 0; k < n; k++) {
         fputs("<tr><th>", f);
         ws_html_text(f, items[k].key);
         fputs("</th><td>", f);
         ws_html_text(f, items[k].value);
+        if (scaled) {
+            fputs("</td><td class=\"scale\">", f);
+            ws_html_text(f, items[k].scale ? items[k].scale : "");
+            fputs("</td><td class=\"verdict\">", f);
+            if (items[k].verdict) {
+                fputs("<span class=\"", f);
+                ws_html_text(f, items[k].verdict);
+                fputs("\">", f);
+                ws_html_text(f, items[k].verdict);
+                fputs("</span>", f);
+            }
+        }
         fputs("</td></tr>\n", f);
     }
     fputs("</table>\n", f);
@@ -202,6 +219,19 @@ static void put_val(FILE *f, const ws_report *r, const plot_axis *x, const plot_
     }
 }
 
+/* The schedule's phases: a dashed line where each begins, its label above. */
+static void put_phases(FILE *f, const ws_report *r, const plot_axis *x) {
+    for (int k = 0; k < r->n_phases; k++) {
+        if (r->phase_step[k] < x->lo || r->phase_step[k] > x->hi) continue;
+        double px = axis_px(x, r->phase_step[k]);
+        fprintf(f, "<line class=\"phase\" x1=\"%.1f\" x2=\"%.1f\" y1=\"%d\" y2=\"%d\"/>"
+                   "<text class=\"tick\" x=\"%.1f\" y=\"%d\">", px, px, PLOT_TOP, PLOT_H - PLOT_BOTTOM, px + 3,
+                PLOT_TOP + 12 + 12 * (k % 2));
+        ws_html_text(f, r->phase_label[k]);
+        fputs("</text>\n", f);
+    }
+}
+
 static void put_legend(FILE *f, const ws_report *r, int mean_drawn) {
     const char *names[3] = {"train", "train, moving mean", "validation"};
     const char *classes[3] = {"train", "mean", "val"};
@@ -255,10 +285,16 @@ static int put_loss_plot(FILE *f, const ws_report *r, ws_status *st) {
             (PLOT_LEFT + PLOT_W - PLOT_RIGHT) / 2, PLOT_H - 8);
     fprintf(f, "<text class=\"label\" transform=\"translate(16 %d) rotate(-90)\" text-anchor=\"middle\">"
                "loss%s</text>\n", (PLOT_TOP + PLOT_H - PLOT_BOTTOM) / 2, y.log ? " (log scale)" : "");
+    put_phases(f, r, &x);
     if (r->n_train > 0 && put_train(f, r, &x, &y, st)) return st->code;
     if (r->n_val > 0) put_val(f, r, &x, &y);
     put_legend(f, r, mean_window(r->n_train) > 0);
     fputs("</svg>\n", f);
+    if (r->n_phases && r->phase_note) {
+        fputs("<p class=\"hint\">", f);
+        ws_html_text(f, r->phase_note);
+        fputs("</p>\n", f);
+    }
     return WS_OK;
 }
 
@@ -272,17 +308,35 @@ static void put_img(FILE *f, const char *path, const char *alt) {
     fputs("\">", f);
 }
 
+/* A test view's image shown cropped to v->crop in a CROP_PX square: the
+ * image scaled so that the crop fills the box, the rest clipped. */
+#define CROP_PX 224
+static void put_cropped(FILE *f, const ws_report_view *v, const char *path, const char *alt) {
+    if (v->crop[2] <= 0 || v->width <= 0) {
+        put_img(f, path, alt);
+        return;
+    }
+    double scale = (double)CROP_PX / v->crop[2];
+    fprintf(f, "<div class=\"crop\"><img style=\"width:%.1fpx;margin:%.1fpx 0 0 %.1fpx\" src=\"",
+            v->width * scale, -v->crop[1] * scale, -v->crop[0] * scale);
+    ws_html_url(f, path);
+    fputs("\" alt=\"", f);
+    ws_html_text(f, alt);
+    fputs("\"></div>", f);
+}
+
 static void put_tests(FILE *f, const ws_report *r) {
     if (r->n_tests == 0) {
         fputs("<p>The scene has no test views.</p>\n", f);
         return;
     }
-    fputs("<p>Each view: the sketch render (left) and the photo (right).</p>\n<div class=\"views\">\n", f);
+    fputs("<p>Each view: the sketch render (left) and the photo (right), both cropped to the object.</p>\n"
+          "<div class=\"views\">\n", f);
     for (int k = 0; k < r->n_tests; k++) {
         const ws_report_view *v = &r->tests[k];
         fputs("<figure><div class=\"pair\">", f);
-        put_img(f, v->render_path, "sketch render");
-        if (v->photo_path) put_img(f, v->photo_path, "photo");
+        put_cropped(f, v, v->render_path, "sketch render");
+        if (v->photo_path) put_cropped(f, v, v->photo_path, "photo");
         fputs("</div><figcaption>", f);
         ws_html_text(f, v->name);
         if (isfinite(v->loss)) fprintf(f, " &middot; loss %.4g", v->loss);
@@ -312,8 +366,17 @@ static int curve_points(int ncurves) {
 
 /* {"curves": [[[x, y, z], ...], ...]}: numbers only, so the JSON cannot
  * end the <script> element it sits in. */
-static void put_curves_json(FILE *f, const ws_curves *c) {
-    fputs("{\"curves\": [", f);
+static void put_curves_json(FILE *f, const ws_curves *c, const double *cameras, int n_cameras) {
+    fputs("{\"cameras\": [", f);
+    for (int k = 0; k < n_cameras; k++) {
+        const double *cam = cameras + 6 * k;
+        int finite = 1;
+        for (int i = 0; i < 6; i++) finite &= isfinite(cam[i]) != 0;
+        if (finite)
+            fprintf(f, "%s[%.6g,%.6g,%.6g,%.6g,%.6g,%.6g]", k ? "," : "", cam[0], cam[1], cam[2], cam[3], cam[4],
+                    cam[5]);
+    }
+    fputs("],\n\"curves\": [", f);
     int npts = curve_points(c->n), written = 0;
     for (int ci = 0; ci < c->n; ci++) {
         int finite = 1;
@@ -351,6 +414,12 @@ static const char report_css[] =
     "figure{margin:0;background:#fff;border:1px solid #ddd;padding:6px}\n"
     ".pair{display:flex;gap:4px}\n"
     "figure img{width:224px;height:auto;display:block;outline:1px solid #e2e2e2}\n"
+    ".crop{width:224px;height:224px;overflow:hidden;outline:1px solid #e2e2e2}\n"
+    ".crop img{max-width:none;outline:none}\n"
+    "td.scale{font-family:inherit;color:#555}\n"
+    ".verdict .good{color:#1a7f37;font-weight:600}.verdict .fair{color:#9a6700;font-weight:600}"
+    ".verdict .poor{color:#cf222e;font-weight:600}\n"
+    ".warning{background:#fff4d6;border:1px solid #e0c060;padding:6px 10px}\n"
     "figcaption{font-size:13px;color:#555;margin-top:4px}\n"
     "svg.plot{width:100%;max-width:900px;height:auto;background:#fff;border:1px solid #ddd}\n"
     "svg.plot .grid{stroke:#eee}\n"
@@ -361,6 +430,7 @@ static const char report_css[] =
     "svg.plot .train{stroke:#9ecae1;stroke-width:1}\n"
     "svg.plot .mean{stroke:#2166ac;stroke-width:2}\n"
     "svg.plot .val{stroke:#e6550d;stroke-width:2;fill:#e6550d}\n"
+    "svg.plot .phase{stroke:#888;stroke-dasharray:4 3}\n"
     "svg.plot path.val{fill:none}\n"
     "#view3d{display:block;width:100%;height:560px;background:#fff;border:1px solid #ddd;"
     "cursor:grab;touch-action:none}\n"
@@ -373,7 +443,7 @@ static const char report_js[] =
     "(function () {\n"
     "  var canvas = document.getElementById('view3d');\n"
     "  var data = JSON.parse(document.getElementById('curve-data').textContent);\n"
-    "  var curves = data.curves;\n"
+    "  var curves = data.curves, cameras = data.cameras || [];\n"
     "  var ctx = canvas.getContext('2d');\n"
     "  var lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];\n"
     "  curves.forEach(function (c) {\n"
@@ -389,6 +459,11 @@ static const char report_js[] =
     "    });\n"
     "  });\n"
     "  if (!(radius > 0)) radius = 1;\n"
+    "  /* the cameras in the frame too; each drawn as a pyramid of the sketch's scale */\n"
+    "  var camSize = 0.12 * radius;\n"
+    "  cameras.forEach(function (c) {\n"
+    "    radius = Math.max(radius, Math.hypot(c[0] - centre[0], c[1] - centre[1], c[2] - centre[2]) + camSize);\n"
+    "  });\n"
     "  var fov = 35 * Math.PI / 180;\n"
     "  var home = { yaw: -Math.PI / 2, pitch: 0.35, dist: radius / Math.sin(fov / 2) };\n"
     "  var view = Object.assign({}, home);\n"
@@ -437,6 +512,32 @@ static const char report_js[] =
     "      ctx.beginPath();\n"
     "      ctx.moveTo(s[0][0], s[0][1]);\n"
     "      ctx.lineTo(s[1][0], s[1][1]);\n"
+    "      ctx.stroke();\n"
+    "    });\n"
+    "    /* Cameras: lines from the centre to the corners of a square that\n"
+    "     * faces the viewing direction. */\n"
+    "    ctx.strokeStyle = '#3b7dd8';\n"
+    "    ctx.lineWidth = dpr;\n"
+    "    cameras.forEach(function (c) {\n"
+    "      var d = [c[3], c[4], c[5]], n = Math.hypot(d[0], d[1], d[2]) || 1;\n"
+    "      d = d.map(function (v) { return v / n; });\n"
+    "      var a = Math.abs(d[2]) < 0.9 ? [0, 0, 1] : [1, 0, 0];\n"
+    "      var u = [d[1] * a[2] - d[2] * a[1], d[2] * a[0] - d[0] * a[2], d[0] * a[1] - d[1] * a[0]];\n"
+    "      var nu = Math.hypot(u[0], u[1], u[2]);\n"
+    "      u = u.map(function (v) { return v / nu; });\n"
+    "      var v = [d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]];\n"
+    "      var apex = project(c), corners = [[1, 1], [-1, 1], [-1, -1], [1, -1]].map(function (s) {\n"
+    "        return project([0, 1, 2].map(function (k) {\n"
+    "          return c[k] + camSize * (d[k] + 0.5 * (s[0] * u[k] + s[1] * v[k]));\n"
+    "        }));\n"
+    "      });\n"
+    "      if (apex[2] <= near || corners.some(function (q) { return q[2] <= near; })) return;\n"
+    "      ctx.beginPath();\n"
+    "      corners.forEach(function (q, k) {\n"
+    "        ctx.moveTo(apex[0], apex[1]);\n"
+    "        ctx.lineTo(q[0], q[1]);\n"
+    "        ctx.lineTo(corners[(k + 1) % 4][0], corners[(k + 1) % 4][1]);\n"
+    "      });\n"
     "      ctx.stroke();\n"
     "    });\n"
     "    /* Axis gizmo: the world axes as seen from the current direction. */\n"
@@ -514,6 +615,11 @@ int ws_report_write(const char *path, const ws_report *r, ws_status *st) {
     fputs("<a href=\"#settings\">Settings</a></p></nav>\n", f);
 
     fputs("<section id=\"metrics\">\n<h2>Metrics</h2>\n", f);
+    if (r->warning) {
+        fputs("<p class=\"warning\" id=\"gt-warning\">Warning: ", f);
+        ws_html_text(f, r->warning);
+        fputs("</p>\n", f);
+    }
     put_table(f, r->metrics, r->n_metrics);
     fputs("</section>\n<section id=\"loss\">\n<h2>Loss</h2>\n", f);
     if (put_loss_plot(f, r, st)) {
@@ -526,9 +632,10 @@ int ws_report_write(const char *path, const ws_report *r, ws_status *st) {
     if (r->curves) {
         fputs("<section id=\"curves-3d\">\n<h2>3D view</h2>\n<canvas id=\"view3d\"></canvas>\n"
               "<p class=\"hint\">Drag to rotate, scroll to zoom, double-click to reset. "
-              "Nearer strokes are darker.</p>\n"
+              "Nearer strokes are darker; the training cameras are the blue pyramids, each pointing where "
+              "it looks.</p>\n"
               "<script type=\"application/json\" id=\"curve-data\">", f);
-        put_curves_json(f, r->curves);
+        put_curves_json(f, r->curves, r->cameras, r->n_cameras);
         fprintf(f, "</script>\n<script>\n%s</script>\n</section>\n", report_js);
     }
     if (r->n_images) {

@@ -11,10 +11,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include "base/paths.h"
+#include "io/colmap.h"
 #include "io/scene.h"
+#include "io/undistort.h"
 #include "io/view_crop.h"
 #include "nn/base/bytes.h"
 
@@ -27,7 +30,9 @@ const char *const ws_split_names[WS_NSPLITS] = {"train", "val", "test"};
 const char *ws_scene_file(const ws_scene *scene, int s) {
     static const char *const files[WS_NSPLITS] = {"transforms_train.json", "transforms_val.json",
                                                   "transforms_test.json"};
-    return scene->layout == WS_LAYOUT_NERFSTUDIO ? "transforms.json" : files[s];
+    return scene->layout == WS_LAYOUT_NERFSTUDIO ? "transforms.json"
+           : scene->layout == WS_LAYOUT_COLMAP   ? scene->model_file
+                                                 : files[s];
 }
 
 int ws_split_index(const char *name) {
@@ -42,6 +47,7 @@ void ws_scene_options_default(ws_scene_options *opt) {
     opt->background_auto = 0;
     opt->load_images = 1;
     opt->edge_maps_dir = NULL;
+    opt->images_dir = NULL;
 }
 
 void ws_scene_free(ws_scene *scene) {
@@ -55,23 +61,41 @@ void ws_scene_free(ws_scene *scene) {
         scene->split[s].views = NULL;
         scene->split[s].n = 0;
     }
+    free(scene->points);
+    scene->points = NULL;
+    scene->npoints = 0;
+}
+
+const double *ws_scene_points(const ws_scene *scene, int *n) {
+    *n = scene->npoints;
+    return scene->points;
 }
 
 static int file_exists(const char *path) { return access(path, F_OK) == 0; }
 
-static int ends_with(const char *s, const char *suffix) {
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && !strcmp(s + n - m, suffix);
+/* The length of name's image extension (".png", ".jpg", ".jpeg", any
+ * case), 0 when it has none. */
+static size_t image_extension(const char *name) {
+    static const char *const extensions[] = {".png", ".jpg", ".jpeg"};
+    size_t n = strlen(name);
+    for (size_t k = 0; k < sizeof extensions / sizeof extensions[0]; k++) {
+        size_t m = strlen(extensions[k]);
+        if (n > m && !strcasecmp(name + n - m, extensions[k])) return m;
+    }
+    return 0;
 }
 
-/* Finds the PNG of `file_path`: SCENE/P.png, SCENE/rgb/P.png, and first
- * SCENE/P and SCENE/rgb/P when P already names a .png. */
+/* Finds the image of `file_path`: SCENE/P or SCENE/rgb/P when P ends in
+ * an image extension (the name used as written), else SCENE/P.png or
+ * SCENE/rgb/P.png (NeRF-synthetic names have none). Which format a file
+ * holds, its content says (image.h). */
 static int resolve_image(const char *dir, const char *file_path, const char *what, char *found,
                          size_t size, ws_status *st) {
     const char *const patterns[4] = {"%s/%s", "%s/rgb/%s", "%s/%s.png", "%s/rgb/%s.png"};
-    char tried[4][4096];
+    char tried[2][4096];
     int ntried = 0;
-    for (int k = ends_with(file_path, ".png") ? 0 : 2; k < 4; k++) {
+    const int first = image_extension(file_path) ? 0 : 2;
+    for (int k = first; k < first + 2; k++) {
         int len = snprintf(tried[ntried], sizeof tried[0], patterns[k], dir, file_path);
         if (len < 0 || (size_t)len >= sizeof tried[0] || (size_t)len >= size)
             return ws_fail(st, WS_EINPUT, "%s: image path too long", what);
@@ -81,7 +105,7 @@ static int resolve_image(const char *dir, const char *file_path, const char *wha
         }
         ntried++;
     }
-    char list[3 * 4096 + 16] = "";
+    char list[2 * 4096 + 16] = "";
     for (int k = 0; k < ntried; k++) {
         if (k) strcat(list, ", ");
         strcat(list, tried[k]);
@@ -111,19 +135,94 @@ static int check_scene_path(const char *value, const char *field, const char *wh
     return WS_OK;
 }
 
-/* The view's name: the last component of file_path without ".png". */
+/* The view's name: the last component of file_path without its image
+ * extension. */
 static int view_name(const char *file_path, const char *what, char *name, size_t size,
                      ws_status *st) {
     const char *slash = strrchr(file_path, '/');
     const char *base = slash ? slash + 1 : file_path;
-    size_t n = strlen(base);
-    if (ends_with(base, ".png")) n -= 4;
+    size_t n = strlen(base) - image_extension(base);
     if (n == 0)
         return ws_fail(st, WS_EINPUT, "%s: file_path '%s' has no file name", what, file_path);
     if (n >= size) return ws_fail(st, WS_EINPUT, "%s: file_path name too long", what);
     memcpy(name, base, n);
     name[n] = '\0';
     return WS_OK;
+}
+
+/* ---------------------------------------------------------------- unique names
+ *
+ * A view's name names its outputs (a fit's test/NAME.png, render's
+ * OUT/NAME.png) and its row of a report, so the views of a split must not
+ * share one: views whose file names repeat ("a/r_0" and "b/r_0") are
+ * named after their whole file_path instead ("a_r_0", "b_r_0"), and
+ * names that still repeat get their frame index ("a_r_0_f7"). */
+typedef struct {
+    const char *name;
+    int k;
+} named_view;
+
+static int by_name(const void *a, const void *b) {
+    const named_view *x = a, *y = b;
+    int c = strcmp(x->name, y->name);
+    return c ? c : x->k - y->k;
+}
+
+/* Marks in shared[k] the views whose name another view of the split has;
+ * returns whether any has. */
+static int mark_shared(const ws_split *split, named_view *order, char *shared) {
+    for (int k = 0; k < split->n; k++) {
+        order[k] = (named_view){split->views[k].name, k};
+        shared[k] = 0;
+    }
+    qsort(order, split->n, sizeof *order, by_name);
+    int any = 0;
+    for (int i = 1; i < split->n; i++)
+        if (!strcmp(order[i - 1].name, order[i].name)) any = shared[order[i - 1].k] = shared[order[i].k] = 1;
+    return any;
+}
+
+static int unique_view_names(ws_split *split, const cJSON *frames, const char *path, ws_status *st) {
+    if (split->n < 2) return WS_OK;
+    const int nframes = cJSON_GetArraySize(frames);
+    named_view *order = ws_malloc(sizeof *order * split->n, path, st);
+    char *shared = order ? ws_malloc(split->n, path, st) : NULL;
+    const char **file_path = shared ? ws_calloc(nframes, sizeof *file_path, path, st) : NULL;
+    int rc = file_path ? WS_OK : st->code;
+    if (!rc && mark_shared(split, order, shared)) {
+        int index = 0;
+        for (const cJSON *frame = frames->child; frame; frame = frame->next, index++) {
+            const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
+            file_path[index] = cJSON_IsString(fp) ? fp->valuestring : "";
+        }
+        for (int k = 0; k < split->n && !rc; k++) {
+            ws_view *v = &split->views[k];
+            const char *p = file_path[v->frame];
+            while (!strncmp(p, "./", 2)) p += 2;
+            size_t n = strlen(p) - image_extension(p);
+            if (!shared[k]) continue;
+            if (n >= sizeof v->name) {
+                rc = ws_fail(st, WS_EINPUT, "%s: frame %d: file_path name too long", path, v->frame);
+                break;
+            }
+            for (size_t i = 0; i < n; i++) v->name[i] = p[i] == '/' ? '_' : p[i];
+            v->name[n] = '\0';
+        }
+        int again = !rc && mark_shared(split, order, shared);
+        for (int k = 0; k < split->n && again && !rc; k++) {
+            ws_view *v = &split->views[k];
+            size_t n = strlen(v->name);
+            if (shared[k] && snprintf(v->name + n, sizeof v->name - n, "_f%d", v->frame) >= (int)(sizeof v->name - n))
+                rc = ws_fail(st, WS_EINPUT, "%s: frame %d: file_path name too long", path, v->frame);
+        }
+        if (again && !rc && mark_shared(split, order, shared))
+            for (int k = 0; k < split->n && !rc; k++)
+                if (shared[k]) rc = ws_fail(st, WS_EINPUT, "%s: two views are named %s", path, split->views[k].name);
+    }
+    free(order);
+    free(shared);
+    free(file_path);
+    return rc;
 }
 
 static int read_matrix(const cJSON *m, const char *what, double c2w[4][4], ws_status *st) {
@@ -243,7 +342,10 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
     struct stat sb;
     if (stat(path, &sb) != 0 && errno == ENOENT) {
         if (s == WS_TRAIN)
-            return ws_fail(st, WS_EINPUT, "%s: missing (a scene needs a train split)", path);
+            return ws_fail(st, WS_EINPUT,
+                           "%s: missing (a scene needs a train split, a transforms.json or a "
+                           "COLMAP model in sparse/0, sparse or the folder)",
+                           path);
         return WS_OK;
     }
     cJSON *root = NULL;
@@ -279,6 +381,7 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
             (rc = ws_camera_init(&v->cam, c2w, angle->valuedouble, opt->width, opt->height, what, st)))
             break;
     }
+    if (!rc) rc = unique_view_names(split, frames, path, st);
 done:
     cJSON_Delete(root);
     return rc;
@@ -338,35 +441,55 @@ static int intrinsic(const cJSON *frame, const cJSON *root, const char *key, con
     return WS_OK;
 }
 
-/* The pinhole intrinsics of one frame: fl_x (or camera_angle_x), fl_y,
- * cx, cy, w, h; no distortion; a pinhole camera_model. */
+/* The intrinsics of one frame: fl_x (or camera_angle_x), fl_y, cx, cy,
+ * w, h, and its lens (camera_model, is_fisheye, k1..k4, p1, p2). */
 typedef struct {
     double fx, fy, cx, cy;
     int w, h;
+    ws_lens lens;
 } intrinsics;
+
+/* The lens of a frame, nerfstudio / instant-ngp keys: camera_model
+ * PINHOLE, SIMPLE_PINHOLE, OPENCV or OPENCV_FISHEYE (none: OPENCV, or
+ * instant-ngp's is_fisheye), k1..k4 (a fisheye lens' angle terms, else the
+ * radial polynomial), p1, p2 (perspective only). */
+static int frame_lens(const cJSON *frame, const cJSON *root, const char *what, intrinsics *in,
+                      ws_status *st) {
+    static const char *const keys[6] = {"k1", "k2", "k3", "k4", "p1", "p2"};
+    double v[6] = {0};
+    int found;
+    for (int k = 0; k < 6; k++)
+        if (intrinsic(frame, root, keys[k], what, &v[k], &found, st)) return st->code;
+    const cJSON *model = cJSON_GetObjectItemCaseSensitive(frame, "camera_model");
+    if (!model) model = cJSON_GetObjectItemCaseSensitive(root, "camera_model");
+    const cJSON *fisheye = cJSON_GetObjectItemCaseSensitive(frame, "is_fisheye");
+    if (!fisheye) fisheye = cJSON_GetObjectItemCaseSensitive(root, "is_fisheye");
+    const char *name = cJSON_IsString(model) ? model->valuestring : model ? "" : "OPENCV";
+    const int pinhole = !strcmp(name, "PINHOLE") || !strcmp(name, "SIMPLE_PINHOLE");
+    if (!pinhole && strcmp(name, "OPENCV") && strcmp(name, "OPENCV_FISHEYE"))
+        return ws_fail(st, WS_EINPUT,
+                       "%s: camera_model is not PINHOLE, SIMPLE_PINHOLE, OPENCV or OPENCV_FISHEYE",
+                       what);
+    ws_lens *l = &in->lens;
+    memset(l, 0, sizeof *l);
+    l->fisheye = !strcmp(name, "OPENCV_FISHEYE") || cJSON_IsTrue(fisheye);
+    for (int k = 0; k < 6; k++) {
+        if (v[k] != 0 && pinhole)
+            return ws_fail(st, WS_EINPUT, "%s: distortion %s = %g with camera_model %s (a lens "
+                           "with distortion is OPENCV or OPENCV_FISHEYE)", what, keys[k], v[k], name);
+        if (v[k] != 0 && k >= 4 && l->fisheye)
+            return ws_fail(st, WS_EINPUT, "%s: distortion %s = %g with a fisheye lens (it has "
+                           "k1..k4 only)", what, keys[k], v[k]);
+    }
+    memcpy(l->k, v, sizeof l->k);
+    memcpy(l->p, v + 4, sizeof l->p);
+    l->fx = in->fx, l->fy = in->fy, l->cx = in->cx, l->cy = in->cy;
+    l->width = in->w, l->height = in->h;
+    return ws_lens_check(l, what, st);
+}
 
 static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *what,
                             intrinsics *in, ws_status *st) {
-    static const char *const distortion[] = {"k1", "k2", "k3", "k4", "p1", "p2"};
-    double v = 0;
-    int found;
-    for (size_t k = 0; k < sizeof distortion / sizeof distortion[0]; k++) {
-        if (intrinsic(frame, root, distortion[k], what, &v, &found, st)) return st->code;
-        if (found && v != 0)
-            return ws_fail(st, WS_EINPUT,
-                           "%s: distortion %s = %g is not supported (undistort the images first, "
-                           "e.g. with COLMAP or ns-process-data, and give k1..k4, p1, p2 as 0)",
-                           what, distortion[k], v);
-    }
-    const cJSON *model = cJSON_GetObjectItemCaseSensitive(frame, "camera_model");
-    if (!model) model = cJSON_GetObjectItemCaseSensitive(root, "camera_model");
-    if (model && (!cJSON_IsString(model) || (strcmp(model->valuestring, "OPENCV") &&
-                                             strcmp(model->valuestring, "PINHOLE") &&
-                                             strcmp(model->valuestring, "SIMPLE_PINHOLE"))))
-        return ws_fail(st, WS_EINPUT,
-                       "%s: camera_model is not OPENCV, PINHOLE or SIMPLE_PINHOLE (only pinhole "
-                       "cameras are supported)",
-                       what);
     double w = 0, h = 0;
     int has_w, has_h, has_fx, has_fy, has_cx, has_cy;
     if (intrinsic(frame, root, "w", what, &w, &has_w, st) ||
@@ -394,10 +517,42 @@ static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *w
     if (!has_cy) in->cy = 0.5 * h;
     if (!(in->fx > 0) || !(in->fy > 0))
         return ws_fail(st, WS_EINPUT, "%s: fl_x %g and fl_y %g must be positive", what, in->fx, in->fy);
-    return WS_OK;
+    return frame_lens(frame, root, what, in, st);
 }
 
 static void axes_center(const ws_scene *scene, double center[3]);
+
+/* The working view's crop and camera (io/view_crop.h), first around the
+ * frame's centre: crop_around_object moves it once every camera is known. */
+static int frame_camera(const intrinsics *in, const double c2w[4][4], const ws_scene_options *opt,
+                        const char *what, ws_view *v, ws_status *st) {
+    v->file_width = in->w;
+    v->file_height = in->h;
+    v->lens = in->lens;
+    return ws_view_crop(in->fx, in->fy, in->cx, in->cy, in->w, in->h, c2w, NULL, opt->width, opt->height, what,
+                        v->crop, &v->cam, st);
+}
+
+/* Each cropped view's crop moved around the object's projection: the
+ * centre the cameras look at (a nerfstudio or COLMAP scene; the pinhole
+ * intrinsics the view's images are undistorted to are v->lens's). */
+static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_status *st) {
+    double center[3];
+    axes_center(scene, center);
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (int k = 0; k < scene->split[s].n; k++) {
+            ws_view *v = &scene->split[s].views[k];
+            const ws_lens *l = &v->lens;
+            char what[4400];
+            double c2w[4][4];
+            memcpy(c2w, v->cam.c2w, sizeof c2w);
+            snprintf(what, sizeof what, "%s/%s: frame %d", scene->dir, ws_scene_file(scene, s), v->frame);
+            if (ws_view_crop(l->fx, l->fy, l->cx, l->cy, l->width, l->height, c2w, center, opt->width, opt->height,
+                             what, v->crop, &v->cam, st))
+                return st->code;
+        }
+    return WS_OK;
+}
 
 static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_options *opt,
                             ws_status *st) {
@@ -437,32 +592,112 @@ static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_opt
         snprintf(what, sizeof what, "%s: frame %d", path, index);
         if (!(rc = parse_frame(frame, what, dir, opt, v, c2w, st)) &&
             !(rc = frame_intrinsics(frame, root, what, &in, st)))
-            rc = ws_view_crop(in.fx, in.fy, in.cx, in.cy, in.w, in.h, c2w, NULL, opt->width, opt->height, what,
-                              v->crop, &v->cam, st);
+            rc = frame_camera(&in, c2w, opt, what, v, st);
     }
-    /* Each view's crop around the object: the centre the cameras look at. */
-    double center[3];
-    if (!rc) axes_center(scene, center);
-    for (int s = 0; s < WS_NSPLITS && !rc; s++)
-        for (int k = 0; k < scene->split[s].n && !rc; k++) {
-            ws_view *v = &scene->split[s].views[k];
-            char what[4300];
-            intrinsics in;
-            double c2w[4][4];
-            memcpy(c2w, v->cam.c2w, sizeof c2w);
-            snprintf(what, sizeof what, "%s: frame %d", path, v->frame);
-            if (!(rc = frame_intrinsics(cJSON_GetArrayItem(frames, v->frame), root, what, &in, st)))
-                rc = ws_view_crop(in.fx, in.fy, in.cx, in.cy, in.w, in.h, c2w, center, opt->width, opt->height,
-                                  what, v->crop, &v->cam, st);
-            v->file_width = in.w;
-            v->file_height = in.h;
-        }
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = unique_view_names(&scene->split[s], frames, path, st);
     if (!rc) {
         const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
         scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);
     }
     free(split_of);
     cJSON_Delete(root);
+    return rc;
+}
+
+/* ---------------------------------------------------------------- COLMAP */
+
+static int compare_image_names(const void *a, const void *b) {
+    return strcmp((*(const ws_colmap_image *const *)a)->name, (*(const ws_colmap_image *const *)b)->name);
+}
+
+/* The split of image `name` by the list files SCENE/{train,val,test}_list.txt
+ * (one image name a line, as nerfstudio's COLMAP loader reads them); -1
+ * when it is in none. lists[s] is the file's text, NULL when absent. */
+static int split_by_list_file(char *const lists[WS_NSPLITS], const char *name) {
+    const size_t n = strlen(name);
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (const char *line = lists[s]; line && *line; line += strcspn(line, "\n"), line += *line == '\n') {
+            size_t len = strcspn(line, "\r\n");
+            if (len == n && !strncmp(line, name, n)) return s;
+        }
+    return -1;
+}
+
+/* The COLMAP model in `folder` (ws_colmap_find) of scene `dir`. */
+static int parse_colmap(ws_scene *scene, const char *dir, const char *folder,
+                        const ws_scene_options *opt, ws_status *st) {
+    ws_colmap_model model;
+    if (ws_colmap_read(&model, folder, st)) return st->code;
+    char images_file[4300], path[4400];
+    snprintf(images_file, sizeof images_file, "%s/images.txt", folder);
+    if (access(images_file, F_OK) != 0) snprintf(images_file, sizeof images_file, "%s/images.bin", folder);
+    snprintf(scene->model_file, sizeof scene->model_file, "%s", images_file + strlen(dir) + 1);
+    const int n = model.nimages;
+    const ws_colmap_image **order = ws_malloc(sizeof *order * n, images_file, st);
+    int rc = order ? WS_OK : st->code;
+    char *lists[WS_NSPLITS] = {NULL, NULL, NULL};
+    int has_lists = 0;
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
+        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
+        size_t length;
+        if (access(path, F_OK) == 0) {
+            rc = ws_read_file(path, TRANSFORMS_MAX_BYTES, (unsigned char **)&lists[s], &length, st);
+            has_lists = 1;
+        }
+    }
+    int count[WS_NSPLITS] = {0}, *split_of = rc ? NULL : ws_malloc(sizeof *split_of * n, images_file, st);
+    if (!rc && !split_of) rc = st->code;
+    if (!rc) { /* frames in name order, as nerfstudio numbers them */
+        for (int k = 0; k < n; k++) order[k] = &model.images[k];
+        qsort(order, n, sizeof *order, compare_image_names);
+        for (int k = 0; k < n; k++) {
+            split_of[k] = has_lists ? split_by_list_file(lists, order[k]->name) : split_by_rule(k);
+            if (split_of[k] >= 0) count[split_of[k]]++;
+        }
+        if (count[WS_TRAIN] == 0)
+            rc = ws_fail(st, WS_EINPUT, "%s: no train images (of %d images)", images_file, n);
+    }
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
+        scene->split[s].views = count[s] ? ws_calloc(count[s], sizeof(ws_view), images_file, st) : NULL;
+        if (count[s] && !scene->split[s].views) rc = st->code;
+    }
+    for (int k = 0; k < n && !rc; k++) {
+        if (split_of[k] < 0) continue;
+        const ws_colmap_image *im = order[k];
+        const ws_lens *lens = &ws_colmap_camera_of(&model, im)->lens;
+        ws_view *v = &scene->split[split_of[k]].views[scene->split[split_of[k]].n++];
+        char what[4400];
+        snprintf(what, sizeof what, "%s: image %d", images_file, im->id);
+        v->frame = k;
+        if ((rc = check_scene_path(im->name, "name", what, st)) ||
+            (rc = view_name(im->name, what, v->name, sizeof v->name, st)))
+            break;
+        int len = opt->images_dir ? snprintf(v->image_path, sizeof v->image_path, "%s/%s", opt->images_dir, im->name)
+                                  : snprintf(v->image_path, sizeof v->image_path, "%s/images/%s", dir, im->name);
+        if (len < 0 || (size_t)len >= sizeof v->image_path) {
+            rc = ws_fail(st, WS_EINPUT, "%s: image path too long", what);
+            break;
+        }
+        if (opt->load_images && !file_exists(v->image_path)) {
+            rc = ws_fail(st, WS_EINPUT, "%s: no file %s", what, v->image_path);
+            break;
+        }
+        intrinsics in = {lens->fx, lens->fy, lens->cx, lens->cy, lens->width, lens->height, *lens};
+        double c2w[4][4];
+        ws_colmap_to_c2w(im->q, im->t, c2w);
+        rc = frame_camera(&in, c2w, opt, what, v, st);
+    }
+    if (!rc) {
+        const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
+        scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);
+        scene->points = model.points; /* the scene keeps them */
+        scene->npoints = model.npoints;
+        model.points = NULL;
+    }
+    for (int s = 0; s < WS_NSPLITS; s++) free(lists[s]);
+    free(split_of);
+    free(order);
+    ws_colmap_free(&model);
     return rc;
 }
 
@@ -484,9 +719,17 @@ static ws_image first_plane(ws_image img) {
 static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, ws_status *st) {
     static const float black[3] = {0, 0, 0};
     ws_image rgb = {0}, part = {0};
-    int rc = ws_png_read(v->edge_path, w, h, black, &rgb, st);
+    int rc = ws_image_read(v->edge_path, w, h, black, &rgb, st);
     if (rc) return rc;
     ws_image gray = first_plane(rgb);
+    if (!ws_lens_is_pinhole(&v->lens)) {
+        static const float none = 0;
+        rc = ws_image_undistort(&gray, &v->lens, &none, &part, st);
+        ws_image_free(&gray);
+        gray = part;
+        part = (ws_image){0};
+        if (rc) return rc;
+    }
     const int *k = v->crop;
     if (k[2]) {
         rc = ws_image_crop(&gray, k[0], k[1], k[2], k[3], &part, st);
@@ -506,7 +749,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     static const float black[3] = {0, 0, 0};
     const int from_file = v->mask_path[0] != '\0';
     ws_image full = {0}, alpha = {0}, part = {0};
-    int rc = ws_png_read_alpha(v->image_path, 0, 0, opt->background_auto ? black : opt->background,
+    int rc = ws_image_read_alpha(v->image_path, 0, 0, opt->background_auto ? black : opt->background,
                                &full, &alpha, st);
     if (!rc && v->file_width && (full.width != v->file_width || full.height != v->file_height))
         rc = ws_fail(st, WS_EINPUT, "%s: image is %d x %d but the scene file says w x h = %d x %d",
@@ -524,7 +767,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     if (!rc && from_file) {
         ws_image_free(&alpha);
         ws_image rgb;
-        rc = ws_png_read(v->mask_path, full.width, full.height, black, &rgb, st);
+        rc = ws_image_read(v->mask_path, full.width, full.height, black, &rgb, st);
         if (!rc) { /* the first plane is the mask */
             alpha = first_plane(rgb);
             for (size_t p = 0; p < plane; p++)
@@ -533,6 +776,18 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
         }
     }
     if (!rc && v->edge_path[0]) rc = load_edge_map(v, full.width, full.height, opt, st);
+    if (!rc && !ws_lens_is_pinhole(&v->lens)) { /* to the pinhole camera; outside: background */
+        static const float transparent = 0;
+        rc = ws_image_undistort(&full, &v->lens, bg, &part, st);
+        ws_image_free(&full);
+        full = part;
+        if (!rc && alpha.data) {
+            rc = ws_image_undistort(&alpha, &v->lens, &transparent, &part, st);
+            ws_image_free(&alpha);
+            alpha = part;
+        }
+        part = (ws_image){0};
+    }
     const int *k = v->crop;
     if (!rc && k[2]) {
         rc = ws_image_crop(&full, k[0], k[1], k[2], k[3], &part, st);
@@ -692,14 +947,19 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
     int nerfstudio = access(path, F_OK) != 0;
     snprintf(path, sizeof path, "%s/transforms.json", dir);
     nerfstudio &= access(path, F_OK) == 0;
-    if (nerfstudio) {
-        scene->layout = WS_LAYOUT_NERFSTUDIO;
-        if (parse_nerfstudio(scene, dir, opt, st)) {
+    char folder[4200]; /* a COLMAP model's, when there is no transforms file */
+    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    const int colmap = !nerfstudio && access(path, F_OK) != 0 &&
+                       ws_colmap_find(dir, folder, sizeof folder) == 0;
+    if (nerfstudio || colmap) {
+        scene->layout = nerfstudio ? WS_LAYOUT_NERFSTUDIO : WS_LAYOUT_COLMAP;
+        if ((nerfstudio ? parse_nerfstudio(scene, dir, opt, st) : parse_colmap(scene, dir, folder, opt, st)) ||
+            crop_around_object(scene, opt, st)) {
             ws_scene_free(scene);
             return st->code;
         }
     }
-    for (int s = 0; s < WS_NSPLITS && !nerfstudio; s++) {
+    for (int s = 0; s < WS_NSPLITS && !nerfstudio && !colmap; s++) {
         double angle = 0;
         if (parse_split(dir, s, opt, &scene->split[s], &angle, st)) {
             ws_scene_free(scene);

@@ -1,9 +1,11 @@
-/* scene.h: multi-view scenes (METHOD.md section 1), in two layouts.
+/* scene.h: multi-view scenes (METHOD.md section 1), in three layouts.
  *
  * NeRF-synthetic: SCENE/transforms_{train,val,test}.json hold
  * camera_angle_x and frames (file_path without extension, 4x4
  * camera-to-world transform_matrix); images are found at
- * SCENE/<file_path>.png or SCENE/rgb/<file_path>.png, resampled whole to
+ * SCENE/<file_path>.png or SCENE/rgb/<file_path>.png (a file_path that
+ * ends in .png, .jpg or .jpeg is used as written: SCENE/<file_path> or
+ * SCENE/rgb/<file_path>; PNG or JPEG, as the content says), resampled whole to
  * the working size. Missing splits are allowed (n = 0), but a scene needs
  * a train split.
  *
@@ -20,10 +22,26 @@
  * Splits: train_filenames / val_filenames / test_filenames where the file
  * has them (frames in none are left out); otherwise frame k (in file
  * order) is a test view when k % 8 == 0, a val view when k % 8 == 4, and a
- * train view else. Distortion coefficients (k1..k4, p1, p2) other than 0
- * and non-pinhole camera models are refused.
+ * train view else. A lens (render/lens.h) from camera_model (PINHOLE,
+ * SIMPLE_PINHOLE, OPENCV, OPENCV_FISHEYE; none: OPENCV), instant-ngp's
+ * is_fisheye, k1..k4, p1, p2, global or per frame.
  *
- * In both layouts a frame's optional mask_path (a PNG, white = object) is
+ * COLMAP, when SCENE has neither transforms file: the sparse model at
+ * SCENE/sparse/0, SCENE/sparse or SCENE (io/colmap.h; text or binary,
+ * several cameras), images SCENE/images/<name> (opt.images_dir/<name>
+ * with --images). Each image's world-to-camera pose is converted exactly
+ * to camera.h's convention (colmap.h); the world frame is the file's (no
+ * re-centring or scaling, so curves land on the user's model). Frames are
+ * numbered in name order; splits from SCENE/{train,val,test}_list.txt (one
+ * name a line, as nerfstudio reads them) when any exists, else the rule
+ * above. The working view is made as for nerfstudio; points3D are kept
+ * (ws_scene_points).
+ *
+ * Photos through a lens are undistorted once, on load, to the pinhole
+ * camera of the same fx, fy, cx, cy and size (io/undistort.h), before the
+ * crop; so are masks and edge maps.
+ *
+ * In the JSON layouts a frame's optional mask_path (a PNG, white = object) is
  * relative to SCENE, and so is its optional edge_path (a grayscale PNG, an
  * edge map made elsewhere, e.g. by a learned detector); with
  * opt.edge_maps_dir every view's edge map is instead DIR/<file_path>.png
@@ -33,6 +51,7 @@
 #ifndef WS_SCENE_H
 #define WS_SCENE_H
 #include "render/camera.h"
+#include "render/lens.h"
 #include "io/image.h"
 #include "nn/base/status.h"
 
@@ -55,6 +74,9 @@ typedef struct {
     int file_width, file_height; /* the image size the scene file states; 0: any */
     char edge_path[4096]; /* the frame's edge_path or --edge-maps file; "" when none */
     ws_image edges;       /* 1 x height x width from edge_path; data NULL when none */
+    ws_lens lens;         /* the image file's lens (pinhole: all distortion 0); the
+                             photo, mask and edge map are undistorted to the
+                             pinhole camera of its fx, fy, cx, cy on load */
 } ws_view;
 
 typedef struct {
@@ -70,9 +92,10 @@ typedef struct {
                               of its border pixels (composited on black) */
     int load_images;       /* 0: cameras only (e.g. for render) */
     const char *edge_maps_dir; /* NULL, or the directory of every view's edge map */
+    const char *images_dir;    /* COLMAP: NULL (SCENE/images), or where the images are */
 } ws_scene_options;
 
-enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1 };
+enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1, WS_LAYOUT_COLMAP = 2 };
 
 typedef struct {
     char dir[4096];
@@ -81,6 +104,10 @@ typedef struct {
     int width, height;
     ws_split split[WS_NSPLITS];
     double center[3];      /* least-squares intersection of the optical axes */
+    char model_file[4200]; /* COLMAP: the images file, relative to dir
+                              ("sparse/0/images.txt") */
+    int npoints;           /* COLMAP: points3D, in the file's world frame */
+    double *points;        /* npoints x 3; NULL for the other layouts */
 } ws_scene;
 
 void ws_scene_options_default(ws_scene_options *opt);
@@ -95,9 +122,14 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
 void ws_scene_free(ws_scene *scene);
 
 /* The transforms file (in scene->dir) that lists split s's frames:
- * "transforms_train.json" etc., or "transforms.json" for every split of a
- * nerfstudio scene. */
+ * "transforms_train.json" etc., "transforms.json" for every split of a
+ * nerfstudio scene, the images file (scene->model_file) of a COLMAP one. */
 const char *ws_scene_file(const ws_scene *scene, int s);
+
+/* The scene's sparse points (COLMAP's points3D, as the file has them,
+ * outliers included): *n of them, x y z each; NULL with *n = 0 when the
+ * scene has none. */
+const double *ws_scene_points(const ws_scene *scene, int *n);
 
 /* "train" -> WS_TRAIN etc.; -1 for anything else. */
 int ws_split_index(const char *name);

@@ -3,6 +3,7 @@
  * the result does not depend on the thread count. */
 #include <math.h>
 #include <stdlib.h>
+#include "base/json_number.h"
 #include "metrics/line_metrics.h"
 #include "metrics/metrics.h"
 
@@ -45,12 +46,24 @@ int ws_line_metrics_compute(const ws_curves *result, const ws_curves *gt, ws_lin
 }
 
 void ws_line_metrics_json(FILE *fp, const ws_line_metrics *m) {
-    fprintf(fp, "\"lines\": {\"side\": %.9g, \"accuracy\": %.9g, \"completeness\": %.9g, \"chamfer\": %.9g",
-            m->side, m->accuracy, m->completeness, m->chamfer);
+    const char *const names[4] = {"side", "accuracy", "completeness", "chamfer"};
+    const double values[4] = {m->side, m->accuracy, m->completeness, m->chamfer};
+    fputs("\"lines\": {", fp);
+    for (int k = 0; k < 4; k++) {
+        fputs(k ? ", " : "", fp);
+        ws_json_number(fp, names[k], values[k], 9);
+    }
     for (int k = 0; k < WS_LINE_NTAU; k++) {
         int pc = (int)lround(100 * WS_LINE_TAU[k]);
-        fprintf(fp, ", \"precision_%d\": %.9g, \"recall_%d\": %.9g, \"fscore_%d\": %.9g", pc,
-                m->precision[k], pc, m->recall[k], pc, m->fscore[k]);
+        char key[3][32];
+        snprintf(key[0], sizeof key[0], "precision_%d", pc);
+        snprintf(key[1], sizeof key[1], "recall_%d", pc);
+        snprintf(key[2], sizeof key[2], "fscore_%d", pc);
+        const double v[3] = {m->precision[k], m->recall[k], m->fscore[k]};
+        for (int j = 0; j < 3; j++) {
+            fputs(", ", fp);
+            ws_json_number(fp, key[j], v[j], 9);
+        }
     }
     fputc('}', fp);
 }

@@ -24,7 +24,7 @@
  *              of the window has no hull); one behind the camera or whose
  *              centre falls outside the image is not (the splatting culls
  *              or clips it anyway).
- * The tolerance and the window were chosen by measurement (README, "Hidden
+ * The tolerance and the window were chosen by measurement (docs/RESULTS.md, "Hidden
  * lines"): the visual hull stands proud of the object, most near edges seen
  * at a grazing angle and over faces seen only from above (there a tight
  * head-on tolerance keeps strokes on textured objects from sinking into
@@ -41,6 +41,7 @@
 #define WS_HIDDEN_LINES_H
 #include "geometry/surface.h"
 #include "io/scene.h"
+#include "objective/hidden_mode.h"
 #include "objective/view_targets.h"
 #include "nn/base/status.h"
 
@@ -48,8 +49,7 @@
 #define WS_HIDDEN_TOLERANCE 14.0  /* voxels of the hull, the most (grazing rays) */
 #define WS_HIDDEN_TOLERANCE_HEAD_ON 8.0 /* voxels, where the ray meets the hull head-on */
 
-/* --hidden-lines: none (see-through, the CLIP method's sketch) or hull. */
-typedef enum { WS_HIDDEN_NONE, WS_HIDDEN_HULL } ws_hidden_mode;
+/* The names of ws_hidden_mode's values, as --hidden-lines takes them. */
 extern const char *const ws_hidden_mode_names[2];
 
 typedef struct ws_hidden_lines ws_hidden_lines;

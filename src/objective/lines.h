@@ -17,7 +17,7 @@
  * empty sketch, whose loss, 1, is the worst there is (A, E >= 0 so c_s >=
  * 0). It does not change when A is scaled, and a blurred stroke of any
  * thickness stays a ridge on its edge: the loss depends little on the
- * stroke thickness (README: rankings at 0.005 to 0.04). eps_s keeps it
+ * stroke thickness (docs/RESULTS.md: rankings at 0.005 to 0.04). eps_s keeps it
  * finite for an empty image and moves it by at most 1e-9.
  *
  * Coarse to fine: the level weights follow the fit's progress p in [0, 1]:

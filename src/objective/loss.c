@@ -136,6 +136,7 @@ static int clip_part_create(clip_part *c, const ws_loss_options *opt, const ws_s
     } else {
         if (clip_model_load(&c->model, opt->weights_path, st)) return st->code;
         c->owns_model = 1;
+        if (clip_model_set_precision(c->model, (clip_precision)opt->precision, st)) return st->code;
     }
     const wf_arch *arch = clip_model_arch(c->model);
     c->res = arch->resolution;
@@ -234,6 +235,20 @@ int ws_loss_options_check(const ws_loss_options *opt, ws_status *st) {
     if (!(opt->silhouette_weight >= 0 && opt->silhouette_weight < INFINITY))
         return ws_fail(st, WS_EUSAGE, "--silhouette-weight: %g is not a finite number >= 0",
                        opt->silhouette_weight);
+    const struct {
+        const char *option;
+        double value;
+    } weights[] = {{"--clip-weight", opt->global_weight},   {"--clip-conv-loss", opt->conv_weight},
+                   {"--clip-fc-loss-weight", opt->fc_weight}, {"--edges-weight", opt->edges_weight},
+                   {"--edges-weight", opt->lines_weight},   {"--silhouette-weight", opt->silhouette_weight}};
+    for (size_t k = 0; k < sizeof weights / sizeof weights[0]; k++)
+        if (!(weights[k].value <= WS_LOSS_MAX_WEIGHT))
+            return ws_fail(st, WS_EUSAGE, "%s: %g is not in [0, %g]", weights[k].option, weights[k].value,
+                           WS_LOSS_MAX_WEIGHT);
+    for (int l = 0; l < opt->n_layer_weights; l++)
+        if (!(opt->layer_weights[l] <= WS_LOSS_MAX_WEIGHT))
+            return ws_fail(st, WS_EUSAGE, "--clip-conv-layer-weights: %g is not in [0, %g]", opt->layer_weights[l],
+                           WS_LOSS_MAX_WEIGHT);
     return WS_OK;
 }
 

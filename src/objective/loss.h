@@ -45,13 +45,19 @@
 #include "io/scene.h"
 #include "nn/base/status.h"
 #include "base/timing.h"
-#include "objective/hidden_lines.h"
+#include "objective/hidden_mode.h"
 
 struct clip_model;
+struct ws_scene_hull;
 struct ws_view_targets;
 
 #define WS_LOSS_MAX_LAYERS 64
 #define WS_LOSS_MAX_AUG 64 /* augmentations per view and step at the most */
+/* The largest weight of a term. Adam's step does not grow with the scale
+ * of the loss, so a larger weight only matters against the other terms,
+ * and 1e6 keeps the squared gradient Adam keeps far from overflowing (a
+ * weight of 1e300 made it infinite, and the checkpoint unreadable). */
+#define WS_LOSS_MAX_WEIGHT 1e6
 
 /* What the CLIP geometric term compares (--clip-geometric). */
 typedef enum { WS_GEOMETRIC_BLOCKS, WS_GEOMETRIC_ATTENTION } ws_geometric;
@@ -69,12 +75,14 @@ typedef struct {
     double l2_weight;
     double silhouette_weight;  /* the training batch's silhouette term (objective.h) */
     ws_hidden_mode hidden_lines; /* the stroke images' hidden-line removal (objective.h) */
-    const ws_scene_hull *hull; /* borrowed: the training views' hull for it; NULL: carved when needed */
+    const struct ws_scene_hull *hull; /* borrowed: the training views' hull for it; NULL: carved when needed */
     int num_aug;               /* A */
     int aug_bank;              /* N fixed transforms per training view (0: fresh every step) */
     int pass_items;            /* G: stroke images per CLIP pass, 1..1+A (0: 1 + A) */
     uint64_t aug_seed;         /* derives the banked transforms */
     const struct clip_model *model; /* borrowed; NULL: load weights_path */
+    int precision;             /* clip_precision (nn/clip.h) of the model loaded from weights_path:
+                                  CLIP_FP32 (the default) or CLIP_BF16; a borrowed model keeps its own */
     struct ws_view_targets *targets; /* the scene's silhouettes and line targets (view_targets.h),
                                         borrowed (a fit shares its own, made for the same scene);
                                         NULL: the loss makes its own */
@@ -87,12 +95,12 @@ int ws_loss_uses_clip(const ws_loss_options *opt);
 
 typedef struct ws_loss ws_loss;
 
-/* For the scene's views at its working resolution, which must equal the CLIP
- * model's input resolution when CLIP is used. */
 /* Every option in its range (WS_EUSAGE naming the option otherwise):
  * augmentation counts, the geometric variant, and term weights >= 0.
  * ws_loss_create checks too. */
 int ws_loss_options_check(const ws_loss_options *opt, ws_status *st);
+/* For the scene's views at its working resolution, which must equal the CLIP
+ * model's input resolution when CLIP is used. */
 int ws_loss_create(ws_loss **loss, const ws_loss_options *opt, const ws_scene *scene,
                    ws_status *st);
 void ws_loss_free(ws_loss *loss);

@@ -1,25 +1,21 @@
 /* objective.c: the loss of a sketch and its gradient (see objective.h).
  *
  * A batch, and the mean over a split, are spread over the ranks of an MPI
- * job (base/distributed.h; one rank otherwise) in units of work: view k's
- * CLIP passes p = 0..P-1 (loss.h) are units k P + p (a view is one unit
- * without CLIP, and in an evaluation), and rank r takes units
- * [U r / N, U (r + 1) / N) of U. The rank of a view's first unit owns the
- * view: it sums the items' losses and gradients (those of other ranks'
- * passes reach it in one exchange), adds the weight-free terms and carries
- * dL/dalpha back to the control points; then every rank receives every
- * view's loss and gradient and sums them in view order. Every rank draws
- * every view's transforms, in view order, from the same generator, and a
- * pass gives the same bits on any rank: so the bits are those of one
- * process for any number of ranks. A rank owns a view whose units run
- * past its own only as the last view it touches, whose splatting is then
- * still the current one. */
+ * job by a unit plan (unit_plan.h): each rank computes its units, the owner
+ * of a view sums the view's items (those of other ranks' passes reach it in
+ * one exchange), adds the weight-free terms and carries dL/dalpha back to
+ * the control points; then every rank receives every view's loss and
+ * gradient and sums them in view order. Every rank draws every view's
+ * transforms, in view order, from the same generator, so the bits are
+ * those of one process for any number of ranks. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "base/distributed.h"
+#include "objective/hidden_lines.h"
 #include "objective/objective.h"
 #include "objective/silhouette_loss.h"
+#include "objective/unit_plan.h"
 #include "objective/view_targets.h"
 
 struct ws_objective {
@@ -40,6 +36,7 @@ struct ws_objective {
     double *item_loss;        /* 2 x items: the first view a rank touches, then the others */
     float *item_grad;         /* 2 x items x H x W, likewise */
     double *records;          /* views x (1 + curves x WS_CURVE_FLOATS): each view's loss and dL/dP */
+    ws_unit_plan plan;        /* this rank's part of the batch or split at hand */
     size_t *xfer;             /* 8 x ranks: counts and offsets of an exchange */
     ws_step_timing *timing;   /* NULL: no clock is read */
 };
@@ -77,7 +74,7 @@ int ws_objective_create(ws_objective **obj, const ws_scene *scene, const ws_loss
                                  st)) ||
         !(o->xfer = ws_malloc(8 * (size_t)ws_dist_size() * sizeof(size_t), "exchange counts", st)))
         return st->code;
-    return WS_OK;
+    return ws_unit_plan_init(&o->plan, ws_dist_size(), ws_dist_rank(), st);
 }
 
 void ws_objective_free(ws_objective *o) {
@@ -94,6 +91,7 @@ void ws_objective_free(ws_objective *o) {
     free(o->item_loss);
     free(o->item_grad);
     free(o->records);
+    ws_unit_plan_free(&o->plan);
     free(o->xfer);
     free(o);
 }
@@ -166,16 +164,6 @@ int ws_objective_view(ws_objective *o, const ws_curves *c, int split, int view, 
     return sampled_view(o, c, split, view, augment, rng, scale, loss, grad, st);
 }
 
-/* The first of U units that rank r takes, of N ranks. */
-static long unit_start(long U, int r, int N) { return U * r / N; }
-
-static int rank_of_unit(long u, long U, int N) {
-    int r = (int)(u * N / U);
-    while (r + 1 < N && unit_start(U, r + 1, N) <= u) r++;
-    while (unit_start(U, r, N) > u) r--;
-    return r;
-}
-
 /* Combines the items of a training view that this rank owns and has
  * splatted last into its record: the loss, then dL/dP (NaN loss and a zero
  * gradient when the loss is not finite). */
@@ -195,14 +183,27 @@ static int finish_view(ws_objective *o, const ws_curves *c, int view, const doub
     return WS_OK;
 }
 
-/* Sends the items this rank computed of a view it does not own (`out`, its
- * first, in item set item_set[0]) to the owner, and receives those of the
- * view it owns but did not finish (`in`, its last, in set item_set[1])
- * from the ranks that computed them. out and in are -1 where there is no
- * such view; when both exist they are in different sets, so the send and
- * receive buffers never overlap. */
-static void exchange_items(ws_objective *o, long P, long U, int out, int in, const int *item_set) {
-    int N = ws_dist_size(), me = ws_dist_rank(), n = o->items;
+/* The items of passes r of a view, as byte counts and offsets of its item
+ * losses and gradients. */
+static void item_bytes(const ws_objective *o, ws_pass_range r, size_t *loss_bytes, size_t *loss_off,
+                       size_t *grad_bytes, size_t *grad_off) {
+    size_t pixels = (size_t)o->scene->width * o->scene->height;
+    int first, count, last_first, last_count;
+    ws_loss_pass_items(o->loss, 1, r.begin, &first, &count);
+    ws_loss_pass_items(o->loss, 1, r.end - 1, &last_first, &last_count);
+    size_t items = (size_t)(last_first + last_count - first);
+    *loss_bytes = items * sizeof(double);
+    *loss_off = (size_t)first * sizeof(double);
+    *grad_bytes = items * pixels * sizeof(float);
+    *grad_off = (size_t)first * pixels * sizeof(float);
+}
+
+/* Sends the items this rank computed of the plan's send_view to its owner
+ * and receives those of its recv_view from the ranks that computed them,
+ * each in its item slot (unit_plan.h). */
+static void exchange_items(ws_objective *o) {
+    const ws_unit_plan *p = &o->plan;
+    int N = p->ranks, n = o->items;
     size_t pixels = (size_t)o->scene->width * o->scene->height;
     size_t *sb = o->xfer, *so = sb + N, *rb = so + N, *ro = rb + N;
     size_t *gsb = ro + N, *gso = gsb + N, *grb = gso + N, *gro = grb + N;
@@ -211,42 +212,28 @@ static void exchange_items(ws_objective *o, long P, long U, int out, int in, con
     float none_grad;
     double *loss_base[2] = {&none_loss, &none_loss};
     float *grad_base[2] = {&none_grad, &none_grad};
+    int view[2] = {p->send_view, p->recv_view};
     for (int side = 0; side < 2; side++) {
-        int k = side ? in : out;
-        if (k < 0) continue;
-        loss_base[side] = o->item_loss + (size_t)item_set[side] * n;
-        grad_base[side] = o->item_grad + (size_t)item_set[side] * n * pixels;
-        long u0 = k * P, u1 = u0 + P;
-        for (int r = 0; r < N; r++) {
-            /* sending: everything of view `out` this rank has, to its owner;
-             * receiving: what rank r has of view `in` */
-            int from = side ? r : me;
-            long a = u0 > unit_start(U, from, N) ? u0 : unit_start(U, from, N);
-            long b = u1 < unit_start(U, from + 1, N) ? u1 : unit_start(U, from + 1, N);
-            if (r == me || a >= b || (side == 0 && r != rank_of_unit(u0, U, N))) continue;
-            int first, count, last_first, last_count;
-            ws_loss_pass_items(o->loss, 1, (int)(a - u0), &first, &count);
-            ws_loss_pass_items(o->loss, 1, (int)(b - 1 - u0), &last_first, &last_count);
-            size_t items = (size_t)(last_first + last_count - first);
-            size_t *lb = side ? rb : sb, *lo = side ? ro : so, *gb = side ? grb : gsb, *go = side ? gro : gso;
-            lb[r] = items * sizeof(double);
-            lo[r] = (size_t)first * sizeof(double);
-            gb[r] = items * pixels * sizeof(float);
-            go[r] = (size_t)first * pixels * sizeof(float);
-        }
+        if (view[side] < 0) continue;
+        int slot = ws_unit_plan_slot(p, view[side]);
+        loss_base[side] = o->item_loss + (size_t)slot * n;
+        grad_base[side] = o->item_grad + (size_t)slot * n * pixels;
     }
+    if (p->send_view >= 0) item_bytes(o, p->send, &sb[p->send_to], &so[p->send_to], &gsb[p->send_to], &gso[p->send_to]);
+    for (int r = 0; p->recv_view >= 0 && r < N; r++)
+        if (p->recv[r].begin < p->recv[r].end) item_bytes(o, p->recv[r], &rb[r], &ro[r], &grb[r], &gro[r]);
     ws_dist_exchange(loss_base[0], sb, so, loss_base[1], rb, ro);
     ws_dist_exchange(grad_base[0], gsb, gso, grad_base[1], grb, gro);
 }
 
-/* Every rank's records of the views it owns (units: P per view), in view
- * order, to every rank. */
-static void share_records(ws_objective *o, int nviews, long P, size_t record) {
-    int N = ws_dist_size();
-    if (N == 1) return;
+/* Every rank's records of the views it owns under the plan, in view order,
+ * to every rank. */
+static void share_records(ws_objective *o, size_t record) {
+    const ws_unit_plan *p = &o->plan;
+    if (p->ranks == 1) return;
     size_t *bytes = o->xfer;
-    memset(bytes, 0, (size_t)N * sizeof(size_t));
-    for (int k = 0; k < nviews; k++) bytes[rank_of_unit(k * P, (long)nviews * P, N)] += record * sizeof(double);
+    memset(bytes, 0, (size_t)p->ranks * sizeof(size_t));
+    for (int k = 0; k < p->views; k++) bytes[ws_unit_plan_owner(p, k)] += record * sizeof(double);
     ws_dist_allgather(o->records, bytes);
 }
 
@@ -267,46 +254,51 @@ static int add_silhouette_term(ws_objective *o, const ws_curves *c, int part, do
     return WS_OK;
 }
 
+/* Splats training view `view` and computes its passes r into item slot
+ * `slot`. */
+static int compute_passes(ws_objective *o, const ws_curves *c, int view, ws_pass_range r, int slot,
+                          ws_status *st) {
+    size_t pixels = (size_t)o->scene->width * o->scene->height;
+    double *il = o->item_loss + (size_t)slot * o->items;
+    float *ig = o->item_grad + (size_t)slot * o->items * pixels;
+    if (splat_view(o, c, WS_TRAIN, view, st)) return st->code;
+    for (int pass = r.begin; pass < r.end; pass++) {
+        int first, count;
+        ws_loss_pass_items(o->loss, 1, pass, &first, &count);
+        if (ws_loss_pass(o->loss, WS_TRAIN, view, o->alpha, 1, pass, il + first, ig + first * pixels, st))
+            return st->code;
+    }
+    return WS_OK;
+}
+
+/* finish_view of batch view k from its item slot, into its record. */
+static int finish_slot(ws_objective *o, const ws_curves *c, const int *views, int k, ws_status *st) {
+    size_t pixels = (size_t)o->scene->width * o->scene->height, record = 1 + (size_t)c->n * WS_CURVE_FLOATS;
+    int slot = ws_unit_plan_slot(&o->plan, k);
+    return finish_view(o, c, views[k], o->item_loss + (size_t)slot * o->items,
+                       o->item_grad + (size_t)slot * o->items * pixels, o->records + k * record, st);
+}
+
 int ws_objective_batch(ws_objective *o, const ws_curves *c, const int *views, int nviews, ws_rng *rng,
                        double *loss, double *grad, ws_status *st) {
-    int np = c->n * WS_CURVE_FLOATS, N = ws_dist_size(), me = ws_dist_rank(), n = o->items;
-    size_t pixels = (size_t)o->scene->width * o->scene->height, record = 1 + (size_t)np;
-    long P = ws_loss_passes(o->loss, 1), U = nviews * P;
-    long lo = unit_start(U, me, N), hi = unit_start(U, me + 1, N);
+    const ws_unit_plan *p = &o->plan;
+    int np = c->n * WS_CURVE_FLOATS;
+    size_t record = 1 + (size_t)np;
     memset(grad, 0, (size_t)np * sizeof(double));
     *loss = 0;
     if (ws_objective_sample(o, c, st)) return st->code;
-    int out = -1, in = -1, touched = 0, item_set[2] = {0, 0};
+    ws_unit_plan_make(&o->plan, nviews, ws_loss_passes(o->loss, 1));
     for (int k = 0; k < nviews; k++) {
         if (ws_loss_draw(o->loss, WS_TRAIN, views[k], rng, st)) return ws_dist_fail_alone(st);
-        long u0 = k * P, u1 = u0 + P, a = u0 > lo ? u0 : lo, b = u1 < hi ? u1 : hi;
-        if (a >= b) continue;
-        int set = touched++ ? 1 : 0;
-        double *il = o->item_loss + (size_t)set * n;
-        float *ig = o->item_grad + (size_t)set * n * pixels;
-        if (splat_view(o, c, WS_TRAIN, views[k], st)) return ws_dist_fail_alone(st);
-        for (long u = a; u < b; u++) {
-            int first, count;
-            ws_loss_pass_items(o->loss, 1, (int)(u - u0), &first, &count);
-            if (ws_loss_pass(o->loss, WS_TRAIN, views[k], o->alpha, 1, (int)(u - u0), il + first,
-                             ig + first * pixels, st))
-                return ws_dist_fail_alone(st);
-        }
-        if (u0 < lo) {
-            out = k;
-            item_set[0] = set;
-        } else if (u1 > hi) {
-            in = k;
-            item_set[1] = set;
-        } else if (finish_view(o, c, views[k], il, ig, o->records + k * record, st)) {
+        ws_pass_range r = ws_unit_plan_computes(p, k);
+        if (r.begin >= r.end) continue;
+        if (compute_passes(o, c, views[k], r, ws_unit_plan_slot(p, k), st) ||
+            (k != p->send_view && k != p->recv_view && finish_slot(o, c, views, k, st)))
             return ws_dist_fail_alone(st);
-        }
     }
-    if (N > 1) exchange_items(o, P, U, out, in, item_set);
-    if (in >= 0 && finish_view(o, c, views[in], o->item_loss + (size_t)item_set[1] * n,
-                               o->item_grad + (size_t)item_set[1] * n * pixels, o->records + in * record, st))
-        return ws_dist_fail_alone(st);
-    share_records(o, nviews, P, record);
+    if (p->ranks > 1) exchange_items(o);
+    if (p->recv_view >= 0 && finish_slot(o, c, views, p->recv_view, st)) return ws_dist_fail_alone(st);
+    share_records(o, record);
     for (int k = 0; k < nviews; k++) {
         const double *r = o->records + k * record;
         if (!isfinite(r[0]))
@@ -321,11 +313,11 @@ int ws_objective_batch(ws_objective *o, const ws_curves *c, const int *views, in
 int ws_objective_split_mean(ws_objective *o, const ws_curves *c, int split, double *per_view, double *mean,
                             ws_status *st) {
     const ws_split *sp = &o->scene->split[split];
-    int N = ws_dist_size(), me = ws_dist_rank();
     *mean = NAN;
     if (ws_objective_sample(o, c, st)) return st->code;
     if (sp->n == 0) return WS_OK;
-    for (long v = unit_start(sp->n, me, N); v < unit_start(sp->n, me + 1, N); v++) {
+    ws_unit_plan_make(&o->plan, sp->n, 1);
+    for (long v = o->plan.lo; v < o->plan.hi; v++) {
         int rc = sampled_view(o, c, split, (int)v, 0, NULL, 0, &o->records[v], NULL, st);
         if (rc == WS_ENUMERIC) {
             ws_status_clear(st);
@@ -334,7 +326,7 @@ int ws_objective_split_mean(ws_objective *o, const ws_curves *c, int split, doub
             return ws_dist_fail_alone(st);
         }
     }
-    share_records(o, sp->n, 1, 1);
+    share_records(o, 1);
     double sum = 0;
     for (int v = 0; v < sp->n; v++) {
         if (!isfinite(o->records[v]))

@@ -14,8 +14,10 @@ const char *const ws_rank_names[WS_RANK_COUNT] = {
 
 int ws_rank_curves(const ws_curves *gt) { return gt->n + NOISE_STROKES; }
 
-int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t seed, ws_curves *out,
-                    ws_status *st) {
+/* Variant `kind` of gt at thickness `thickness` into out (allocated here;
+ * n = 0 for WS_RANK_EMPTY). */
+static int rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t seed, ws_curves *out,
+                        ws_status *st) {
     double lo[3], hi[3], c[3], S = 0;
     ws_curves_bbox(gt, lo, hi);
     for (int x = 0; x < 3; x++) {
@@ -90,7 +92,7 @@ int ws_rank_losses(ws_objective *obj, int split, const ws_curves *gt, double thi
     int rc = WS_OK;
     for (int kind = 0; kind < WS_RANK_COUNT && !rc; kind++) {
         ws_curves c = {0};
-        rc = ws_rank_variant(gt, kind, thickness, seed, &c, st);
+        rc = rank_variant(gt, kind, thickness, seed, &c, st);
         if (!rc) rc = ws_rank_score(obj, split, &c, &loss_out[kind], st);
         ws_curves_free(&c);
     }

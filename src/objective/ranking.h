@@ -1,4 +1,4 @@
-/* ranking.h: what an objective must rank (README "Rankings"): the ground
+/* ranking.h: what an objective must rank (docs/METHOD.md section 6, "Rankings"): the ground
  * truth against sketches that are worse in known ways, each scored as the
  * mean loss over the views of a split (item 0, no augmentation).
  *
@@ -34,10 +34,6 @@ enum {
 };
 extern const char *const ws_rank_names[WS_RANK_COUNT];
 
-/* Variant `kind` of gt at thickness `thickness` into out (allocated here;
- * n = 0 for WS_RANK_EMPTY). */
-int ws_rank_variant(const ws_curves *gt, int kind, double thickness, uint64_t seed, ws_curves *out,
-                    ws_status *st);
 
 /* The most curves a variant of gt has: an objective that scores them
  * must take that many (ws_objective_create). */

@@ -1,4 +1,4 @@
-/* edges.h: the weight-free loss (`--loss edges`, METHOD.md section 6): the stroke
+/* edges.h: the former weight-free loss (`--loss sobel`, METHOD.md section 6): the stroke
  * image against an edge map of the photo, at several scales.
  *
  * Edge map E of a photo (H x W, values in [0, 1]):

@@ -5,11 +5,18 @@
  * rasterised over its own screen bounding box with a depth buffer, so the
  * cost follows the pixels the tubes cover, not pixels x capsules. */
 #include <cJSON.h>
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "base/outfile.h"
+#include "io/colmap.h"
+#include "io/undistort.h"
 #include "nn/base/rng.h"
 #include "synth/room.h"
 #include "synth/solids.h"
@@ -27,6 +34,16 @@
 static const double OBJECT_CENTER[3] = {0.3, -0.2, 0.5};
 /* rays per pixel: SUPERSAMPLE x SUPERSAMPLE, for smooth silhouettes */
 #define SUPERSAMPLE 3
+/* pinhole pixels per lens pixel of a view through a lens: bilinear
+ * resampling of a render at twice the resolution keeps edges sharp */
+#define LENS_OVERSAMPLE 2
+#define JPEG_QUALITY 95
+/* COLMAP's sparse cloud: points along the ground-truth curves with
+ * Gaussian noise of this fraction of the object's size, and outliers (this
+ * fraction of all points) uniform in a box three times the object's */
+#define SPARSE_POINTS 2000
+#define SPARSE_NOISE 0.005
+#define SPARSE_OUTLIERS 0.1
 #define AMBIENT 0.3
 /* capsules per curve: about one per tube radius of arc length, within bounds */
 #define MIN_CAPSULES_PER_CURVE 8
@@ -48,6 +65,9 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->room = opt->masks = 0;
     opt->principal[0] = opt->principal[1] = 0;
     opt->nerfstudio = 0;
+    opt->colmap = 0;
+    opt->jpeg = 0;
+    for (int i = 0; i < 4; i++) opt->lens[i] = 0;
 }
 
 /* The image size of a scene, and the camera of view c2w: focal length from
@@ -64,6 +84,29 @@ static int synth_camera(const ws_synth_options *opt, const double c2w[4][4], con
     image_size(opt, &w, &h);
     return ws_camera_init_pinhole(cam, c2w, 0.5 * (w < h ? w : h) / tan(0.5 * CAMERA_ANGLE_X),
                                   0.5 * w + opt->principal[0], 0.5 * h + opt->principal[1], w, h, what, st);
+}
+
+/* The lens of the views (opt->lens on synth_camera's intrinsics). */
+static int synth_lens(const ws_synth_options *opt, const ws_camera *cam, ws_lens *lens,
+                      ws_status *st) {
+    memset(lens, 0, sizeof *lens);
+    lens->fx = lens->fy = cam->focal;
+    lens->cx = cam->cx;
+    lens->cy = cam->cy;
+    lens->width = cam->width;
+    lens->height = cam->height;
+    lens->k[0] = opt->lens[0], lens->k[1] = opt->lens[1];
+    lens->p[0] = opt->lens[2], lens->p[1] = opt->lens[3];
+    return ws_lens_check(lens, "--lens", st);
+}
+
+/* View k of split s: its image file, relative to the scene. */
+static void view_file(const ws_synth_options *opt, int s, int k, char *out, size_t size) {
+    const char *ext = opt->jpeg ? "jpg" : "png";
+    if (opt->colmap)
+        snprintf(out, size, "images/%s/r_%05d.%s", ws_split_names[s], k, ext);
+    else
+        snprintf(out, size, "rgb/%s/r_%d.%s", ws_split_names[s], k, ext);
 }
 
 /* ---------------------------------------------------------------- objects */
@@ -586,8 +629,8 @@ static int write_transforms(const char *dir, int split, const double center[3],
     return write_json(path, root, ok, st);
 }
 
-/* SCENE/transforms.json of every view, nerfstudio layout: global pinhole
- * intrinsics with zero distortion, the split lists, frames in split order. */
+/* SCENE/transforms.json of every view, nerfstudio layout: global
+ * intrinsics with the lens, the split lists, frames in split order. */
 static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *opt,
                                        double (*c2w)[4][4], ws_status *st) {
     char path[4400];
@@ -596,20 +639,20 @@ static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *
     if (synth_camera(opt, c2w[0], path, &cam, st)) return st->code;
     static const char *const list_keys[WS_NSPLITS] = {"train_filenames", "val_filenames",
                                                       "test_filenames"};
-    static const char *const zero[] = {"k1", "k2", "p1", "p2"};
+    static const char *const lens_keys[] = {"k1", "k2", "p1", "p2"};
     cJSON *root = cJSON_CreateObject(), *frames = NULL, *lists[WS_NSPLITS] = {NULL};
     int ok = root && cJSON_AddStringToObject(root, "camera_model", "OPENCV") &&
              cJSON_AddNumberToObject(root, "fl_x", cam.focal) &&
              cJSON_AddNumberToObject(root, "fl_y", cam.focal) &&
              cJSON_AddNumberToObject(root, "cx", cam.cx) && cJSON_AddNumberToObject(root, "cy", cam.cy) &&
              cJSON_AddNumberToObject(root, "w", cam.width) && cJSON_AddNumberToObject(root, "h", cam.height);
-    for (int k = 0; k < 4 && ok; k++) ok = cJSON_AddNumberToObject(root, zero[k], 0) != NULL;
+    for (int k = 0; k < 4 && ok; k++) ok = cJSON_AddNumberToObject(root, lens_keys[k], opt->lens[k]) != NULL;
     for (int s = 0; s < WS_NSPLITS && ok; s++) ok = (lists[s] = cJSON_AddArrayToObject(root, list_keys[s])) != NULL;
     ok = ok && (frames = cJSON_AddArrayToObject(root, "frames"));
     for (int s = 0, v = 0; s < WS_NSPLITS && ok; s++)
         for (int k = 0; k < opt->views[s] && ok; k++, v++) {
             char file_path[64];
-            snprintf(file_path, sizeof file_path, "rgb/%s/r_%d.png", ws_split_names[s], k);
+            view_file(opt, s, k, file_path, sizeof file_path);
             cJSON *frame = cJSON_CreateObject(), *m = NULL;
             char mask_path[64];
             snprintf(mask_path, sizeof mask_path, "masks/%s/r_%d.png", ws_split_names[s], k);
@@ -624,6 +667,74 @@ static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *
     return write_json(path, root, ok, st);
 }
 
+/* COLMAP's sparse points of the object: SPARSE_POINTS in all, along the
+ * curves (uniform in each curve's parameter) with Gaussian noise, and a
+ * fraction of outliers in a box around them; seeded by opt->seed. */
+static void sparse_points(const ws_curves *curves, const ws_synth_options *opt, double *points,
+                          int n) {
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (int k = 0; k < 4 * curves->n; k++)
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(lo[i], curves->P[3 * k + i]);
+            hi[i] = fmax(hi[i], curves->P[3 * k + i]);
+        }
+    const double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    ws_rng rng;
+    ws_rng_seed(&rng, opt->seed + 1);
+    const int outliers = (int)(SPARSE_OUTLIERS * n);
+    for (int k = 0; k < n; k++) {
+        double *p = points + 3 * k;
+        if (k < outliers) {
+            for (int i = 0; i < 3; i++)
+                p[i] = 0.5 * (lo[i] + hi[i]) + 1.5 * size * (2 * ws_rng_uniform(&rng) - 1);
+            continue;
+        }
+        ws_curve_point(curves, (int)ws_rng_below(&rng, (uint64_t)curves->n), ws_rng_uniform(&rng), p);
+        for (int i = 0; i < 3; i++) p[i] += SPARSE_NOISE * size * ws_rng_normal(&rng);
+    }
+}
+
+/* SCENE/sparse/0 (one camera, every view, the sparse points) and
+ * SCENE/SPLIT_list.txt. */
+static int write_colmap(const char *dir, const ws_synth_options *opt, double (*c2w)[4][4],
+                        const ws_curves *curves, ws_status *st) {
+    const int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
+    char path[4400];
+    snprintf(path, sizeof path, "%s/sparse/0", dir);
+    ws_colmap_camera camera = {.id = 1};
+    ws_camera cam;
+    ws_colmap_model m = {1, total, SPARSE_POINTS, &camera, NULL, NULL};
+    if (synth_camera(opt, c2w[0], path, &cam, st) || synth_lens(opt, &cam, &camera.lens, st))
+        return st->code;
+    m.images = ws_calloc(total, sizeof *m.images, path, st);
+    m.points = m.images ? ws_malloc(sizeof *m.points * 3 * SPARSE_POINTS, path, st) : NULL;
+    int rc = m.points ? WS_OK : st->code;
+    for (int s = 0, v = 0; s < WS_NSPLITS && !rc; s++) {
+        ws_outfile list;
+        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
+        if ((rc = ws_outfile_open(&list, path, st))) break;
+        for (int k = 0; k < opt->views[s]; k++, v++) {
+            char file[64];
+            view_file(opt, s, k, file, sizeof file);
+            ws_colmap_image *im = &m.images[v];
+            im->id = v + 1;
+            im->camera_id = 1;
+            snprintf(im->name, sizeof im->name, "%s", file + strlen("images/"));
+            ws_colmap_from_c2w(c2w[v], im->q, im->t);
+            fprintf(list.fp, "%s\n", im->name);
+        }
+        rc = ws_outfile_commit(&list, st);
+    }
+    if (!rc) {
+        sparse_points(curves, opt, m.points, SPARSE_POINTS);
+        snprintf(path, sizeof path, "%s/sparse/0", dir);
+        rc = ws_colmap_write(&m, path, opt->colmap == 1, st);
+    }
+    free(m.images);
+    free(m.points);
+    return rc;
+}
+
 static int check_options(const ws_synth_options *opt, ws_status *st) {
     static const char *const option[WS_NSPLITS] = {"--views-train", "--views-val", "--views-test"};
     for (int s = 0; s < WS_NSPLITS; s++)
@@ -636,10 +747,14 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
         (opt->height && (opt->height < 8 || opt->height > 4096)))
         return ws_fail(st, WS_EUSAGE, "--width x --height: %d x %d is not in [8, 4096]", opt->width,
                        opt->height);
-    if (!opt->nerfstudio && (opt->width || opt->height) && opt->width != opt->height)
+    const int nerf = !opt->nerfstudio && !opt->colmap;
+    if (nerf && (opt->jpeg || opt->lens[0] || opt->lens[1] || opt->lens[2] || opt->lens[3]))
+        return ws_fail(st, WS_EUSAGE, "%s: a NeRF-synthetic scene has PNG images and no lens "
+                       "(--layout nerfstudio or colmap)", opt->jpeg ? "--jpeg" : "--lens");
+    if (nerf && (opt->width || opt->height) && opt->width != opt->height)
         return ws_fail(st, WS_EUSAGE,
                        "--width %d --height %d: a NeRF-synthetic scene is square (--layout nerfstudio "
-                       "takes other shapes)",
+                       "or colmap take other shapes)",
                        opt->width, opt->height);
     int w, h;
     image_size(opt, &w, &h);
@@ -675,13 +790,13 @@ static int render_object(const scene_object *obj, const ws_camera *cam, const ws
                       : ws_synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, st);
 }
 
-/* One view's photo, and with opt->masks its mask (1 x H x W: the share of
- * the pixel the object covers): rendered on black and on white, the
- * difference is the share of the background each pixel shows, and the
+/* One pinhole view's photo, and with opt->masks its mask (1 x H x W: the
+ * share of the pixel the object covers): rendered on black and on white,
+ * the difference is the share of the background each pixel shows, and the
  * photo is the black one plus the background times it (the same pixels a
  * render over the background gives). */
-static int render_view(const scene_object *obj, const ws_camera *cam, const double center[3],
-                       const ws_synth_options *opt, ws_image *img, ws_image *mask, ws_status *st) {
+static int pinhole_view(const scene_object *obj, const ws_camera *cam, const double center[3],
+                        const ws_synth_options *opt, ws_image *img, ws_image *mask, ws_status *st) {
     ws_image background = {0}, white = {0};
     const float colour = opt->room ? -1.0f : (float)opt->white_background;
     int rc = view_background(opt, cam, center, opt->masks ? 0.0f : colour, &background, st) ||
@@ -702,7 +817,31 @@ static int render_view(const scene_object *obj, const ws_camera *cam, const doub
     return rc ? st->code : WS_OK;
 }
 
-/* Renders and writes every view's PNG, in parallel; the failure of the
+/* The view of cam (and its mask), through the lens when there is one: a
+ * pinhole render at LENS_OVERSAMPLE times the resolution over every ray the
+ * frame sees, resampled through the lens (undistort.h; where that leaves
+ * the canvas, the background's colour, or grey for the room). */
+static int render_view(const scene_object *obj, const ws_camera *cam, const double center[3],
+                       const ws_synth_options *opt, ws_image *img, ws_image *mask, ws_status *st) {
+    ws_lens lens;
+    if (synth_lens(opt, cam, &lens, st)) return st->code;
+    if (ws_lens_is_pinhole(&lens)) return pinhole_view(obj, cam, center, opt, img, mask, st);
+    int w, h;
+    double K[4];
+    ws_camera canvas;
+    ws_image pinhole = {0}, pinhole_mask = {0};
+    const float v = opt->room ? 0.5f : (float)opt->white_background, fill[3] = {v, v, v}, none[1] = {0};
+    int rc = ws_lens_canvas(&lens, LENS_OVERSAMPLE, &w, &h, K, st) ||
+             ws_camera_init_pinhole(&canvas, cam->c2w, K[0], K[2], K[3], w, h, "--lens", st) ||
+             pinhole_view(obj, &canvas, center, opt, &pinhole, &pinhole_mask, st) ||
+             ws_image_distort(&pinhole, K, &lens, fill, img, st) ||
+             (opt->masks && ws_image_distort(&pinhole_mask, K, &lens, none, mask, st));
+    ws_image_free(&pinhole);
+    ws_image_free(&pinhole_mask);
+    return rc ? st->code : WS_OK;
+}
+
+/* Renders and writes every view's image, in parallel; the failure of the
  * lowest view wins. */
 static int write_views(const char *dir, const scene_object *obj, const double center[3],
                        const ws_synth_options *opt, double (*c2w)[4][4], int total, ws_status *st) {
@@ -715,12 +854,15 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
         ws_status *vs = &status[v];
         ws_status_clear(vs);
         char path[4400], what[4500];
-        snprintf(path, sizeof path, "%s/rgb/%s/r_%d.png", dir, ws_split_names[split], k);
+        char file[64];
+        view_file(opt, split, k, file, sizeof file);
+        snprintf(path, sizeof path, "%s/%s", dir, file);
         snprintf(what, sizeof what, "%s: camera", path);
         ws_camera cam;
         ws_image img = {0}, mask = {0};
         if (!synth_camera(opt, c2w[v], what, &cam, vs) && !render_view(obj, &cam, center, opt, &img, &mask, vs) &&
-            !ws_png_write(path, &img, vs) && opt->masks) {
+            !(opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs)) &&
+            opt->masks) {
             snprintf(path, sizeof path, "%s/masks/%s/r_%d.png", dir, ws_split_names[split], k);
             ws_png_write(path, &mask, vs);
         }
@@ -734,6 +876,106 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
             rc = st->code;
         }
     free(status);
+    return rc;
+}
+
+/* A folder holds one scene. The mark, written before any other file, says
+ * that a folder is (or was becoming) a scene of this command's. */
+#define SCENE_MARK ".wiresketch-scene"
+
+/* Removes the regular files of folder fd that `is_scene_file` accepts. */
+static int remove_scene_files(int fd, const char *where, int (*is_scene_file)(const char *), ws_status *st) {
+    DIR *d = fdopendir(fd);
+    if (!d) {
+        close(fd);
+        return ws_fail(st, WS_EIO, "%s: %s", where, strerror(errno));
+    }
+    rewinddir(d); /* fd may have been read before */
+    int rc = WS_OK;
+    for (struct dirent *e; !rc && (e = readdir(d));) {
+        struct stat sb;
+        if (is_scene_file(e->d_name) && fstatat(dirfd(d), e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0 &&
+            S_ISREG(sb.st_mode) && unlinkat(dirfd(d), e->d_name, 0) != 0)
+            rc = ws_fail(st, WS_EIO, "%s/%s: cannot remove the old scene's file: %s", where, e->d_name,
+                         strerror(errno));
+    }
+    closedir(d);
+    return rc;
+}
+
+static int is_top_file(const char *name) {
+    static const char *const files[] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
+                                        "transforms.json",       "gt_curves.json",      "gt_points.ply",
+                                        "train_list.txt",        "val_list.txt",        "test_list.txt"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
+        if (!strcmp(name, files[k])) return 1;
+    return 0;
+}
+
+/* r_K.png or r_K.jpg, as view_file names a view */
+static int is_view_file(const char *name) {
+    if (strncmp(name, "r_", 2)) return 0;
+    const char *c = name + 2;
+    while (*c >= '0' && *c <= '9') c++;
+    return c > name + 2 && (!strcmp(c, ".png") || !strcmp(c, ".jpg"));
+}
+
+/* the COLMAP model's files (io/colmap.h), text or binary */
+static int is_model_file(const char *name) {
+    static const char *const files[] = {"cameras.txt", "images.txt", "points3D.txt",
+                                        "cameras.bin", "images.bin", "points3D.bin"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
+        if (!strcmp(name, files[k])) return 1;
+    return 0;
+}
+
+/* Removes the files `is_scene_file` accepts from DIR/A/B (each folder
+ * entered without following links), then B unless something else is there. */
+static int clear_subfolder(int fd, const char *dir, const char *a, const char *b, int (*is_scene_file)(const char *),
+                           ws_status *st) {
+    int afd = openat(fd, a, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (afd < 0) return WS_OK;
+    int bfd = openat(afd, b, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC), rc = WS_OK;
+    if (bfd >= 0) {
+        char where[4400];
+        snprintf(where, sizeof where, "%s/%s/%s", dir, a, b);
+        if (!(rc = remove_scene_files(bfd, where, is_scene_file, st))) unlinkat(afd, b, AT_REMOVEDIR);
+    }
+    close(afd);
+    return rc;
+}
+
+/* `scene --out DIR` writes into a new or empty folder, or over a scene it
+ * wrote before (DIR/.wiresketch-scene), whose files it first removes so
+ * that none of the old scene (the transforms_val.json of one that had a
+ * val split) stays beside the new one; other files there are left alone.
+ * Any other folder is refused: what it holds may be a user's. Folders are
+ * entered without following links, so nothing outside DIR is removed. */
+static int clear_old_scene(const char *dir, ws_status *st) {
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return WS_OK; /* new, or not a folder: ws_mkdir says which */
+    DIR *d = fdopendir(dup(fd));
+    int empty = 1, marked = 0;
+    for (struct dirent *e; d && (e = readdir(d));) {
+        empty &= !strcmp(e->d_name, ".") || !strcmp(e->d_name, "..");
+        marked |= !strcmp(e->d_name, SCENE_MARK);
+    }
+    if (d) closedir(d);
+    if (empty || !marked) {
+        close(fd);
+        return empty ? WS_OK
+                     : ws_fail(st, WS_EUSAGE, "%s: not empty and not a scene written by `wiresketch scene`; "
+                                              "choose a new or empty folder", dir);
+    }
+    int rc = remove_scene_files(dup(fd), dir, is_top_file, st);
+    /* the views of either layout (rgb/ or COLMAP's images/), and the model */
+    static const char *const folders[3] = {"rgb", "images", "sparse"};
+    for (int f = 0; f < 2 && !rc; f++)
+        for (int s = 0; s < WS_NSPLITS && !rc; s++)
+            rc = clear_subfolder(fd, dir, folders[f], ws_split_names[s], is_view_file, st);
+    if (!rc) rc = clear_subfolder(fd, dir, "sparse", "0", is_model_file, st);
+    for (int f = 0; f < 3 && !rc; f++) unlinkat(fd, folders[f], AT_REMOVEDIR); /* unless something else is there */
+    close(fd);
     return rc;
 }
 
@@ -756,25 +998,38 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
     int rc = c2w ? WS_OK : st->code;
-    if (!rc) rc = ws_mkdir(dir, st);
-    for (int m = 0; m < 1 + opt->masks && !rc; m++) {
-        const char *folder = m ? "masks" : "rgb";
-        snprintf(path, sizeof path, "%s/%s", dir, folder);
+    const char *images = opt->colmap ? "images" : "rgb";
+    snprintf(path, sizeof path, "%s/" SCENE_MARK, dir);
+    if (!rc && !(rc = clear_old_scene(dir, st)) && !(rc = ws_mkdir(dir, st)))
+        rc = write_text_file(path, "a scene written by `wiresketch scene`\n", st);
+    snprintf(path, sizeof path, "%s/%s", dir, images);
+    if (!rc) rc = ws_mkdir_inside(path, st);
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
+        snprintf(path, sizeof path, "%s/%s/%s", dir, images, ws_split_names[s]);
+        if (opt->views[s]) rc = ws_mkdir_inside(path, st);
+    }
+    snprintf(path, sizeof path, "%s/masks", dir);
+    if (!rc && opt->masks) rc = ws_mkdir_inside(path, st);
+    for (int s = 0; s < WS_NSPLITS && !rc && opt->masks; s++) {
+        snprintf(path, sizeof path, "%s/masks/%s", dir, ws_split_names[s]);
+        if (opt->views[s]) rc = ws_mkdir_inside(path, st);
+    }
+    snprintf(path, sizeof path, "%s/sparse", dir);
+    if (!rc && opt->colmap && !(rc = ws_mkdir(path, st))) {
+        snprintf(path, sizeof path, "%s/sparse/0", dir);
         rc = ws_mkdir(path, st);
-        for (int s = 0; s < WS_NSPLITS && !rc; s++) {
-            snprintf(path, sizeof path, "%s/%s/%s", dir, folder, ws_split_names[s]);
-            if (opt->views[s]) rc = ws_mkdir(path, st);
-        }
     }
     if (!rc) {
         place_cameras(center, opt, c2w);
         rc = write_views(dir, &what, center, opt, c2w, total, st);
     }
-    if (!rc && opt->nerfstudio) rc = write_transforms_nerfstudio(dir, opt, c2w, st);
-    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++])
+    const ws_curves *gt = solid ? &sol.edges : &obj.curves;
+    if (!rc && opt->colmap) rc = write_colmap(dir, opt, c2w, gt, st);
+    else if (!rc && opt->nerfstudio) rc = write_transforms_nerfstudio(dir, opt, c2w, st);
+    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio && !opt->colmap; first += opt->views[s++])
         if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], opt->masks, st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
-    if (!rc) rc = ws_curves_save(path, solid ? &sol.edges : &obj.curves, st);
+    if (!rc) rc = ws_curves_save(path, gt, st);
     snprintf(path, sizeof path, "%s/gt_points.ply", dir);
     if (!rc && solid) rc = ws_solid_write_points(&sol, path, GT_POINTS, opt->seed, st);
     free(c2w);

@@ -11,11 +11,19 @@
  *                                          radius; a solid's sharp edges)
  *   DIR/gt_points.ply                     (solids: 20,000 surface points)
  * or, with opt.nerfstudio, in the nerfstudio layout: DIR/transforms.json
- * (fl_x, fl_y, cx, cy, w, h, frames[] with file_path "rgb/SPLIT/r_K.png",
- * train/val/test_filenames) and the same images, which may be width x
- * height, with the principal point off the centre. The focal length fits
- * the field of view to the shorter side, so the square of a wide image
- * around its principal point is the square image of the same camera.
+ * (fl_x, fl_y, cx, cy, w, h, k1, k2, p1, p2, frames[] with file_path
+ * "rgb/SPLIT/r_K.png", train/val/test_filenames) and the same images,
+ * which may be width x height, with the principal point off the centre;
+ * or, with opt.colmap, as COLMAP writes a
+ * capture: DIR/sparse/0/{cameras,images,points3D}.{bin,txt} (one OPENCV
+ * camera; points3D: points along the ground-truth curves with noise, and
+ * outliers, as a reconstruction's are), DIR/images/SPLIT/r_KKKKK.png and
+ * DIR/{train,val,test}_list.txt. opt.jpeg writes the images as JPEG;
+ * opt.lens renders them through a lens (render/lens.h: a pinhole render
+ * at twice the resolution, resampled through the lens' inverse). The focal
+ * length fits the field of view to the shorter side, so the square of a
+ * wide image around its principal point is the square image of the same
+ * camera.
  * Train cameras lie on a Fibonacci spiral over the upper hemisphere, val and
  * test cameras at random (seeded) positions of that hemisphere. Same name,
  * options and seed give the same bytes. */
@@ -41,6 +49,10 @@ typedef struct {
                               image centre (nerfstudio layout), so that the object, which
                               the cameras look at, is off-centre as in a crop [0, 0] */
     int nerfstudio;        /* 1: one transforms.json with intrinsics (scene.h) [0] */
+    int colmap;            /* 1: a binary COLMAP model instead, 2: a text one [0] */
+    int jpeg;              /* 1: the images as JPEG (quality 95), else PNG [0] */
+    double lens[4];        /* k1, k2, p1, p2 of the OPENCV lens the views are seen
+                              through (nerfstudio and COLMAP layouts) [0] */
 } ws_synth_options;
 
 typedef struct {

@@ -1,7 +1,8 @@
-/* fuzz_png.c: the PNG loader (ws_png_read), resampling included.
+/* fuzz_png.c: the image loader (ws_image_read: PNG and JPEG, told apart by
+ * content), resampling included.
  * Seeds: tests/fuzz/corpus/png (one tiny file of each kind the loader
  * takes: gray, gray+alpha, RGB, RGBA at 8 and 16 bits, palette with and
- * without tRNS, low bit depths, interlaced). */
+ * without tRNS, low bit depths, interlaced; JPEG gray, RGB, progressive). */
 #include <math.h>
 #include "fuzz_input.h"
 #include "io/image.h"
@@ -19,7 +20,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
      * ones) */
     ws_image img;
     ws_status st = {0};
-    if (ws_png_read(path, 12, 10, background, &img, &st)) {
+    if (ws_image_read(path, 12, 10, background, &img, &st)) {
         fuzz_expect_refusal(&st, WS_EINPUT, path);
         return 0;
     }

@@ -1,0 +1,304 @@
+/* test_capture.c: captures as photogrammetry writes them (JPEG, COLMAP
+ * models text and binary, lenses), made by `wiresketch scene`:
+ * - the same scene through an OPENCV lens as nerfstudio, binary COLMAP
+ *   and text COLMAP loads to the same photos (within a grey level) and
+ *   cameras (within 1e-9), and COLMAP's points3D are there;
+ * - JPEG images load within a few grey levels of the PNG ones, a
+ *   progressive JPEG decodes as its baseline twin, and PNG's size limit
+ *   holds;
+ * - undistortion undoes the lens: the lens scene's photos match the
+ *   pinhole scene's;
+ * - each bad input against its exact one-line message: a truncated and a
+ *   CMYK JPEG, an unknown camera model, an image id with no file, NaN in
+ *   points3D, a truncated binary model, lens values that fold the image. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <jpeglib.h>
+#include "check.h"
+#include "cli_run.h"
+#include "io/image.h"
+#include "io/scene.h"
+#include "scene_load.h"
+
+static char bin[1024], tmp[256];
+
+#define SCENE_ARGS "--width 80 --height 60 --views-train 6 --views-val 1 --views-test 1"
+#define LENS "--lens -0.25,0.06,0.002,-0.001"
+
+static double max_diff(const ws_image *a, const ws_image *b, double *mean) {
+    if (a->width != b->width || a->height != b->height || a->channels != b->channels) return INFINITY;
+    double worst = 0, sum = 0;
+    const size_t n = (size_t)a->width * a->height * a->channels;
+    for (size_t k = 0; k < n; k++) {
+        worst = fmax(worst, fabs(a->data[k] - b->data[k]));
+        sum += fabs(a->data[k] - b->data[k]);
+    }
+    if (mean) *mean = sum / n;
+    return worst;
+}
+
+static double camera_diff(const ws_camera *a, const ws_camera *b) {
+    double worst = fmax(fabs(a->focal - b->focal), fmax(fabs(a->cx - b->cx), fabs(a->cy - b->cy)));
+    for (int i = 0; i < 3; i++) {
+        worst = fmax(worst, fabs(a->t[i] - b->t[i]));
+        for (int j = 0; j < 3; j++) worst = fmax(worst, fabs(a->R[i][j] - b->R[i][j]));
+    }
+    return worst + abs(a->width - b->width) + abs(a->height - b->height);
+}
+
+/* The largest photo and camera differences of two scenes, view by view
+ * (mean: the largest per-view mean photo difference); -1 when their
+ * splits differ. */
+static int compare(const ws_scene *a, const ws_scene *b, double *photos, double *mean,
+                   double *cameras) {
+    *photos = *mean = *cameras = 0;
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        if (a->split[s].n != b->split[s].n) return -1;
+        for (int k = 0; k < a->split[s].n; k++) {
+            double m;
+            *photos = fmax(*photos, max_diff(&a->split[s].views[k].photo, &b->split[s].views[k].photo, &m));
+            *mean = fmax(*mean, m);
+            *cameras = fmax(*cameras, camera_diff(&a->split[s].views[k].cam, &b->split[s].views[k].cam));
+        }
+    }
+    return 0;
+}
+
+static int load(ws_scene *sc, const char *name, ws_status *st) {
+    char dir[400];
+    snprintf(dir, sizeof dir, "%s/%s", tmp, name);
+    return load_scene_at(sc, dir, 48, st);
+}
+
+/* The message of loading scene `name`, with tmp's path replaced by "T". */
+static const char *load_error(const char *name) {
+    static char msg[1200];
+    ws_scene sc;
+    ws_status st;
+    if (!load(&sc, name, &st)) {
+        ws_scene_free(&sc);
+        return "(loaded)";
+    }
+    size_t n = 0;
+    for (const char *c = st.msg; *c && n + 1 < sizeof msg;) {
+        if (!strncmp(c, tmp, strlen(tmp))) {
+            msg[n++] = 'T';
+            c += strlen(tmp);
+        } else {
+            msg[n++] = *c++;
+        }
+    }
+    msg[n] = '\0';
+    return msg;
+}
+
+static void test_formats(void) {
+    char out[1 << 14];
+    int rc = run_cmd(out, sizeof out,
+                     "cd %s && %s scene cube " SCENE_ARGS " " LENS " --layout nerfstudio --out ns && "
+                     "%s scene cube " SCENE_ARGS " " LENS " --layout colmap --out cb && "
+                     "%s scene cube " SCENE_ARGS " " LENS " --layout colmap-text --out ct && "
+                     "%s scene cube " SCENE_ARGS " " LENS " --layout colmap --jpeg --out cj && "
+                     "%s scene cube " SCENE_ARGS " " LENS " --layout nerfstudio --jpeg --out nj && "
+                     "%s scene cube " SCENE_ARGS " --layout nerfstudio --out pin",
+                     tmp, bin, bin, bin, bin, bin, bin);
+    CHECK(rc == 0, "scenes: %s", out);
+    ws_scene ns, cb, ct, cj, nj, pin;
+    ws_status st;
+    if (load(&ns, "ns", &st) || load(&cb, "cb", &st) || load(&ct, "ct", &st) ||
+        load(&cj, "cj", &st) || load(&nj, "nj", &st) || load(&pin, "pin", &st)) {
+        CHECK(0, "loading: %s", st.msg);
+        return;
+    }
+    CHECK(cb.layout == WS_LAYOUT_COLMAP && ct.layout == WS_LAYOUT_COLMAP && ns.layout == WS_LAYOUT_NERFSTUDIO,
+          "layouts detected");
+    CHECK(!ws_lens_is_pinhole(&cb.split[WS_TRAIN].views[0].lens) && cb.split[WS_TRAIN].views[0].lens.k[0] == -0.25,
+          "the lens is read");
+    double photos, mean, cameras;
+    CHECK(compare(&ns, &cb, &photos, &mean, &cameras) == 0 && photos <= 1.0 / 255 && cameras < 1e-9,
+          "nerfstudio vs binary COLMAP: photos %g, cameras %g", photos, cameras);
+    printf("nerfstudio vs binary COLMAP: photos %.3g, cameras %.3g\n", photos, cameras);
+    CHECK(compare(&ns, &ct, &photos, &mean, &cameras) == 0 && photos <= 1.0 / 255 && cameras < 1e-9,
+          "nerfstudio vs text COLMAP: photos %g, cameras %g", photos, cameras);
+    printf("nerfstudio vs text COLMAP: photos %.3g, cameras %.3g\n", photos, cameras);
+    /* JPEG at quality 95: a few grey levels at the edges, under one on average */
+    CHECK(compare(&cb, &cj, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
+              cameras < 1e-9,
+          "JPEG vs PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
+    printf("JPEG vs PNG: max %.4f mean %.5f\n", photos, mean);
+    /* nerfstudio's file_path "rgb/train/r_0.jpg" is used as written */
+    CHECK(compare(&nj, &cj, &photos, &mean, &cameras) == 0 && photos == 0 && cameras < 1e-9,
+          "nerfstudio JPEG vs COLMAP JPEG: photos %g, cameras %g", photos, cameras);
+    ws_scene moved;
+    char out2[2000], images[400], dir[400];
+    snprintf(images, sizeof images, "%s/elsewhere", tmp);
+    snprintf(dir, sizeof dir, "%s/cb", tmp);
+    run_cmd(out2, sizeof out2, "mv %s/images %s", dir, images);
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 48;
+    so.images_dir = images;
+    if (!ws_scene_load(&moved, dir, &so, &st)) {
+        CHECK(compare(&moved, &cb, &photos, &mean, &cameras) == 0 && photos == 0 && cameras == 0,
+              "--images: photos %g, cameras %g", photos, cameras);
+        ws_scene_free(&moved);
+    } else {
+        CHECK(0, "--images: %s", st.msg);
+    }
+    run_cmd(out2, sizeof out2, "mv %s %s/images", images, dir);
+    /* undistortion undoes the lens: the pinhole scene's photos, up to the
+     * two bilinear resamplings (render -> lens -> pinhole) at edges */
+    CHECK(compare(&ns, &pin, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && cameras < 1e-9,
+          "lens vs pinhole: photos max %g mean %g, cameras %g", photos, mean, cameras);
+    printf("lens undone vs pinhole: max %.4f mean %.5f\n", photos, mean);
+    int n;
+    const double *points = ws_scene_points(&cb, &n);
+    CHECK(n == 2000 && points && ws_scene_points(&ns, &n) == NULL && n == 0, "points3D kept");
+    ws_scene_free(&ns);
+    ws_scene_free(&cb);
+    ws_scene_free(&ct);
+    ws_scene_free(&cj);
+    ws_scene_free(&nj);
+    ws_scene_free(&pin);
+}
+
+/* A 16 x 8 JPEG written by libjpeg directly: CMYK, or progressive RGB. */
+static void write_special_jpeg(const char *path, int cmyk, int progressive) {
+    struct jpeg_compress_struct c;
+    struct jpeg_error_mgr e;
+    c.err = jpeg_std_error(&e);
+    jpeg_create_compress(&c);
+    FILE *f = fopen(path, "wb");
+    jpeg_stdio_dest(&c, f);
+    c.image_width = 16;
+    c.image_height = 8;
+    c.input_components = cmyk ? 4 : 3;
+    c.in_color_space = cmyk ? JCS_CMYK : JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, 100, TRUE);
+    if (progressive) jpeg_simple_progression(&c);
+    jpeg_start_compress(&c, TRUE);
+    unsigned char row[16 * 4];
+    while (c.next_scanline < 8) {
+        for (int j = 0; j < 16 * c.input_components; j++) row[j] = (unsigned char)(j * 4 + c.next_scanline * 16);
+        JSAMPROW r = row;
+        jpeg_write_scanlines(&c, &r, 1);
+    }
+    jpeg_finish_compress(&c);
+    jpeg_destroy_compress(&c);
+    fclose(f);
+}
+
+static void test_jpeg(void) {
+    char path[400], want[600];
+    static const float black[3] = {0, 0, 0};
+    ws_image a, b;
+    ws_status st;
+    snprintf(path, sizeof path, "%s/cmyk.jpg", tmp);
+    write_special_jpeg(path, 1, 0);
+    snprintf(want, sizeof want, "%s: CMYK JPEG is not supported (convert it to RGB)", path);
+    CHECK(ws_image_read(path, 0, 0, black, &a, &st) == WS_EINPUT && !strcmp(st.msg, want), "CMYK: %s", st.msg);
+    snprintf(path, sizeof path, "%s/progressive.jpg", tmp);
+    write_special_jpeg(path, 0, 1);
+    char base[400];
+    snprintf(base, sizeof base, "%s/baseline.jpg", tmp);
+    write_special_jpeg(base, 0, 0);
+    if (ws_image_read(path, 0, 0, black, &a, &st) || ws_image_read(base, 0, 0, black, &b, &st)) {
+        CHECK(0, "progressive: %s", st.msg);
+        return;
+    }
+    CHECK(a.width == 16 && a.height == 8 && max_diff(&a, &b, NULL) <= 1.0 / 255,
+          "progressive as baseline: %g", max_diff(&a, &b, NULL));
+    ws_image_free(&a);
+    ws_image_free(&b);
+    /* the size limit is PNG's: a header claiming 40000 x 40000 is refused
+     * before anything that size is allocated (SOF0: FF C0, length,
+     * precision, height, width) */
+    FILE *f = fopen(base, "rb");
+    unsigned char bytes[4096];
+    size_t n = f ? fread(bytes, 1, sizeof bytes, f) : 0;
+    if (f) fclose(f);
+    for (size_t i = 0; i + 9 < n; i++)
+        if (bytes[i] == 0xFF && bytes[i + 1] == 0xC0) {
+            bytes[i + 5] = bytes[i + 7] = 40000 >> 8;
+            bytes[i + 6] = bytes[i + 8] = 40000 & 255;
+            break;
+        }
+    snprintf(path, sizeof path, "%s/huge.jpg", tmp);
+    f = fopen(path, "wb");
+    if (f) {
+        fwrite(bytes, 1, n, f);
+        fclose(f);
+    }
+    snprintf(want, sizeof want, "%s: image too large (40000 x 40000 pixels)", path);
+    CHECK(ws_image_read(path, 0, 0, black, &a, &st) == WS_EINPUT && !strcmp(st.msg, want),
+          "too large: %s", st.msg);
+    /* a cut file: libjpeg's warning is an error, not grey rows */
+    char out[1000];
+    run_cmd(out, sizeof out, "head -c 300 %s > %s/cut.jpg", base, tmp);
+    snprintf(path, sizeof path, "%s/cut.jpg", tmp);
+    snprintf(want, sizeof want, "%s: truncated or corrupt JPEG (Premature end of JPEG file)", path);
+    CHECK(ws_image_read(path, 0, 0, black, &a, &st) == WS_EINPUT && !strcmp(st.msg, want),
+          "truncated: %s", st.msg);
+}
+
+static void test_refusals(void) {
+    char out[1 << 14];
+    /* each from a fresh copy of the text or binary COLMAP scene */
+    static const struct {
+        const char *from, *edit, *msg;
+    } cases[] = {
+        {"ct", "sed -i 's/ OPENCV / FOV /' sparse/0/cameras.txt",
+         "T/bad/sparse/0/cameras.txt: line 3: camera 1: unknown camera model 'FOV' (SIMPLE_PINHOLE, PINHOLE, "
+         "SIMPLE_RADIAL, RADIAL, OPENCV, OPENCV_FISHEYE or FULL_OPENCV)"},
+        {"ct", "rm images/train/r_00002.jpg images/train/r_00002.png 2>/dev/null; true",
+         "T/bad/sparse/0/images.txt: image 3: no file T/bad/images/train/r_00002.png"},
+        {"ct", "sed -i '9s/^7 [^ ]*/7 nan/' sparse/0/points3D.txt",
+         "T/bad/sparse/0/points3D.txt: line 9: point 7: coordinate is not finite"},
+        {"cb", "head -c 600 sparse/0/images.bin > x && mv x sparse/0/images.bin",
+         "T/bad/sparse/0/images.bin: truncated (ends inside image 7 of 8)"},
+        {"cb", "head -c 200 sparse/0/images.bin > x && mv x sparse/0/images.bin",
+         "T/bad/sparse/0/images.bin: truncated (8 images do not fit in its 200 bytes)"},
+        {"cb", "head -c 100 sparse/0/points3D.bin > x && mv x sparse/0/points3D.bin",
+         "T/bad/sparse/0/points3D.bin: truncated (2000 points do not fit in its 100 bytes)"},
+        {"ct", "sed -i 's/ -0.25 [^ ]* / -0.9 0 /' sparse/0/cameras.txt",
+         "T/bad/sparse/0/cameras.txt: line 3: camera 1: lens distortion folds the image (the "
+         "distorted radius stops growing at 34 px from the principal point, inside the frame, whose "
+         "corner is 50 px out)"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        int rc = run_cmd(out, sizeof out, "cd %s && rm -rf bad && cp -r %s bad && cd bad && %s", tmp,
+                         cases[k].from, cases[k].edit);
+        CHECK(rc == 0, "case %zu: edit: %s", k, out);
+        const char *msg = load_error("bad");
+        CHECK(!strcmp(msg, cases[k].msg), "case %zu:\n  got  %s\n  want %s", k, msg, cases[k].msg);
+    }
+    int rc = run_cmd(out, sizeof out, "%s scene cube " SCENE_ARGS " --lens -0.9,0,0,0 --layout colmap --out %s/fold",
+                     bin, tmp);
+    CHECK(rc == 2 || rc == 1, "folding --lens refused: %d", rc);
+    CHECK(strstr(out, "wiresketch: --lens: lens distortion folds the image (the distorted radius "
+                      "stops growing at 34 px from the principal point, inside the frame, whose "
+                      "corner is 50 px out)") != NULL,
+          "fold message: %s", out);
+}
+
+int main(void) {
+    const char *build = getenv("BUILD");
+    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
+    char cwd[256], rel[sizeof bin]; /* the scenes are made from inside tmp */
+    if (bin[0] != '/' && getcwd(cwd, sizeof cwd)) {
+        memcpy(rel, bin, sizeof rel);
+        snprintf(bin, sizeof bin, "%.255s/%.700s", cwd, rel);
+    }
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_capture.%ld", (long)getpid());
+    char out[600];
+    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    test_formats();
+    test_jpeg();
+    test_refusals();
+    run_cmd(out, sizeof out, "rm -rf %s", tmp);
+    return check_summary();
+}
