@@ -30,7 +30,7 @@ static void draw(ws_image *photo, float back, float object, int with_bar) {
 static int target(const ws_image *photo, const ws_image *mask, float *e, ws_status *st) {
     ws_silhouette sil;
     if (ws_silhouette_make(photo, mask, &sil, st)) return st->code;
-    int rc = ws_line_target(photo, mask, &sil, e, st);
+    int rc = ws_line_target(photo, mask, &sil, NULL, e, st);
     ws_silhouette_free(&sil);
     return rc;
 }
@@ -68,7 +68,44 @@ static void check_target(const ws_image *photo, const ws_image *mask, const char
     free(thin);
 }
 
+/* With the hull's support (line_evidence.h): a texture edge inside the
+ * square (a darker stripe, rows 30..46) is dropped where nothing supports
+ * it and kept where something does; the outline stays either way. */
+static void test_support(void) {
+    ws_status st;
+    ws_image photo;
+    ws_silhouette sil;
+    float *e = malloc(W * H * sizeof *e), *plain = malloc(W * H * sizeof *plain);
+    uint8_t *support = calloc(W * H, 1);
+    CHECK(ws_image_alloc(&photo, W, H, 3, &st) == 0, "%s", st.msg);
+    draw(&photo, 0, 0.8f, 0);
+    for (int c = 0; c < 3; c++)
+        for (int i = 30; i <= 46; i++)
+            for (int j = 50; j <= 79; j++) photo.data[(c * H + i) * W + j] = 0.4f;
+    CHECK(ws_silhouette_make(&photo, NULL, &sil, &st) == 0, "%s", st.msg);
+    CHECK(ws_line_target(&photo, NULL, &sil, NULL, plain, &st) == 0, "%s", st.msg);
+    for (int j = 50; j < 65; j++) support[29 * W + j] = support[30 * W + j] = support[31 * W + j] = 1;
+    CHECK(ws_line_target(&photo, NULL, &sil, support, e, &st) == 0, "%s", st.msg);
+    int stripe = 0, kept = 0, outline_same = 1;
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            int inner = i >= 19 && i <= 44 && j >= 52 && j <= 77; /* > 2.5 px inside */
+            if (!inner) outline_same &= e[i * W + j] == plain[i * W + j];
+            if (inner && plain[i * W + j] != 0) stripe++;
+            if (inner && e[i * W + j] != 0) kept += support[i * W + j] ? 1 : 1000;
+        }
+    CHECK(stripe > 10, "the stripe's edge: %d pixels", stripe);
+    CHECK(kept > 0 && kept < 1000, "inside: %d supported pixels kept, %d unsupported", kept % 1000, kept / 1000);
+    CHECK(outline_same, "the outline band changes with the support");
+    ws_silhouette_free(&sil);
+    ws_image_free(&photo);
+    free(e);
+    free(plain);
+    free(support);
+}
+
 int main(void) {
+    test_support();
     ws_status st;
     ws_image photo, mask;
     if (ws_image_alloc(&photo, W, H, 3, &st) || ws_image_alloc(&mask, W, H, 1, &st)) return 1;

@@ -105,7 +105,7 @@ static void test_render(const ws_scene *scene, const ws_curves *c, const char *c
     snprintf(path, sizeof path, "%s/drawn/%s.png", tmp, test->views[0].name);
     ws_image img;
     float black[3] = {0, 0, 0};
-    if (rc == 0 && ws_png_read(path, 0, 0, black, &img, &st) == WS_OK) {
+    if (rc == 0 && ws_image_read(path, 0, 0, black, &img, &st) == WS_OK) {
         ws_splat_forward(s, &test->views[0].cam, g.mu, g.n, c->thickness, &opt, alpha, &st);
         double worst = 0;
         for (int p = 0; p < 224 * 224; p++) worst = fmax(worst, fabs(img.data[p] - round(255 * (1 - alpha[p])) / 255));

@@ -209,8 +209,20 @@ static void test_errors(void) {
     snprintf(dir, sizeof dir, "%s/never", tmp);
     int rc = ws_synth_write("teapot", dir, &opt, &st);
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
-                                    "dodecahedron, nut)"),
+                                    "dodecahedron, nut, torus, vase, animal)"),
           "unknown name: %s", st.msg);
+    opt.colmap = 1;
+    rc = ws_synth_write("vase", dir, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "vase: --lens and --layout colmap are for the wire objects and solids"),
+          "a smooth object as a COLMAP capture: %s", st.msg);
+    opt.colmap = 0;
+    opt.nerfstudio = 1;
+    opt.lens[0] = -0.2;
+    rc = ws_synth_write("torus", dir, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "torus: --lens and --layout colmap are for the wire objects and solids"),
+          "a smooth object through a lens: %s", st.msg);
+    opt.lens[0] = 0;
+    opt.nerfstudio = 0;
     opt.views[WS_TRAIN] = 0;
     rc = ws_synth_write("chair", dir, &opt, &st);
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--views-train: 0 is not in [1, 100000]"),
@@ -492,6 +504,10 @@ static void test_room(void) {
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--principal 10,-6: a NeRF-synthetic scene has its principal point at "
                                              "the centre (--layout nerfstudio takes others)"),
           "principal point in a NeRF-synthetic scene: %s", st.msg);
+    opt.principal[0] = opt.principal[1] = 0;
+    rc = ws_synth_write("torus", b, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "torus: --background room and --masks are for the wire objects and solids"),
+          "a smooth object in the room: %s", st.msg);
 }
 
 int main(void) {

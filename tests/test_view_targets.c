@@ -55,7 +55,7 @@ int main(void) {
     float *direct = malloc(hw * sizeof *direct);
     const ws_view *v = &scene.split[WS_VAL].views[1];
     CHECK(ws_view_targets_line(t, WS_VAL, 1, &line, &st) == WS_OK && ws_view_silhouette(v, &fresh, &st) == WS_OK &&
-              ws_line_target(&v->photo, NULL, &fresh, direct, &st) == WS_OK,
+              ws_line_target(&v->photo, NULL, &fresh, NULL, direct, &st) == WS_OK,
           "line target: %s", st.msg);
     CHECK(!memcmp(line, direct, hw * sizeof *line), "the shared line target is not ws_line_target's");
     CHECK(ws_view_targets_line(t, WS_VAL, 1, &again, &st) == WS_OK && again == line,

@@ -3,7 +3,11 @@
  * (METHOD.md section 8), as one JSON object on stdout; with a ground-truth
  * point cloud also how much of the photos' silhouettes it leaves uncovered
  * (geometry/gt_coverage.h, field gt_coverage), and where it misses a part
- * the check's line as a warning on stderr. The loss is computed
+ * the check's line as a warning on stderr; with reference lines
+ * (SCENE/lines/SPLIT) the drawing score (metrics/drawing_score.h) of the
+ * drawing a user gets (field drawing: the curves beside the hull's
+ * outline, objective/line_evidence.h) and of the curves alone (field
+ * drawing_curves). The loss is computed
  * only when asked for (--loss NAME) or, by default, when it can be: the
  * CLIP loss when the CLIP weight file exists; distances need no weights. */
 #include <math.h>
@@ -19,6 +23,8 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "io/pointcloud.h"
+#include "metrics/drawing_score.h"
+#include "objective/line_evidence.h"
 #include "metrics/quality.h"
 #include "objective/objective.h"
 #include "base/runtime.h"
@@ -54,7 +60,9 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     ws_scene scene = {0}, photos = {0}; /* photos: the scene with its images, for the coverage */
     ws_scene_options sopt = *scene_opt;
     int coverage = gt_points && *gt_points;
-    sopt.load_images = lo != NULL;
+    char lines_dir[WS_PATH_MAX];
+    int have_lines = ws_drawing_lines_dir(scene_dir, split_name, lines_dir);
+    sopt.load_images = lo != NULL || have_lines; /* a drawing's hull needs the photos */
     ws_curves curves = {0};
     ws_gaussians g = {0};
     ws_objective *obj = NULL;
@@ -70,6 +78,27 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && lo) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
+    ws_drawing_score drawing, drawing_curves;
+    ws_drawing_hull dh;
+    int have_hull = 0;
+    if (!rc && have_lines && curves.n == 0)
+        rc = ws_fail(st, WS_EINPUT, "%s: no curves to score against the reference lines", curves_path);
+    if (!rc && have_lines) {
+        /* a scene whose silhouettes carve no hull is drawn by its curves alone */
+        rc = ws_drawing_hull_make(&dh, &scene, st);
+        have_hull = rc == WS_OK;
+        if (rc == WS_EINPUT) {
+            fprintf(stderr, "wiresketch: warning: %s; the drawing is the curves alone\n", st->msg);
+            rc = WS_OK;
+        }
+    }
+    if (!rc && have_lines)
+        rc = ws_drawing_score_split(&scene.split[split], scene.width, scene.height, &curves, lines_dir, NULL, NULL,
+                                    &drawing_curves, st);
+    if (!rc && have_lines)
+        rc = ws_drawing_score_split(&scene.split[split], scene.width, scene.height, &curves, lines_dir,
+                                    have_hull ? ws_drawing_hull_render : NULL, &dh, &drawing, st);
+    if (have_hull) ws_drawing_hull_free(&dh);
     ws_surface_curve *per = NULL;
     if (!rc && per_curve) rc = surface_by_curve(gt_points, &g, curves.n, &per, st);
     /* The coverage needs the photos, which a measure of the cameras alone
@@ -118,6 +147,12 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
             printf(", \"stray_curves\": %d", q.curve_strays.stray_curves);
             printf(", ");
             ws_line_metrics_json(stdout, &q.lines);
+        }
+        if (have_lines) {
+            printf(", ");
+            ws_drawing_score_json(stdout, "drawing", &drawing);
+            printf(", ");
+            ws_drawing_score_json(stdout, "drawing_curves", &drawing_curves);
         }
         if (coverage) {
             printf(", ");
@@ -197,9 +232,11 @@ int cmd_eval(int argc, char **argv) {
     ws_scene_ground_truth(pos[0], scene_points, scene_curves);
     if (!gt_points) gt_points = scene_points[0] ? scene_points : NULL;
     if (!gt_curves) gt_curves = scene_curves[0] ? scene_curves : NULL;
-    if (!with_loss && !gt_points && !gt_curves) {
+    char lines_dir[WS_PATH_MAX];
+    if (!with_loss && !gt_points && !gt_curves && !ws_drawing_lines_dir(pos[0], split_name, lines_dir)) {
         ws_fail(&st, WS_EUSAGE,
-                "nothing to evaluate: --loss none and no ground truth (give --gt or --gt-curves)");
+                "nothing to evaluate: --loss none and no ground truth (give --gt or --gt-curves; %s/lines/%s "
+                "has no reference lines)", pos[0], split_name);
         return ws_cli_fail(&st);
     }
     if (per_curve && !(gt_points && *gt_points)) {

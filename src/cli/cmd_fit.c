@@ -172,7 +172,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--checkpoint-minutes", WS_ARG_DOUBLE, &opt->checkpoint_minutes, 0, "checkpoint interval [5]"},
         {"--snapshot-every", WS_ARG_INT, &opt->snapshot_every, 0, "steps per evolution.gif frame [30]"},
         {"--respawn-every", WS_ARG_INT, &opt->respawn_every, 0,
-         "steps between moves of idle curves onto the hull, 0 = never [300]"},
+         "steps between moves of idle curves onto photo edges no curve covers, 0 = never [300]"},
         {"--init", WS_ARG_STRING, &opt->init_curves, 0,
          "hull (on the visual hull), edges (on the photos' edges), random (the original's sphere) "
          "or a curve file [hull]"},

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "synth/smooth.h"
 #include "synth/synth.h"
 
 int cmd_scene(int argc, char **argv) {
@@ -35,16 +36,20 @@ int cmd_scene(int argc, char **argv) {
         {"--height", WS_ARG_INT, &opt.height, 0, "image height, nerfstudio layout [--size]"},
     };
     const ws_command_spec spec = {
-        "scene NAME --out DIR [options]   (NAME: trefoil, chair, spring, flat, cube, dodecahedron, nut)",
+        "scene NAME --out DIR [options]   (NAME: trefoil, chair, spring, flat, cube, dodecahedron, nut, torus, vase, animal)",
         "Render a synthetic object into a NeRF-synthetic scene (or, with --layout, a\n"
         "nerfstudio or COLMAP capture, --lens and --jpeg as a camera takes it). Wire objects, drawn as\n"
         "shaded tubes along Bezier curves: trefoil (a knot), chair (a wire chair),\n"
         "spring (a coil of 5 turns, radius 0.3, 1 unit tall), flat (a paper clip lying\n"
         "in one tilted plane, seen edge-on by some views). Solids with sharp edges:\n"
-        "cube, dodecahedron, nut. The scene:\n"
+        "cube, dodecahedron, nut. Smooth textured objects, whose lines depend on the\n"
+        "view: torus (striped), vase (spotted; two rims), animal (four legs, blotched).\n"
+        "The scene:\n"
         "DIR/transforms_{train,val,test}.json, DIR/rgb/SPLIT/r_K.png, and its exact\n"
         "ground truth DIR/gt_curves.json (the tubes' curves, the solids' sharp edges;\n"
-        "solids also DIR/gt_points.ply).",
+        "solids also DIR/gt_points.ply); smooth objects instead each test view's\n"
+        "reference lines DIR/lines/test/r_K.png and r_K_parts.png (silhouette, inner\n"
+        "contours, creases), which `eval` scores a sketch against.",
         args, sizeof args / sizeof args[0], 1, 1};
     const char *pos[1];
     int npos, help;
@@ -96,9 +101,9 @@ int cmd_scene(int argc, char **argv) {
     }
     opt.seed = (uint64_t)seed;
     if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);
-    printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, "
-           "ground truth %s/gt_curves.json\n",
-           out, pos[0], opt.views[WS_TRAIN], opt.views[WS_VAL], opt.views[WS_TEST],
-           opt.width ? opt.width : opt.size, opt.height ? opt.height : opt.size, out);
+    printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, %s %s/%s\n", out, pos[0],
+           opt.views[WS_TRAIN], opt.views[WS_VAL], opt.views[WS_TEST], opt.width ? opt.width : opt.size,
+           opt.height ? opt.height : opt.size, ws_smooth_exists(pos[0]) ? "reference lines" : "ground truth", out,
+           ws_smooth_exists(pos[0]) ? "lines/test" : "gt_curves.json");
     return 0;
 }

@@ -44,6 +44,7 @@ typedef struct {
     double *backup;           /* 3 x curves x WS_CURVE_FLOATS: P, Adam m and v before an update */
     ws_fit_state s;
     ws_respawn *respawn;      /* NULL when --respawn-every is 0 (and not --init edges) */
+    ws_line_evidence evidence; /* the hull's contours and creases, which the line targets keep */
     ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
                                * the respawn and hidden-line removal (empty when none of them is on) */
     double start;             /* ws_seconds() when this process began fitting */
@@ -312,6 +313,7 @@ static void fit_run_free(fit_run *r) {
     ws_respawn_free(r->respawn);
     ws_objective_free(r->objective);
     ws_view_targets_free(r->targets);
+    ws_line_evidence_free(&r->evidence);
     ws_scene_hull_free(&r->hull);
     free(r->grad);
     free(r->backup);
@@ -387,6 +389,11 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
         (ws_view_targets_silhouettes(r->targets, WS_TRAIN, &sil, st) ||
          ws_scene_hull_make(&r->scene, WS_TRAIN, sil, WS_HULL_INIT_RESOLUTION, &r->hull, st)))
         return st->code;
+    /* before the respawn and the loss ask for line targets */
+    if (r->hull.surface.n && o->loss.lines_weight > 0) {
+        if (ws_line_evidence_init(&r->evidence, &r->hull, st)) return st->code;
+        ws_view_targets_set_evidence(r->targets, &r->evidence);
+    }
     if (((o->respawn_every > 0 || edges_init) &&
          ws_respawn_create(&r->respawn, &r->scene, r->targets, &r->hull, o->n_curves, o->length, st)) ||
         (!resume && init_state(r, st)))

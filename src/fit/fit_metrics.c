@@ -57,6 +57,17 @@ void ws_fit_metrics_fill(ws_fit_metrics *m, const ws_fit_state *s, int retired, 
     }
 }
 
+void ws_fit_metrics_add_drawing(ws_fit_metrics *m, const ws_drawing_score *d) {
+    row(m, "drawing: precision / recall / F at 1% of the image diagonal", "drawing_precision_1", d->precision[0], NULL,
+        "%.3f / %.3f / %.3f", d->precision[0], d->recall[0], d->fscore[0]);
+    row(m, "drawing: contour recall at 1%", "drawing_contour_recall_1", d->contour_recall[0], NULL, "%.3f",
+        d->contour_recall[0]);
+    row(m, "drawing: interior scribble at 1%; overdraw", "drawing_scribble_1", d->scribble[0], NULL, "%.3f; %.2f",
+        d->scribble[0], d->overdraw);
+    row(m, "drawing: precision / recall / F at 0.5% of the image diagonal", "drawing_precision_05", d->precision[1],
+        NULL, "%.3f / %.3f / %.3f", d->precision[1], d->recall[1], d->fscore[1]);
+}
+
 void ws_fit_metrics_verdicts_json(FILE *fp, const ws_fit_metrics *m) {
     fprintf(fp, "\"verdicts\": {");
     int first = 1;

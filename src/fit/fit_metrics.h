@@ -6,9 +6,10 @@
 #include <stdio.h>
 #include "fit/fit_state.h"
 #include "io/report.h"
+#include "metrics/drawing_score.h"
 #include "metrics/quality.h"
 
-#define WS_FIT_METRICS_MAX 16
+#define WS_FIT_METRICS_MAX 20
 
 typedef struct {
     int n;
@@ -21,6 +22,11 @@ typedef struct {
  * loss alone, lines_loss), and what the ground truth measured (q). */
 void ws_fit_metrics_fill(ws_fit_metrics *m, const ws_fit_state *s, int retired, double test_loss, int lines_loss,
                          const ws_quality *q);
+
+/* The drawing's rows (metrics/drawing_score.h): precision, recall and F at
+ * 1% and 0.5% of the image diagonal, contour recall, interior scribble and
+ * overdraw. */
+void ws_fit_metrics_add_drawing(ws_fit_metrics *m, const ws_drawing_score *d);
 
 /* `"verdicts": {"surface_mean": "good", ...}` (no separator before it). */
 void ws_fit_metrics_verdicts_json(FILE *fp, const ws_fit_metrics *m);

@@ -5,6 +5,8 @@
 #include <string.h>
 #include "base/json_number.h"
 #include "base/paths.h"
+#include "metrics/drawing_score.h"
+#include "objective/line_evidence.h"
 #include "metrics/quality.h"
 #include "io/export.h"
 #include "fit/fit_metrics.h"
@@ -94,7 +96,7 @@ static void object_square(const ws_view *view, const unsigned char *gray, const 
 /* test/NAME.png (the sketch) and test/NAME_photo.png for every test view;
  * fills the report's view list (paths relative to the output directory). */
 static int write_tests(const char *out, const ws_scene *scene, const ws_curves *c, const float background[3],
-                       ws_sketch_renderer *r, const double *losses, ws_report_view *views,
+                       ws_sketch_renderer *r, ws_drawing_hull *dh, const double *losses, ws_report_view *views,
                        char (*paths)[2][300], ws_status *st) {
     const ws_split *test = &scene->split[WS_TEST];
     if (test->n == 0) return WS_OK;
@@ -105,7 +107,9 @@ static int write_tests(const char *out, const ws_scene *scene, const ws_curves *
         const ws_view *view = &test->views[v];
         snprintf(paths[v][0], 300, "test/%s.png", view->name);
         snprintf(paths[v][1], 300, "test/%s_photo.png", view->name);
-        if (ws_sketch_render(r, c, &view->cam, st) || write_gray_png(join(path, out, paths[v][0]), r, st) ||
+        if (ws_sketch_render(r, c, &view->cam, st) ||
+            (dh && ws_drawing_hull_render(dh, &view->cam, r->gray, r->gray, st)) ||
+            write_gray_png(join(path, out, paths[v][0]), r, st) ||
             ws_png_write(join(path, out, paths[v][1]), &view->photo, st))
             return st->code;
         views[v] = (ws_report_view){view->name, paths[v][0], paths[v][1], losses ? losses[v] : NAN, r->width, {0}};
@@ -134,7 +138,9 @@ static int write_evolution(const char *path, const ws_scene *scene, const ws_fit
 
 /* metrics.json: the numbers of the report, for scripts. */
 static int write_metrics(const char *path, const ws_fit_state *s, int retired, double test_loss,
-                         const ws_quality *q, const ws_fit_metrics *m, const ws_gt_coverage *cov, ws_status *st) {
+                         const ws_quality *q, const ws_fit_metrics *m, const ws_gt_coverage *cov,
+                         const ws_drawing_score *drawing, ws_status *st) {
+    /* drawing: NULL, or the drawing's score and the curves' alone */
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
     fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
@@ -162,6 +168,12 @@ static int write_metrics(const char *path, const ws_fit_state *s, int retired, d
     if (cov) {
         fprintf(f.fp, ", ");
         ws_gt_coverage_json(f.fp, cov);
+    }
+    if (drawing) {
+        fprintf(f.fp, ", ");
+        ws_drawing_score_json(f.fp, "drawing", &drawing[0]);
+        fprintf(f.fp, ", ");
+        ws_drawing_score_json(f.fp, "drawing_curves", &drawing[1]);
     }
     fprintf(f.fp, "}\n");
     return ws_outfile_commit(&f, st);
@@ -293,7 +305,28 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(scene->dir, gt_points, gt_curves);
     ws_quality q;
+    ws_drawing_score drawing[2]; /* the drawing's score, the curves' alone */
+    char lines_dir[WS_PATH_MAX];
+    int have_lines = ntest && ws_drawing_lines_dir(scene->dir, "test", lines_dir);
+    ws_drawing_hull dh;
+    int have_hull = 0;
+    if (!rc && ntest) {
+        /* a scene whose silhouettes carve no hull is drawn by its curves alone */
+        rc = ws_drawing_hull_make(&dh, scene, st);
+        have_hull = rc == WS_OK;
+        if (rc == WS_EINPUT) {
+            fprintf(stderr, "wiresketch: warning: %s; the drawing is the curves alone\n", st->msg);
+            rc = WS_OK;
+        }
+    }
     if (!rc) rc = ws_quality_measure(&c, gt_points, gt_curves, &q, st);
+    if (!rc && have_lines)
+        rc = ws_drawing_score_split(&scene->split[WS_TEST], scene->width, scene->height, &c, lines_dir,
+                                    have_hull ? ws_drawing_hull_render : NULL, &dh, &drawing[0], st);
+    if (!rc && have_lines)
+        rc = ws_drawing_score_split(&scene->split[WS_TEST], scene->width, scene->height, &c, lines_dir, NULL, NULL,
+                                    &drawing[1], st);
+    const ws_drawing_score *scored = have_lines ? drawing : NULL;
     /* whether the ground truth holds all that the photos show: where it
      * misses a part, a fit that left that part out scores better */
     ws_gt_coverage cov;
@@ -310,12 +343,15 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     int lines_loss = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss) && opt->loss.l2_weight == 0 &&
                      opt->loss.edges_weight == 0;
     if (!rc) ws_fit_metrics_fill(&m, s, retired, test_loss, lines_loss, &q);
-    if (!rc) rc = write_metrics(join(path, out, output_files[OUT_METRICS]), s, retired, test_loss, &q, &m, coverage ? &cov : NULL, st);
+    if (!rc && scored) ws_fit_metrics_add_drawing(&m, scored);
+    if (!rc)
+        rc = write_metrics(join(path, out, output_files[OUT_METRICS]), s, retired, test_loss, &q, &m,
+                           coverage ? &cov : NULL, scored, st);
     if (!rc) rc = ws_curves_save(join(path, out, output_files[OUT_CURVES]), &c, st);
     if (!rc) rc = ws_export_obj(join(path, out, output_files[OUT_OBJ]), &c, st);
     if (!rc) rc = ws_export_ply(join(path, out, output_files[OUT_PLY]), &c, st);
     if (!rc) rc = write_log(join(path, out, output_files[OUT_LOG]), s, st);
-    if (!rc) rc = write_tests(out, scene, &c, opt->background, &r, test_losses, views, paths, st);
+    if (!rc) rc = write_tests(out, scene, &c, opt->background, &r, have_hull ? &dh : NULL, test_losses, views, paths, st);
     if (!rc) rc = write_evolution(join(path, out, output_files[OUT_EVOLUTION]), scene, s, &r, st);
     if (!rc)
         rc = ws_turntable_gif(join(path, out, output_files[OUT_TURNTABLE]), &c, scene->center, distance,
@@ -323,6 +359,7 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     if (!rc)
         rc = write_report(join(path, out, output_files[OUT_REPORT]), opt, scene, s, &c, ntest ? views : NULL, &m,
                           coverage && cov.flagged ? warning : NULL, st);
+    if (have_hull) ws_drawing_hull_free(&dh);
     free(views);
     free(paths);
     ws_sketch_renderer_free(&r);

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "fit/respawn.h"
-#include "geometry/distance.h"
+#include "render/distance.h"
 #include "geometry/silhouette.h"
 #include "geometry/surface.h"
 #include "objective/view_targets.h"

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <omp.h>
-#include "geometry/distance.h"
+#include "render/distance.h"
 #include "geometry/gt_coverage.h"
 #include "geometry/hull.h"
 #include "metrics/nearest.h"

@@ -1,7 +1,7 @@
 /* silhouette.c: silhouettes and their distance maps (see silhouette.h). */
 #include <math.h>
 #include <stdlib.h>
-#include "geometry/distance.h"
+#include "render/distance.h"
 #include "geometry/silhouette.h"
 
 int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouette *s,

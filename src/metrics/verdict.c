@@ -20,6 +20,12 @@ static const ws_metric_scale scales[] = {
     {"lines_fscore_2", "F-score at 2% of the largest side, 1 best", 1, 0.95, 0.7},
     {"stray_share", "share of the curves, 0 best", 0, 0, 0.1},
     {"test_loss_edges", "line loss, 0 perfect, 1 an empty sketch", 0, 0.15, 0.3},
+    {"drawing_precision_1", "share of the drawing within 1% of the image diagonal of a reference line, 1 best", 1,
+     0.85, 0.6},
+    {"drawing_contour_recall_1", "share of the outline and inner contours drawn, at 1%, 1 best", 1, 0.9, 0.7},
+    {"drawing_scribble_1", "share of the drawing inside the object and away from its lines, 0 best", 0, 0.1, 0.25},
+    {"drawing_precision_05", "share of the drawing within 0.5% of the image diagonal of a reference line, 1 best", 1,
+     0.85, 0.6},
 };
 
 const ws_metric_scale *ws_metric_scale_of(const char *key) {

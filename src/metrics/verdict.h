@@ -28,6 +28,14 @@
  *                 0.16 at stroke thicknesses 0.005 to 0.04; a sketch
  *                 shifted by 5% 0.22 to 0.29), fair <= 0.3 (the truth
  *                 shrunk to dots 0.35 to 0.46).
+ *   drawing_precision_1, drawing_precision_05  the share of the drawing's
+ *                 pixels within 1% (0.5%) of the image diagonal of a
+ *                 reference line (metrics/drawing_score.h): good >= 0.85
+ *                 (issue 23's targets), fair >= 0.6;
+ *   drawing_contour_recall_1  the share of the outline and inner contours
+ *                 drawn: good >= 0.9, fair >= 0.7;
+ *   drawing_scribble_1  the share of the drawing inside the object and
+ *                 away from its lines: good <= 0.1, fair <= 0.25.
  * Other losses compare runs of one scene and loss only: no verdict. */
 #ifndef WS_VERDICT_H
 #define WS_VERDICT_H

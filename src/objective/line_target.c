@@ -3,7 +3,8 @@
  * call. */
 #include <math.h>
 #include <stdlib.h>
-#include "geometry/distance.h"
+#include "render/distance.h"
+#include "objective/line_evidence.h"
 #include "objective/line_target.h"
 #include "render/thin_edges.h"
 
@@ -49,8 +50,8 @@ static void keep_large(uint8_t *set, int W, int H, double min_area, int *stack) 
     for (size_t p = 0; p < n; p++) set[p] = set[p] == 3;
 }
 
-int ws_line_target(const ws_image *photo, const ws_image *mask, const ws_silhouette *sil, float *edge,
-                   ws_status *st) {
+int ws_line_target(const ws_image *photo, const ws_image *mask, const ws_silhouette *sil, const uint8_t *support,
+                   float *edge, ws_status *st) {
     const int W = photo->width, H = photo->height;
     const size_t n = (size_t)W * H;
     if ((mask && (mask->width != W || mask->height != H)) || sil->width != W || sil->height != H)
@@ -87,6 +88,7 @@ int ws_line_target(const ws_image *photo, const ws_image *mask, const ws_silhoue
                 size_t p = (size_t)i * W + j;
                 if (near[p] <= WS_THIN_PART_MARGIN && (set[p] || !sil->in[p])) edge[p] = 0;
                 if (set[p] && is_axis(inner, W, H, i, j)) edge[p] = 1;
+                if (support && sil->in[p] && !set[p] && inner[p] > WS_EVIDENCE_OUTLINE_PX && !support[p]) edge[p] = 0;
             }
     free(set);
     free(inner);

@@ -12,7 +12,7 @@
  *        max_c |photo_c - background_c| > 0.02 against the border median),
  *        given: a fit makes it once and shares it (view_targets.h);
  *   D(p) = the Euclidean distance from pixel p to the nearest pixel outside
- *        F (geometry/distance.h; 0 outside F, INFINITY everywhere when F is
+ *        F (render/distance.h; 0 outside F, INFINITY everywhere when F is
  *        the whole image);
  *   r  = WS_THIN_PART_WIDTH / 2 x max(W, H) pixels (5.6 at 224 px);
  *   O  = the opening of F by a disc of radius r: the pixels within r of a
@@ -31,10 +31,14 @@
  *        (so the short spurs that run from a bar's end towards its corners,
  *        and the pixels of a jagged outline, are no axis).
  * A photo without thin parts (every solid of `wiresketch scene`) keeps E0
- * as it is. D and E0 do not change when the photo's contrast is scaled, so
+ * as it is. With the hull's support (line_evidence.h; a fit has it), E is
+ * then 0 also at every pixel of F farther than WS_EVIDENCE_OUTLINE_PX from
+ * the background that has no support: texture inside the outline, which a
+ * drawing does not draw. D and E0 do not change when the photo's contrast is scaled, so
  * neither does E. Serial, so the map does not depend on the thread count. */
 #ifndef WS_LINE_TARGET_H
 #define WS_LINE_TARGET_H
+#include <stdint.h>
 #include "io/image.h"
 #include "geometry/silhouette.h"
 #include "nn/base/status.h"
@@ -43,12 +47,13 @@
 #define WS_THIN_PART_MARGIN 2.0 /* pixels */
 #define WS_THIN_AXIS_SLACK 0.75 /* pixels */
 
-/* edge: H x W, overwritten with E. mask: NULL when the view has none;
+/* edge: H x W, overwritten with E. support: NULL, or H x W (1 = the hull
+ * supports a line there). mask: NULL when the view has none;
  * sil: F, made from the same photo and mask (ws_silhouette_make). Fails
  * when out of memory, or with a mask or silhouette of another size than
  * the photo. A view's target, or the user's own edge map in its place, is
  * view_targets.h's. */
-int ws_line_target(const ws_image *photo, const ws_image *mask, const ws_silhouette *sil, float *edge,
-                   ws_status *st);
+int ws_line_target(const ws_image *photo, const ws_image *mask, const ws_silhouette *sil, const uint8_t *support,
+                   float *edge, ws_status *st);
 
 #endif

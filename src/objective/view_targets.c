@@ -13,6 +13,7 @@ struct ws_view_targets {
     const ws_scene *scene;
     ws_silhouette *sil[WS_NSPLITS]; /* per view; in == NULL until made */
     ws_view_cache line;             /* per view: H x W */
+    const ws_line_evidence *evidence; /* NULL: line targets without the hull's support */
 };
 
 int ws_view_targets_create(ws_view_targets **out, const ws_scene *scene, ws_status *st) {
@@ -71,8 +72,18 @@ static int fill_line(void *ctx, int split, int view, float *slot, ws_status *st)
         return WS_OK;
     }
     if (make_silhouette(t, split, view, st)) return st->code;
-    return ws_line_target(&v->photo, v->mask.data ? &v->mask : NULL, &t->sil[split][view], slot, st);
+    uint8_t *support = NULL;
+    if (t->evidence && (!(support = ws_malloc(t->line.floats_per_view, "line support", st)) ||
+                        ws_line_evidence_view(t->evidence, &v->cam, support, st))) {
+        free(support);
+        return st->code;
+    }
+    int rc = ws_line_target(&v->photo, v->mask.data ? &v->mask : NULL, &t->sil[split][view], support, slot, st);
+    free(support);
+    return rc;
 }
+
+void ws_view_targets_set_evidence(ws_view_targets *t, const ws_line_evidence *e) { t->evidence = e; }
 
 int ws_view_targets_line(ws_view_targets *t, int split, int view, const float **out, ws_status *st) {
     return ws_view_cache_get(&t->line, split, view, fill_line, t, out, st);

@@ -23,6 +23,7 @@
 #define WS_VIEW_TARGETS_H
 #include "geometry/silhouette.h"
 #include "io/scene.h"
+#include "objective/line_evidence.h"
 #include "nn/base/status.h"
 
 typedef struct ws_view_targets ws_view_targets;
@@ -40,6 +41,11 @@ int ws_view_targets_silhouettes(ws_view_targets *t, int split, const ws_silhouet
  * ws_line_target of its photo, mask and silhouette; made on the first
  * call. */
 int ws_view_targets_line(ws_view_targets *t, int split, int view, const float **out, ws_status *st);
+
+/* From now on, line targets are made with the support of e (its hull's
+ * contours and creases, line_evidence.h; e must outlive t): a fit sets it
+ * once its hull is carved, before anyone asks for a line target. */
+void ws_view_targets_set_evidence(ws_view_targets *t, const ws_line_evidence *e);
 
 /* Frees what only a fit's setup reads when its loss reads no line target
  * (CLIP alone): every line target (the respawn keeps their edges in its

@@ -18,7 +18,10 @@
 #include "io/colmap.h"
 #include "io/undistort.h"
 #include "nn/base/rng.h"
+#include "io/ref_lines.h"
+#include "synth/line_drawing.h"
 #include "synth/room.h"
+#include "synth/smooth.h"
 #include "synth/solids.h"
 #include "synth/synth.h"
 
@@ -769,10 +772,11 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
     return WS_OK;
 }
 
-/* What a scene shows: tubes or a solid (the other one NULL). */
+/* What a scene shows: tubes, a solid or a smooth object (the others NULL). */
 typedef struct {
     const ws_synth_object *tubes;
     const ws_solid *solid;
+    const ws_smooth *smooth;
 } scene_object;
 
 /* The background of a view: one colour v, or the room around `center`. */
@@ -841,6 +845,25 @@ static int render_view(const scene_object *obj, const ws_camera *cam, const doub
     return rc ? st->code : WS_OK;
 }
 
+/* A view of a smooth object and, for a test view, its reference lines into
+ * dir/lines/test/r_K.png and r_K_parts.png (io/ref_lines.h). */
+static int render_smooth(const char *dir, const ws_smooth *s, const ws_camera *cam, int split, int k,
+                         const float background[3], ws_image *img, ws_status *st) {
+    if (split != WS_TEST) return ws_smooth_render(s, cam, SUPERSAMPLE, background, img, NULL, st);
+    ws_geometry_buffer g;
+    if (ws_geometry_buffer_alloc(&g, cam->width, cam->height, st)) return st->code;
+    uint8_t *part = ws_malloc((size_t)cam->width * cam->height, "reference lines", st);
+    int rc = part ? ws_smooth_render(s, cam, SUPERSAMPLE, background, img, &g, st) : st->code;
+    char lines_dir[4400], name[32];
+    snprintf(lines_dir, sizeof lines_dir, "%s/lines/%s", dir, ws_split_names[split]);
+    snprintf(name, sizeof name, "r_%d", k);
+    if (!rc) rc = ws_line_drawing(&g, part, st);
+    if (!rc) rc = ws_ref_lines_write(lines_dir, name, part, cam->width, cam->height, st);
+    free(part);
+    ws_geometry_buffer_free(&g);
+    return rc;
+}
+
 /* Renders and writes every view's image, in parallel; the failure of the
  * lowest view wins. */
 static int write_views(const char *dir, const scene_object *obj, const double center[3],
@@ -860,7 +883,10 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
         snprintf(what, sizeof what, "%s: camera", path);
         ws_camera cam;
         ws_image img = {0}, mask = {0};
-        if (!synth_camera(opt, c2w[v], what, &cam, vs) && !render_view(obj, &cam, center, opt, &img, &mask, vs) &&
+        const float colour = (float)opt->white_background, background[3] = {colour, colour, colour};
+        if (!synth_camera(opt, c2w[v], what, &cam, vs) &&
+            !(obj->smooth ? render_smooth(dir, obj->smooth, &cam, split, k, background, &img, vs)
+                          : render_view(obj, &cam, center, opt, &img, &mask, vs)) &&
             !(opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs)) &&
             opt->masks) {
             snprintf(path, sizeof path, "%s/masks/%s/r_%d.png", dir, ws_split_names[split], k);
@@ -920,6 +946,14 @@ static int is_view_file(const char *name) {
     return c > name + 2 && (!strcmp(c, ".png") || !strcmp(c, ".jpg"));
 }
 
+/* r_K.png and r_K_parts.png, a test view's reference lines (io/ref_lines.h) */
+static int is_lines_file(const char *name) {
+    if (strncmp(name, "r_", 2)) return 0;
+    const char *c = name + 2;
+    while (*c >= '0' && *c <= '9') c++;
+    return c > name + 2 && (!strcmp(c, ".png") || !strcmp(c, "_parts.png"));
+}
+
 /* the COLMAP model's files (io/colmap.h), text or binary */
 static int is_model_file(const char *name) {
     static const char *const files[] = {"cameras.txt", "images.txt", "points3D.txt",
@@ -969,12 +1003,14 @@ static int clear_old_scene(const char *dir, ws_status *st) {
     }
     int rc = remove_scene_files(dup(fd), dir, is_top_file, st);
     /* the views of either layout (rgb/ or COLMAP's images/), and the model */
-    static const char *const folders[3] = {"rgb", "images", "sparse"};
+    static const char *const folders[2] = {"rgb", "images"};
     for (int f = 0; f < 2 && !rc; f++)
         for (int s = 0; s < WS_NSPLITS && !rc; s++)
             rc = clear_subfolder(fd, dir, folders[f], ws_split_names[s], is_view_file, st);
     if (!rc) rc = clear_subfolder(fd, dir, "sparse", "0", is_model_file, st);
-    for (int f = 0; f < 3 && !rc; f++) unlinkat(fd, folders[f], AT_REMOVEDIR); /* unless something else is there */
+    if (!rc) rc = clear_subfolder(fd, dir, "lines", "test", is_lines_file, st);
+    static const char *const parents[4] = {"rgb", "images", "sparse", "lines"};
+    for (int f = 0; f < 4 && !rc; f++) unlinkat(fd, parents[f], AT_REMOVEDIR); /* unless something else is there */
     close(fd);
     return rc;
 }
@@ -982,18 +1018,27 @@ static int clear_old_scene(const char *dir, ws_status *st) {
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st) {
     if (check_options(opt, st)) return st->code;
     if (strlen(dir) > 4000) return ws_fail(st, WS_EUSAGE, "%s: path too long", dir);
-    int solid = ws_solid_exists(name);
-    if (!solid && object_index(name) < 0)
+    int solid = ws_solid_exists(name), smooth = ws_smooth_exists(name);
+    if (!solid && !smooth && object_index(name) < 0)
         return ws_fail(st, WS_EUSAGE,
                        "%s: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
-                       "dodecahedron, nut)",
+                       "dodecahedron, nut, torus, vase, animal)",
                        name);
+    /* a smooth object is drawn by sphere tracing with its reference lines, through a pinhole, and has
+     * no curves to scatter a sparse cloud along */
+    if (smooth && (opt->colmap || opt->lens[0] || opt->lens[1] || opt->lens[2] || opt->lens[3]))
+        return ws_fail(st, WS_EUSAGE, "%s: --lens and --layout colmap are for the wire objects and solids", name);
+    if (smooth && (opt->room || opt->masks))
+        return ws_fail(st, WS_EUSAGE, "%s: --background room and --masks are for the wire objects and solids", name);
     ws_synth_object obj = {0};
     ws_solid sol = {0};
-    if (solid ? ws_solid_make(&sol, name, OBJECT_CENTER, st) : ws_synth_object_make(&obj, name, st))
+    ws_smooth smo = {0};
+    if (smooth ? ws_smooth_make(&smo, name, OBJECT_CENTER, st)
+        : solid ? ws_solid_make(&sol, name, OBJECT_CENTER, st)
+                : ws_synth_object_make(&obj, name, st))
         return st->code;
-    const scene_object what = {solid ? NULL : &obj, solid ? &sol : NULL};
-    const double *center = solid ? sol.center : obj.center;
+    const scene_object what = {solid || smooth ? NULL : &obj, solid ? &sol : NULL, smooth ? &smo : NULL};
+    const double *center = smooth ? smo.center : solid ? sol.center : obj.center;
     char path[4400];
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
@@ -1019,6 +1064,11 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         snprintf(path, sizeof path, "%s/sparse/0", dir);
         rc = ws_mkdir(path, st);
     }
+    snprintf(path, sizeof path, "%s/lines", dir);
+    if (!rc && smooth && opt->views[WS_TEST] && !(rc = ws_mkdir(path, st))) {
+        snprintf(path, sizeof path, "%s/lines/test", dir);
+        rc = ws_mkdir(path, st);
+    }
     if (!rc) {
         place_cameras(center, opt, c2w);
         rc = write_views(dir, &what, center, opt, c2w, total, st);
@@ -1029,7 +1079,7 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio && !opt->colmap; first += opt->views[s++])
         if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], opt->masks, st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
-    if (!rc) rc = ws_curves_save(path, gt, st);
+    if (!rc && !smooth) rc = ws_curves_save(path, gt, st);
     snprintf(path, sizeof path, "%s/gt_points.ply", dir);
     if (!rc && solid) rc = ws_solid_write_points(&sol, path, GT_POINTS, opt->seed, st);
     free(c2w);

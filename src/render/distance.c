@@ -1,7 +1,7 @@
 /* distance.c: the Euclidean distance transform (see distance.h). */
 #include <math.h>
 #include <stdlib.h>
-#include "geometry/distance.h"
+#include "render/distance.h"
 
 /* Squared Euclidean distance transform of one line (Felzenszwalb and
  * Huttenlocher): d[k] = min_q (k - q)^2 + f[q], with f = INFINITY off the

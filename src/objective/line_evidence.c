@@ -1,0 +1,243 @@
+/* line_evidence.c: the hull's contours and creases seen from a view (see
+ * line_evidence.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "objective/line_evidence.h"
+#include "render/distance.h"
+
+/* The surface variation lambda_0 / (lambda_0 + lambda_1 + lambda_2) of m
+ * points with coordinate sums sum and sums of products sq (xx, yy, zz, xy,
+ * xz, yz): lambda_0 the smallest eigenvalue of their covariance, found in
+ * closed form (the trigonometric solution of the characteristic cubic). 0
+ * on a plane, 1/3 for points spread evenly in every direction. */
+static double surface_variation(const double sum[3], const double sq[6], int m) {
+    double mean[3] = {sum[0] / m, sum[1] / m, sum[2] / m};
+    double a = sq[0] / m - mean[0] * mean[0], b = sq[1] / m - mean[1] * mean[1], c = sq[2] / m - mean[2] * mean[2];
+    double d = sq[3] / m - mean[0] * mean[1], e = sq[4] / m - mean[0] * mean[2], f = sq[5] / m - mean[1] * mean[2];
+    double trace = a + b + c;
+    if (!(trace > 0)) return 0;
+    double q = trace / 3, p1 = d * d + e * e + f * f;
+    double p2 = (a - q) * (a - q) + (b - q) * (b - q) + (c - q) * (c - q) + 2 * p1, p = sqrt(p2 / 6);
+    if (!(p > 1e-12 * trace)) return 1.0 / 3; /* isotropic */
+    double B[6] = {(a - q) / p, (b - q) / p, (c - q) / p, d / p, e / p, f / p};
+    double det = B[0] * (B[1] * B[2] - B[5] * B[5]) - B[3] * (B[3] * B[2] - B[5] * B[4]) + B[4] * (B[3] * B[5] - B[1] * B[4]);
+    double phi = acos(fmin(1, fmax(-1, det / 2))) / 3;
+    double smallest = q + 2 * p * cos(phi + 2 * M_PI / 3);
+    return fmax(0, smallest) / trace;
+}
+
+int ws_line_evidence_init(ws_line_evidence *e, const ws_scene_hull *hull, ws_status *st) {
+    const ws_hull *h = &hull->hull;
+    const ws_hull_surface *s = &hull->surface;
+    e->hull = hull;
+    e->crease = ws_calloc(s->n ? (size_t)s->n : 1, 1, "hull creases", st);
+    size_t cells = (size_t)h->n[0] * h->n[1] * h->n[2];
+    int *at = e->crease ? ws_malloc(cells * sizeof *at, "hull creases", st) : NULL;
+    if (!at) {
+        ws_line_evidence_free(e);
+        return st->code;
+    }
+    /* the surface voxel of each grid cell (-1: none), by its centre */
+    for (size_t c = 0; c < cells; c++) at[c] = -1;
+    int (*cell)[3] = NULL;
+    cell = ws_malloc((size_t)(s->n ? s->n : 1) * sizeof *cell, "hull creases", st);
+    if (!cell) {
+        free(at);
+        ws_line_evidence_free(e);
+        return st->code;
+    }
+    for (int k = 0; k < s->n; k++) {
+        for (int x = 0; x < 3; x++) cell[k][x] = (int)floor((s->p[3 * k + x] - h->origin[x]) / h->voxel);
+        if (cell[k][0] >= 0 && cell[k][0] < h->n[0] && cell[k][1] >= 0 && cell[k][1] < h->n[1] && cell[k][2] >= 0 &&
+            cell[k][2] < h->n[2])
+            at[ws_hull_index(h, cell[k][0], cell[k][1], cell[k][2])] = k;
+    }
+    const int r = WS_EVIDENCE_CREASE_REACH;
+    const double limit = WS_EVIDENCE_CREASE_VARIATION;
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < s->n; k++) {
+        double sum[3] = {0, 0, 0}, sq[6] = {0, 0, 0, 0, 0, 0};
+        int m = 0;
+        for (int dz = -r; dz <= r; dz++)
+            for (int dy = -r; dy <= r; dy++)
+                for (int dx = -r; dx <= r; dx++) {
+                    int x = cell[k][0] + dx, y = cell[k][1] + dy, z = cell[k][2] + dz;
+                    if (dx * dx + dy * dy + dz * dz > r * r || x < 0 || x >= h->n[0] || y < 0 || y >= h->n[1] ||
+                        z < 0 || z >= h->n[2])
+                        continue;
+                    int q = at[ws_hull_index(h, x, y, z)];
+                    if (q < 0) continue;
+                    double d[3] = {dx, dy, dz};
+                    for (int a = 0; a < 3; a++) sum[a] += d[a];
+                    sq[0] += d[0] * d[0], sq[1] += d[1] * d[1], sq[2] += d[2] * d[2];
+                    sq[3] += d[0] * d[1], sq[4] += d[0] * d[2], sq[5] += d[1] * d[2];
+                    m++;
+                }
+        e->crease[k] = (uint8_t)(m >= 3 && surface_variation(sum, sq, m) > limit);
+    }
+    free(cell);
+    free(at);
+    return WS_OK;
+}
+
+void ws_line_evidence_free(ws_line_evidence *e) {
+    free(e->crease);
+    e->crease = NULL;
+}
+
+/* Z and K of a view (line_evidence.h) into z and crease (H x W). */
+static void hull_depth(const ws_line_evidence *e, const ws_camera *cam, float *z, uint8_t *crease) {
+    const int W = cam->width, H = cam->height;
+    const ws_scene_hull *hl = e->hull;
+    const double rho = hl->hull.voxel * sqrt(3.0) / 2;
+    for (size_t p = 0; p < (size_t)W * H; p++) {
+        z[p] = INFINITY;
+        crease[p] = 0;
+    }
+    for (int k = 0; k < hl->surface.n; k++) {
+        double c[3], u, v;
+        ws_camera_to_cam(cam, hl->surface.p + 3 * k, c);
+        double d = ws_camera_project(cam, c, &u, &v);
+        if (!(d > rho)) continue;
+        double r = fmax(0.5, cam->focal * rho / d);
+        int j0 = (int)fmax(0, ceil(u - r - WS_PIXEL_CENTER)), j1 = (int)fmin(W - 1, floor(u + r - WS_PIXEL_CENTER));
+        int i0 = (int)fmax(0, ceil(v - r - WS_PIXEL_CENTER)), i1 = (int)fmin(H - 1, floor(v + r - WS_PIXEL_CENTER));
+        for (int i = i0; i <= i1; i++)
+            for (int j = j0; j <= j1; j++) {
+                double dx = j + WS_PIXEL_CENTER - u, dy = i + WS_PIXEL_CENTER - v;
+                size_t at = (size_t)i * W + j;
+                if (dx * dx + dy * dy <= r * r && d < z[at]) {
+                    z[at] = (float)d;
+                    crease[at] = e->crease[k];
+                }
+            }
+    }
+}
+
+/* Whether pixel (i, j) of z lies nearer than a 4-neighbour by more than
+ * WS_EVIDENCE_DEPTH_JUMP of its depth: the near side of a hull contour. */
+static int depth_jump(const float *z, int W, int H, int i, int j) {
+    static const int di[4] = {-1, 1, 0, 0}, dj[4] = {0, 0, -1, 1};
+    float here = z[(size_t)i * W + j];
+    if (!isfinite(here)) return 0;
+    for (int k = 0; k < 4; k++) {
+        int ii = i + di[k], jj = j + dj[k];
+        if (ii < 0 || ii >= H || jj < 0 || jj >= W) continue;
+        float q = z[(size_t)ii * W + jj];
+        if (isfinite(q) && q - here > WS_EVIDENCE_DEPTH_JUMP * here) return 1;
+    }
+    return 0;
+}
+
+/* Buffers of one view, H x W each. */
+typedef struct {
+    float *z, *dist, *inside;
+    uint8_t *crease, *set, *support;
+} view_buffers;
+
+static int buffers_alloc(view_buffers *b, size_t n, ws_status *st) {
+    memset(b, 0, sizeof *b);
+    b->z = ws_malloc(n * sizeof(float), "hull lines", st);
+    b->dist = b->z ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
+    b->inside = b->dist ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
+    b->crease = b->inside ? ws_malloc(n, "hull lines", st) : NULL;
+    b->set = b->crease ? ws_malloc(n, "hull lines", st) : NULL;
+    b->support = b->set ? ws_malloc(n, "hull lines", st) : NULL;
+    return b->support ? WS_OK : st->code;
+}
+
+static void buffers_free(view_buffers *b) {
+    free(b->z);
+    free(b->dist);
+    free(b->inside);
+    free(b->crease);
+    free(b->set);
+    free(b->support);
+}
+
+/* support from z and crease (b->dist is overwritten). */
+static int support_map(view_buffers *b, int W, int H, uint8_t *support, ws_status *st) {
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            size_t p = (size_t)i * W + j;
+            b->set[p] = (uint8_t)(isfinite(b->z[p]) && (b->crease[p] || depth_jump(b->z, W, H, i, j)));
+        }
+    if (ws_distance_map(b->set, W, H, b->dist, st)) return st->code;
+    for (size_t p = 0; p < (size_t)W * H; p++) support[p] = b->dist[p] <= WS_EVIDENCE_REACH_PX;
+    return WS_OK;
+}
+
+int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8_t *support, ws_status *st) {
+    view_buffers b;
+    int rc = buffers_alloc(&b, (size_t)cam->width * cam->height, st);
+    if (!rc) {
+        hull_depth(e, cam, b.z, b.crease);
+        rc = support_map(&b, cam->width, cam->height, support, st);
+    }
+    buffers_free(&b);
+    return rc;
+}
+
+int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_camera *cam, const unsigned char *curves,
+                             unsigned char *drawing, ws_status *st) {
+    const int W = cam->width, H = cam->height;
+    const size_t n = (size_t)W * H;
+    const double inset = WS_DRAWING_INSET_PX, thin = WS_DRAWING_THIN_PX, margin = WS_DRAWING_CURVE_MARGIN_PX;
+    view_buffers b;
+    int rc = buffers_alloc(&b, n, st);
+    if (!rc) {
+        hull_depth(e, cam, b.z, b.crease);
+        rc = support_map(&b, W, H, b.support, st);
+    }
+    /* inside: the distance to the hull's outside */
+    if (!rc) {
+        for (size_t p = 0; p < n; p++) b.set[p] = !isfinite(b.z[p]);
+        rc = ws_distance_map(b.set, W, H, b.inside, st);
+    }
+    /* dist: to where the inset region is wider than a thin part */
+    if (!rc) {
+        for (size_t p = 0; p < n; p++) b.set[p] = b.inside[p] > inset + thin;
+        rc = ws_distance_map(b.set, W, H, b.dist, st);
+    }
+    if (!rc)
+        for (int i = 0; i < H; i++)
+            for (int j = 0; j < W; j++) {
+                size_t p = (size_t)i * W + j;
+                int keep = b.support[p] && b.inside[p] > inset + margin;
+                int in = b.inside[p] > inset, wide = b.dist[p] <= thin + 1.5, outline = 0;
+                for (int k = 0; k < 4 && in && wide && !outline; k++) {
+                    int ii = i + (k == 0) - (k == 1), jj = j + (k == 2) - (k == 3);
+                    outline = ii >= 0 && ii < H && jj >= 0 && jj < W && b.inside[(size_t)ii * W + jj] <= inset;
+                }
+                int contour = in && wide && depth_jump(b.z, W, H, i, j);
+                drawing[p] = outline || contour ? 0 : keep ? curves[p] : 255;
+            }
+    buffers_free(&b);
+    return rc;
+}
+
+int ws_drawing_hull_make(ws_drawing_hull *d, const ws_scene *scene, ws_status *st) {
+    memset(d, 0, sizeof *d);
+    const ws_split *train = &scene->split[WS_TRAIN];
+    ws_silhouette *sil = ws_calloc(train->n ? (size_t)train->n : 1, sizeof *sil, "silhouettes", st);
+    int rc = sil ? WS_OK : st->code;
+    for (int v = 0; v < train->n && !rc; v++) rc = ws_view_silhouette(&train->views[v], &sil[v], st);
+    if (!rc) rc = ws_scene_hull_make(scene, WS_TRAIN, sil, WS_DRAWING_HULL_RESOLUTION, &d->hull, st);
+    if (!rc) rc = ws_line_evidence_init(&d->evidence, &d->hull, st);
+    for (int v = 0; sil && v < train->n; v++) ws_silhouette_free(&sil[v]);
+    free(sil);
+    if (rc) ws_drawing_hull_free(d);
+    return rc;
+}
+
+void ws_drawing_hull_free(ws_drawing_hull *d) {
+    ws_line_evidence_free(&d->evidence);
+    ws_scene_hull_free(&d->hull);
+}
+
+int ws_drawing_hull_render(void *ctx, const ws_camera *cam, const unsigned char *curves, unsigned char *drawing,
+                           ws_status *st) {
+    const ws_drawing_hull *d = ctx;
+    return ws_line_evidence_drawing(&d->evidence, cam, curves, drawing, st);
+}
