@@ -502,7 +502,7 @@ static void test_room(void) {
     opt.width = opt.height = 0;
     rc = ws_synth_write("cube", b, &opt, &st);
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--principal 10,-6: a NeRF-synthetic scene has its principal point at "
-                                             "the centre (--layout nerfstudio takes others)"),
+                                             "the centre (--layout nerfstudio or colmap takes others)"),
           "principal point in a NeRF-synthetic scene: %s", st.msg);
     opt.principal[0] = opt.principal[1] = 0;
     rc = ws_synth_write("torus", b, &opt, &st);

@@ -764,10 +764,10 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
     if (!(fabs(opt->principal[0]) < 0.5 * w && fabs(opt->principal[1]) < 0.5 * h))
         return ws_fail(st, WS_EUSAGE, "--principal %g,%g: not inside the %d x %d image (offsets from its centre)",
                        opt->principal[0], opt->principal[1], w, h);
-    if (!opt->nerfstudio && (opt->principal[0] || opt->principal[1]))
+    if (nerf && (opt->principal[0] || opt->principal[1]))
         return ws_fail(st, WS_EUSAGE,
                        "--principal %g,%g: a NeRF-synthetic scene has its principal point at the centre "
-                       "(--layout nerfstudio takes others)",
+                       "(--layout nerfstudio or colmap takes others)",
                        opt->principal[0], opt->principal[1]);
     return WS_OK;
 }
