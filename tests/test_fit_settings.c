@@ -44,8 +44,9 @@ int main(void) {
     char run_dir[300];
     snprintf(run_dir, sizeof run_dir, "%s/run", tmp);
     run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    /* the kernels a user chose are kept and recorded (runtime.h) */
     int rc = run_cmd(out, sizeof out,
-                     "%s fit tests/fixtures/scene_small --out %s/run --loss edges --size 64 --max-steps 2 "
+                     "OPENBLAS_CORETYPE=Haswell %s fit tests/fixtures/scene_small --out %s/run --loss edges --size 64 --max-steps 2 "
                      "--radius 0.7 --length 0.05 --epochs 3 --inner-steps 2 --n-curves 7 --thickness 0.03 "
                      "--learning-rate 0.0125 --cutoff inf --seed 9 --threads 1 --quiet",
                      bin, tmp);
@@ -60,6 +61,9 @@ int main(void) {
     };
     for (size_t k = 0; k < sizeof given / sizeof given[0]; k++)
         CHECK(has_row(given[k][0], given[k][1]), "settings row %s = '%s'", given[k][0], given[k][1]);
+    CHECK(strstr(report, "<tr><th>BLAS kernels</th><td>Haswell (OPENBLAS_CORETYPE=Haswell set in the environment: "
+                         "kept") != NULL,
+          "no settings row says which BLAS kernels ran");
     /* every option of --help has its row but those that say what the
      * invocation does (--resume, --config, --overwrite) */
     rc = run_cmd(out, sizeof out, "%s fit --help", bin);

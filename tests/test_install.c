@@ -26,6 +26,7 @@
     "io/pointcloud.h io/scene.h metrics/line_metrics.h metrics/metrics.h metrics/nearest.h "                 \
     "metrics/quality.h metrics/strays.h nn/base/rng.h nn/base/status.h objective/clip_model.h "              \
     "objective/hidden_mode.h objective/loss.h objective/objective.h render/camera.h render/curves.h "        \
+    "render/lens.h " /* a view keeps its lens (scene.h) */                                               \
     "render/splat.h wiresketch.h "
 
 static char bin[512], build[256], tmp[256];
@@ -49,6 +50,7 @@ static void check_man(const char *man) {
             listing = 1;
             continue;
         }
+        if (strncmp(line, "  ", 2)) listing = 0; /* the next section (exit status) */
         char name[64];
         if (!listing || sscanf(line, "  %63s", name) != 1) continue;
         ncommands++;

@@ -29,6 +29,7 @@ interrupted) and exits with status 1.
 import argparse
 import array
 import collections
+import errno
 import io
 import itertools
 import json
@@ -78,6 +79,10 @@ MAX_DESCRIPTION_BYTES = 256 * MAX_TENSORS
 MAX_JSON_DEPTH = 64
 MAX_CONFIG_BYTES = 1 << 20                 # a CLIP config.json has a few kilobytes
 MAX_MODULE_DEPTH = 64                      # OpenAI's TorchScript modules nest about 6 deep
+# A CLIP tensor has at most 4 dimensions (conv1.weight). The bound comes before any product of
+# a shape is taken: the product of 3 million dimensions is a 3-million-digit integer, each
+# multiplication slower than the last.
+MAX_DIMS = 8
 # PyTorch writes a storage with exactly the bytes of its tensor; a member may hold this
 # much more than the tensor reading it uses, and no more (it is read through to its end).
 STORAGE_SLACK = 1 << 20
@@ -93,13 +98,19 @@ class ConvertError(Exception):
 
 
 class Interrupted(BaseException):
-    """SIGINT or SIGTERM: unwinds like KeyboardInterrupt, so the temporary file is removed."""
+    """A stopping signal: unwinds like KeyboardInterrupt, so the temporary file is removed."""
+
+
+# The signals that end a conversion with its temporary file removed: Ctrl-C, kill, a closed
+# terminal, the CPU time limit. SIGXFSZ (the file size limit) is ignored instead, so that the
+# write past it fails with EFBIG and is reported as a write error naming OUT.
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGXCPU)
 
 
 def on_signal(signum, frame):
     """Raise Interrupted once; further signals are ignored so that cleanup runs to the end."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    for s in STOP_SIGNALS:
+        signal.signal(s, signal.SIG_IGN)
     raise Interrupted(signal.Signals(signum).name)
 
 
@@ -249,12 +260,25 @@ def transpose2(data, rows, cols, element):
 # --------------------------------------------------------------------------
 # PyTorch zip archives (TorchScript and torch.save) read with a closed Unpickler
 
-class Storage:
+class Record:
+    """A record the Unpickler makes after checking its fields (a storage, its type, a tensor).
+    The pickle's BUILD opcode would otherwise rewrite the checked fields afterwards (a storage
+    of None, a size of "64", an offset of -4): it is refused."""
+
+    def __setstate__(self, state):
+        raise ConvertError(f"malformed data.pkl (it rewrites a {self.what} record: BUILD)")
+
+
+class Storage(Record):
+    what = "storage"
+
     def __init__(self, key, dtype, numel):
         self.key, self.dtype, self.numel = key, dtype, numel
 
 
-class StorageType:
+class StorageType(Record):
+    what = "storage type"
+
     def __init__(self, dtype):
         self.dtype = dtype
 
@@ -266,13 +290,20 @@ class ScriptObject:
         self.state = state
 
 
-class TorchTensor:
+class TorchTensor(Record):
+    what = "tensor"
+
     def __init__(self, storage, offset, size, stride):
         self.storage, self.offset, self.size, self.stride = storage, offset, size, stride
 
 
 def _ints(value, what):
-    if not isinstance(value, tuple) or not all(is_count(v) for v in value):
+    if not isinstance(value, tuple):
+        raise ConvertError(f"malformed tensor {what} in the pickle")
+    if len(value) > MAX_DIMS:
+        raise ConvertError(f"a tensor {what} of {len(value)} dimensions in the pickle; no CLIP "
+                           f"tensor has more than {MAX_DIMS}")
+    if not all(is_count(v) for v in value):
         raise ConvertError(f"malformed tensor {what} in the pickle")
     return value
 
@@ -305,20 +336,55 @@ ALLOWED_GLOBALS = {
     ("torch.jit._pickle", "build_boollist"): _identity,
     ("torch.jit._pickle", "build_tensorlist"): _identity,
 }
-MEMO_STORES = {"PUT", "BINPUT", "LONG_BINPUT"}
+# How each opcode's argument is laid out, from pickletools' table: a fixed byte count (>= 0),
+# a line (-1; two for GLOBAL and INST), or a length of 1, 4 or 8 bytes before the bytes.
+ARG_LAYOUT = {op.code.encode("latin-1")[0]: (op.arg.n if op.arg else 0) for op in pickletools.opcodes}
+LINES = {ord("c"): 2, ord("i"): 2}
+LENGTH_BYTES = {pickletools.TAKEN_FROM_ARGUMENT1: 1, pickletools.TAKEN_FROM_ARGUMENT4: 4,
+                pickletools.TAKEN_FROM_ARGUMENT4U: 4, pickletools.TAKEN_FROM_ARGUMENT8U: 8}
+PUT, LONG_BINPUT, STOP = ord("p"), ord("r"), ord(".")
 
 
 def check_memo(data):
     """Refuses a memo index past the pickle's length. Picklers number their memo entries 0, 1,
     2, ...; the C Unpickler grows its memo to twice the largest index and zeroes it, so a
-    9-byte data.pkl storing at index 2^31 would take 32 GB."""
-    try:
-        for op, arg, _ in pickletools.genops(data):
-            if op.name in MEMO_STORES and arg >= len(data):
-                raise ConvertError(f"malformed data.pkl (memo index {arg} in a pickle of "
-                                   f"{len(data)} bytes)")
-    except ValueError as e:  # an unknown opcode, a truncated argument
-        raise ConvertError(f"malformed data.pkl ({e})")
+    9-byte data.pkl storing at index 2^31 would take 32 GB. Only PUT and LONG_BINPUT can name
+    such an index (BINPUT's is one byte). The opcodes are walked by their argument layout
+    alone, a few times faster than pickletools.genops, which decodes every argument (a 32 MiB
+    data.pkl of small integers took it 30 s)."""
+    def malformed(why):
+        return ConvertError(f"malformed data.pkl ({why})")
+
+    at, n = 0, len(data)
+    while at < n:
+        code = data[at]
+        layout = ARG_LAYOUT.get(code)
+        if layout is None:
+            raise malformed(f"unknown opcode {bytes([code])!r} at byte {at}")
+        at += 1
+        if layout > 0:
+            if code == LONG_BINPUT and at + 4 <= n:
+                index = int.from_bytes(data[at:at + 4], "little")
+                if index >= n:
+                    raise malformed(f"memo index {index} in a pickle of {n} bytes")
+            at += layout
+        elif layout == -1:
+            end = at
+            for _ in range(LINES.get(code, 1)):
+                end = data.find(b"\n", end) + 1
+                if end == 0:
+                    raise malformed(f"a line that does not end, at byte {at}")
+            if code == PUT and data[at:end - 1].isdigit() and int(data[at:end - 1]) >= n:
+                raise malformed(f"memo index {int(data[at:end - 1])} in a pickle of {n} bytes")
+            at = end
+        elif layout < -1:
+            size = LENGTH_BYTES[layout]
+            length = int.from_bytes(data[at:at + size], "little", signed=size == 4 and code in (0x54, 0x8b))
+            at += size + max(length, 0)
+        elif code == STOP:
+            return
+    if at > n:
+        raise malformed("truncated")
 
 
 class ClosedUnpickler(pickle.Unpickler):
@@ -401,7 +467,7 @@ class TorchArchive:
         unpickler = ClosedUnpickler(data)
         try:
             return unpickler.load()
-        except ConvertError:
+        except (ConvertError, MemoryError):  # a refusal as it is; memory is not the file's fault
             raise
         except Exception as e:  # any malformed pickle: a one-line refusal
             raise ConvertError(f"malformed data.pkl ({type(e).__name__}: {e})")
@@ -552,6 +618,9 @@ def read_safetensors(f, size):
         if not isinstance(dtype, str) or dtype not in SAFETENSORS_DTYPES:
             raise ConvertError(f"safetensors entry {name} has dtype {brief(dtype)}, which is not "
                                f"one of {', '.join(SAFETENSORS_DTYPES)}")
+        if isinstance(shape, list) and len(shape) > MAX_DIMS:
+            raise ConvertError(f"safetensors entry {name} has {len(shape)} dimensions; no CLIP "
+                               f"tensor has more than {MAX_DIMS}")
         if not isinstance(shape, list) or not all(is_count(d) for d in shape):
             raise ConvertError(f"safetensors entry {name} has shape {brief(shape)}, not a list of "
                                f"integers >= 0")
@@ -944,8 +1013,9 @@ def main(argv):
                         help="attention heads (default: config.json beside a safetensors file, "
                              "else width / 64 as in OpenAI's models)")
     args = parser.parse_args(argv)
-    signal.signal(signal.SIGINT, on_signal)
-    signal.signal(signal.SIGTERM, on_signal)
+    for s in STOP_SIGNALS:
+        signal.signal(s, on_signal)
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     try:
         line = convert(args)
     except ConvertError as e:
@@ -954,10 +1024,30 @@ def main(argv):
         where, what = e.filename or args.input, e.strerror or str(e)
     except Interrupted as e:
         where, what = args.output, f"interrupted by {e}; not written"
+    except MemoryError:
+        where, what = args.input, "out of memory converting it (a limit such as ulimit -v is too low)"
     else:
-        print(line)
-        return 0
+        return print_result(line)
     print(f"convert_weights.py: {one_line(str(where))}: {one_line(what)}", file=sys.stderr)
+    return 1
+
+
+def print_result(line):
+    """Prints the success line; a closed or full stdout, or a reader gone (Python ignores
+    SIGPIPE), is one line and exit 1, not a traceback at exit. OUT is written either way."""
+    try:
+        if sys.stdout is None:  # started with stdout closed
+            raise OSError(errno.EBADF, os.strerror(errno.EBADF))
+        print(line)
+        sys.stdout.flush()
+        return 0
+    except OSError as e:
+        why = e.strerror or str(e)
+    if sys.stdout is not None:  # what is still buffered goes nowhere at exit, not into a traceback
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    print(f"convert_weights.py: standard output: write failed: {why}", file=sys.stderr)
     return 1
 
 

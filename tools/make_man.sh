@@ -29,17 +29,21 @@ wiresketch \- 3D wireframe sketches of an object from multi-view photos
 wiresketch fits cubic B\('ezier curves to multi-view photos of an object
 (NeRF-synthetic or nerfstudio scenes) and writes them as a curve file,
 renders, animations and a report. Option names accept underscores for
-dashes. Exit status: 0 on success, 1 for bad input, 2 for bad usage.
+dashes. Exit status: 0 on success, 1 for bad input or an output that could
+not be written (a full disk, a closed stdout, ulimit -f), 2 for bad usage,
+128 + N for a fit stopped by signal N (130 for SIGINT; also SIGHUP, SIGTERM,
+SIGXCPU, SIGXFSZ, and 141 when the reader of its progress is gone), which
+writes its checkpoint and outputs first.
 .SH COMMANDS
 HEAD
-"$bin" --help | awk '/^commands:/ {on = 1; next} on && /^  [a-z]/' | while read -r name summary; do
+"$bin" --help | awk '/^commands:/ {on = 1; next} /^[^ ]/ {on = 0} on && /^  [a-z]/' | while read -r name summary; do
     printf '.TP\n.B %s\n%s\n' "$name" "$(printf '%s\n' "$summary" | esc)"
 done
 for c in $commands; do
     printf '.SH "%s"\n' "$(printf 'wiresketch %s' "$c" | tr a-z A-Z)"
     "$bin" "$c" --help | awk '
         /^usage: / { sub(/^usage: /, ""); print "USAGE\t" $0; next }
-        /^[a-z]+:$/ { print "SECTION\t" $0; next }
+        /^[a-z ]+:$/ { print "SECTION\t" $0; next }
         /^  [^ ]/ { line = substr($0, 3); i = index(line, "  ");
                     if (i == 0) { print "TEXT\t" line; next }
                     key = substr(line, 1, i - 1); rest = substr(line, i); sub(/^ +/, "", rest);

@@ -134,21 +134,42 @@ class Pickle:
         self.glob("collections", "OrderedDict")
         self.b += b")R"
 
-    def tensor(self, storage_type, key, storage_numel, offset, size, stride):
+    def build(self, key, value):
+        """BUILD on the object on top of the stack with the state {key: value} (value: str,
+        int or None)."""
+        self.b += b"}"
+        self.string(key)
+        if value is None:
+            self.b += b"N"
+        elif isinstance(value, str):
+            self.string(value)
+        else:
+            self.int_(value)
+        self.b += b"sb"  # SETITEM, BUILD
+
+    def tensor(self, storage_type, key, storage_numel, offset, size, stride, rewrite=None):
+        """rewrite: (record, key, value): BUILD on the record ("type", "storage" or "tensor")
+        right after it is made."""
         self.glob("torch._utils", "_rebuild_tensor_v2")
         self.b += b"(("
         self.string("storage")
         self.glob("torch", storage_type)
+        if rewrite and rewrite[0] == "type":
+            self.build(*rewrite[1:])
         self.string(key)
         self.string("cpu")
         self.int_(storage_numel)
         self.b += b"tQ"  # TUPLE, BINPERSID
+        if rewrite and rewrite[0] == "storage":
+            self.build(*rewrite[1:])
         self.int_(offset)
         self.ints(size)
         self.ints(stride)
         self.b += b"\x89"  # NEWFALSE: requires_grad
         self.ordered_dict()
         self.b += b"tR"  # TUPLE, REDUCE
+        if rewrite and rewrite[0] == "tensor":
+            self.build(*rewrite[1:])
 
 
 def write_torch_zip(path, pickle_bytes, storages, root="archive", compression=zipfile.ZIP_STORED):
@@ -491,6 +512,96 @@ def hostile_archives(tower):
     check_output("deflated state dict", out, tower, 0, 2)
 
 
+def rewritten_records(tower):
+    """BUILD on the records the Unpickler checked (the converter's own objects) would rewrite
+    them: a negative offset converted into a corrupt file (exit 0), a storage of None, of an
+    integer dtype or a size "64" ended in tracebacks. Each is refused in one line."""
+    path = os.path.join(TMP, "rewritten.pt")
+    for record, key, value in (("tensor", "offset", -4), ("tensor", "storage", None), ("tensor", "size", "64"),
+                               ("storage", "dtype", "i64"), ("storage", "numel", 10 ** 9),
+                               ("type", "dtype", "bf16")):
+        p = Pickle()
+        p.ordered_dict()
+        p.b += b"("
+        p.string("visual.conv1.weight")
+        p.tensor("FloatStorage", "0", 4, 0, (4,), (1,), rewrite=(record, key, value))
+        p.b += b"u."
+        write_torch_zip(path, p.b, {"0": pack([0.5] * 4, "f32")})
+        what = {"type": "storage type"}.get(record, record)
+        expect_refusal(f"BUILD rewriting a {what}'s {key}", path, f"malformed data.pkl (it rewrites a {what} "
+                       f"record: BUILD)")
+
+
+def huge_shapes(tower, st):
+    """A shape of 2 million dimensions (a 10 MB data.pkl; 6 MB of safetensors header): refused
+    by its dimension count in seconds, before any product of it is taken (each product of
+    millions of factors is a bigger integer than the last: minutes)."""
+    path = os.path.join(TMP, "dims.pt")
+    p = Pickle()
+    p.ordered_dict()
+    p.b += b"("
+    p.string("visual.conv1.weight")
+    p.tensor("FloatStorage", "0", 4, 0, (2,) * 2000000, (1,) * 2000000)
+    p.b += b"u."
+    write_torch_zip(path, p.b, {"0": pack([0.5] * 4, "f32")})
+    start = time.monotonic()
+    expect_refusal("a pickled shape of 2 000 000 dimensions", path, "a tensor size of 2000000 dimensions in the "
+                   "pickle; no CLIP tensor has more than 8")
+    seconds = time.monotonic() - start
+    ln = "vision_model.pre_layrnorm.weight"
+    write_safetensors(st, tower, edit=lambda h: h[ln].update(shape=[2] * 2000000))
+    start = time.monotonic()
+    expect_refusal("a safetensors shape of 2 000 000 dimensions", st, f"safetensors entry {ln} has 2000000 "
+                   f"dimensions; no CLIP tensor has more than 8")
+    print(f"  (refused in {seconds:.1f} s and {time.monotonic() - start:.1f} s)")
+    write_safetensors(st, tower)
+
+
+def out_of_memory(sd):
+    """Under a memory limit (ulimit -v) too low for a valid 30 MB data.pkl (a long string
+    beside the tensors): one line, not a traceback, and no false "malformed"."""
+    import resource
+    path, out = os.path.join(TMP, "memory.pt"), os.path.join(TMP, "memory.bin")
+    with zipfile.ZipFile(sd) as z:
+        members = {i.filename: z.read(i) for i in z.infolist()}
+    p = members["archive/data.pkl"]
+    text = b"x" * (30 << 20)
+    # before SETITEMS, STOP: one more item, "notes": the text
+    members["archive/data.pkl"] = (p[:-2] + b"X" + struct.pack("<I", 5) + b"notes" + b"X" + struct.pack("<I", len(text))
+                                   + text + b"u.")
+    with zipfile.ZipFile(path, "w") as z:
+        for name, data in members.items():
+            z.writestr(name, data)
+    limit = 100 << 20
+    proc = subprocess.run([sys.executable, CONVERTER, path, out, "--heads", "2"], capture_output=True, text=True,
+                          timeout=60, preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_AS, (limit, limit)))
+    want = f"convert_weights.py: {path}: out of memory converting it (a limit such as ulimit -v is too low)"
+    check("out of memory under ulimit -v", proc.returncode == 1 and proc.stderr.strip() == want
+          and not os.path.exists(out), f"exit {proc.returncode}, stderr {proc.stderr.strip()[-300:]!r}")
+    rc, _, err = convert(path, out, "--heads", "2")
+    check("the same file converts without the limit", rc == 0, err)
+
+
+def standard_output(sd):
+    """The success line into a full disk, a closed stdout, a pipe whose reader is gone: one
+    line and exit 1, not a traceback (OUT is written: the line is what failed)."""
+    out = os.path.join(TMP, "stdout.bin")
+    cmd = [sys.executable, CONVERTER, sd, out, "--heads", "2"]
+    with open("/dev/full", "w") as full:
+        p = subprocess.run(cmd, stdout=full, stderr=subprocess.PIPE, text=True, timeout=60)
+    cases = [("stdout into /dev/full", p, "No space left on device")]
+    p = subprocess.run(cmd, stderr=subprocess.PIPE, text=True, timeout=60, preexec_fn=lambda: os.close(1))
+    cases.append(("stdout closed", p, "Bad file descriptor"))
+    r, w = os.pipe()
+    os.close(r)
+    p = subprocess.run(cmd, stdout=w, stderr=subprocess.PIPE, text=True, timeout=60)
+    os.close(w)
+    cases.append(("stdout a pipe whose reader is gone", p, "Broken pipe"))
+    for name, p, why in cases:
+        want = f"convert_weights.py: standard output: write failed: {why}"
+        check(name, p.returncode == 1 and p.stderr.strip() == want, f"exit {p.returncode}, stderr {p.stderr!r}")
+
+
 def signalled(name, signum, src, out):
     """The converter, held after its first tensor by a stand-in for tensor_chunks, gets signum
     once OUT.tmp.PID exists: one line naming OUT, exit 1, no temporary file left."""
@@ -580,6 +691,8 @@ def hostile_paths(tower, sd, hf_dir, st):
 
     signalled("SIGTERM removes OUT.tmp.PID", signal.SIGTERM, sd, out)
     signalled("SIGINT removes OUT.tmp.PID", signal.SIGINT, sd, out)
+    signalled("SIGHUP removes OUT.tmp.PID", signal.SIGHUP, sd, out)
+    signalled("SIGXCPU removes OUT.tmp.PID", signal.SIGXCPU, sd, out)
 
 
 def main():
@@ -715,6 +828,10 @@ def main():
         hostile_json(tower, hf_dir, st)
         hostile_archives(tower)
         hostile_paths(tower, sd, hf_dir, st)
+        rewritten_records(tower)
+        huge_shapes(tower, st)
+        out_of_memory(sd)
+        standard_output(sd)
     print(f"{failures} checks failed" if failures else "all checks passed")
     return 1 if failures else 0
 

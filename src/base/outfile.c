@@ -70,6 +70,7 @@ void ws_outfile_remove_on_signals(void) {
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGHUP, &sa, NULL);
+    sigaction(SIGXCPU, &sa, NULL);
 }
 
 /* ---------------------------------------------------------------- inputs */

@@ -54,7 +54,7 @@ int ws_outfile_commit(ws_outfile *f, ws_status *st);
  * streamed target keeps what was written to it). */
 void ws_outfile_abort(ws_outfile *f);
 
-/* Installs handlers for SIGINT, SIGTERM and SIGHUP that remove every live
+/* Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGXCPU that remove every live
  * temporary file and then end the process by the same signal (as if
  * unhandled). A command may install its own (fit stops gracefully). */
 void ws_outfile_remove_on_signals(void);

@@ -1,6 +1,8 @@
 /* runtime.c: threads, OpenBLAS kernels and OpenMP's waiting (runtime.h). */
 #include <cblas.h>
 #include <omp.h>
+#include <ctype.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -92,8 +94,40 @@ int ws_runtime_check_threads(int threads, ws_status *st) {
     return WS_OK;
 }
 
+/* OMP_STACKSIZE as libgomp reads it (a number, then B, K, M or G; K when
+ * none), checked before the first parallel region: outside the bounds
+ * libgomp's first thread creation fails ("Thread creation failed") and
+ * ends the process with its own line, whatever the run was doing. */
+/* 64 KiB fails thread creation here (glibc's minimum plus the libraries'
+ * thread-local storage); 72 KiB ran eval and render: 128 KiB leaves room
+ * for deeper frames */
+#define MIN_STACK ((unsigned long long)128 << 10)
+#define MAX_STACK ((unsigned long long)256 << 20) /* each of up to WS_MAX_THREADS threads maps one */
+static int check_stack_size(ws_status *st) {
+    const char *text = getenv("OMP_STACKSIZE");
+    if (!text) return WS_OK;
+    char *end;
+    errno = 0;
+    unsigned long long n = strtoull(text, &end, 10);
+    while (*end == ' ' || *end == '\t') end++;
+    unsigned shift = 10;
+    if (*end) {
+        const char *units = "BKMG", *u = strchr(units, toupper((unsigned char)*end));
+        shift = u ? 10 * (unsigned)(u - units) : 99;
+        end++;
+    }
+    while (*end == ' ' || *end == '\t') end++;
+    int parsed = end != text && !*end && shift < 99 && errno == 0 && isdigit((unsigned char)text[strspn(text, " \t")]);
+    if (!parsed || n > MAX_STACK >> shift || n << shift < MIN_STACK)
+        return ws_fail(st, WS_EUSAGE,
+                       "OMP_STACKSIZE=%s: %s; each thread needs from 128K to 256M (unset it: the default "
+                       "is enough)", text, parsed ? "out of range" : "not a size such as 4M");
+    return WS_OK;
+}
+
 int ws_runtime_init(int threads, ws_status *st) {
     if (ws_runtime_check_threads(threads, st)) return st->code;
+    if (!kernels_chosen && check_stack_size(st)) return st->code;
     if (!kernels_chosen) {
         choose_kernels();
         nn_parallel_init();

@@ -147,6 +147,14 @@ int ws_cli_fail(const ws_status *st) {
     return ws_exit_code(st);
 }
 
+int ws_cli_stdout_check(ws_status *st) {
+    errno = 0;
+    /* the flush retries what is buffered and so gives the reason (errno) */
+    if (fflush(stdout) == 0 && !ferror(stdout)) return WS_OK;
+    int err = errno ? errno : EIO;
+    return ws_fail(st, WS_EIO, "standard output: write failed: %s", strerror(err));
+}
+
 /* "%g" when it reads back as v, else "%.17g". */
 static int put_number(char *buf, size_t size, double v) {
     char six[32];

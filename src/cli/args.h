@@ -59,4 +59,11 @@ void ws_args_usage(const ws_command_spec *spec);
 /* Reports a failed command: "wiresketch: MSG" on stderr; returns the exit code. */
 int ws_cli_fail(const ws_status *st);
 
+/* Fails (WS_EIO, "standard output: write failed: REASON") when a write to
+ * stdout failed: a full disk, a closed stdout, a reader that went away
+ * (SIGPIPE is ignored, main.c). stdio keeps the error sticky, so one check
+ * covers every printf before it; a command that prints as it goes checks
+ * after each piece so that it stops early. */
+int ws_cli_stdout_check(ws_status *st);
+
 #endif

@@ -42,6 +42,7 @@ static int embed_files(const clip_model *m, const char *const *paths, int n, ws_
                 printf("%s%.9g", j ? ", " : "[", e[(size_t)k * a->output_dim + j]);
             printf("]\n");
         }
+        if (ws_cli_stdout_check(st)) break; /* no more work for a reader that is gone */
     }
     clip_run_free(run);
     free(images);

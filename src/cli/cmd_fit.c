@@ -19,9 +19,25 @@
 #include "base/distributed.h"
 #include "base/runtime.h"
 
-static void request_stop(int sig) {
-    (void)sig;
-    ws_fit_stop_requested = 1;
+static void request_stop(int sig) { ws_fit_stop_requested = sig; }
+
+/* The signals that stop a fit cleanly (fit.h), and how the last line names
+ * them. SIGUSR1 is the one mpirun forwards; SIGPIPE stands for a progress
+ * line whose reader went away (the signal itself is ignored: main.c). */
+static const struct {
+    int sig;
+    const char *name;
+} stop_signals[] = {
+    {SIGINT, "SIGINT"},   {SIGTERM, "SIGTERM"}, {SIGHUP, "SIGHUP"},
+    {SIGXCPU, "SIGXCPU (the CPU time limit, ulimit -t)"},
+    {SIGXFSZ, "SIGXFSZ (the file size limit, ulimit -f)"},
+    {SIGUSR1, "SIGUSR1"}, {SIGPIPE, "a broken pipe (the progress output's reader went away)"},
+};
+
+static const char *stop_name(int sig) {
+    for (size_t k = 0; k < sizeof stop_signals / sizeof stop_signals[0]; k++)
+        if (stop_signals[k].sig == sig) return stop_signals[k].name;
+    return "a signal";
 }
 
 /* On several ranks SIGINT and SIGTERM (mpirun sends them when a rank has
@@ -31,10 +47,15 @@ static void request_stop(int sig) {
 static char end_line[2 * WS_PATH_MAX + 300];
 static size_t end_length;
 
+/* The exit code once this rank's fit is over and its line printed (-1
+ * before): a rank that ends first makes mpirun stop the others, which are
+ * then only finishing, and they keep their code without the line. */
+static volatile sig_atomic_t finished_code = -1;
+
 static void end_now(int sig) {
-    (void)sig;
-    if (end_length && write(2, end_line, end_length) < 0) _exit(1);
-    _exit(1);
+    if (finished_code >= 0) _exit(finished_code);
+    if (end_length && write(2, end_line, end_length) < 0) _exit(128 + sig);
+    _exit(128 + sig);
 }
 
 static void install_end_handler(const char *out_dir) {
@@ -78,6 +99,15 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
         char(*text)[512] = out->text[out->n];
         snprintf(text[0], sizeof text[0], "%s", args[k].name + 2);
         ws_arg_value(&args[k], text[1], sizeof text[1]);
+        out->items[out->n++] = (ws_report_item){.key = text[0], .value = text[1]};
+    }
+    /* not an option, but it decides the bits of a CLIP fit: OpenBLAS's
+     * kernels differ in their rounding (OPENBLAS_CORETYPE, runtime.h) */
+    if (out->n < MAX_SETTINGS) {
+        const ws_blas_kernels *k = ws_runtime_kernels();
+        char(*text)[512] = out->text[out->n];
+        snprintf(text[0], sizeof text[0], "BLAS kernels");
+        snprintf(text[1], sizeof text[1], "%s (%s)", k->after, k->why);
         out->items[out->n++] = (ws_report_item){.key = text[0], .value = text[1]};
     }
 }
@@ -330,16 +360,18 @@ static int fit_command(int argc, char **argv) {
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = request_stop;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    sigaction(SIGUSR1, &sa, NULL);
+    for (size_t k = 0; k < sizeof stop_signals / sizeof stop_signals[0]; k++)
+        if (stop_signals[k].sig != SIGPIPE) sigaction(stop_signals[k].sig, &sa, NULL);
     ws_fit_options opt;
     const char *resume_dir;
     int help;
     static fit_settings settings;
     int rc = parse_fit(argc, argv, &opt, &resume_dir, &help, &settings, &st);
     if (rc) return ws_dist_rank() == 0 ? ws_cli_fail(&st) : ws_exit_code(&st);
-    if (help) return 0;
+    if (help) {
+        printf("\n%s", ws_exit_status_text);
+        return 0;
+    }
     int run_argc = argc, nsaved = 0, interrupted = 0, from_record = settings.config != NULL;
     int overwrite = settings.overwrite;
     char **run_argv = argv, **saved = NULL, **final_argv = NULL;
@@ -380,13 +412,24 @@ static int fit_command(int argc, char **argv) {
         ws_run_record_free_args(nsaved, saved);
     else
         ws_checkpoint_free_args(nsaved, saved);
+    if (interrupted) {
+        /* 128 + the signal, as a shell reports a process the signal ended
+         * (130 for Ctrl-C), so that `fit ... && export ...` stops there */
+        if (ws_dist_rank() == 0) {
+            if (rc)
+                fprintf(stderr, "wiresketch: stopped by %s; %s; what could be written is in %s; continue "
+                                "with `wiresketch fit --resume %s`\n",
+                        stop_name(interrupted), st.msg, opt.out_dir, opt.out_dir);
+            else
+                fprintf(stderr, "wiresketch: stopped by %s; outputs and checkpoint written to %s; continue "
+                                "with `wiresketch fit --resume %s`\n",
+                        stop_name(interrupted), opt.out_dir, opt.out_dir);
+        }
+        return 128 + interrupted;
+    }
     if (rc) return fail(&st);
     if (ws_dist_rank() > 0) return 0;
-    if (interrupted)
-        fprintf(stderr, "wiresketch: interrupted; outputs and checkpoint written to %s; continue with "
-                        "`wiresketch fit --resume %s`\n", opt.out_dir, opt.out_dir);
-    else
-        fprintf(stderr, "wiresketch: done; see %s/report.html\n", opt.out_dir);
+    fprintf(stderr, "wiresketch: done; see %s/report.html\n", opt.out_dir);
     return 0;
 }
 
@@ -396,6 +439,7 @@ int cmd_fit(int argc, char **argv) {
     ws_status_clear(&st);
     if (ws_dist_init(&st)) return ws_cli_fail(&st);
     int rc = fit_command(argc, argv);
+    finished_code = rc;
     ws_dist_finalize();
     return rc;
 }

@@ -22,6 +22,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "base/limits.h"
 #include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/commands.h"
@@ -36,6 +37,9 @@ extern char **environ;
 #define MAX_VALUES 32
 #define MAX_RUNS 1024
 #define GAP 4 /* pixels of white between the contact sheet's cells */
+/* A contact sheet's float pixels at the most: 1024 runs of 6 cells of 128
+ * pixels take 1.3 GB */
+#define MAX_SHEET_BYTES ((size_t)2 << 30)
 
 /* The contact sheet's rows are named (the photos, then each run) in a
  * strip above their cells: the font at twice its size from 96 px cells. */
@@ -57,11 +61,10 @@ typedef struct {
     int views, cell; /* contact sheet: test views shown, pixels per cell */
 } sweep_plan;
 
+/* The signal that stopped the sweep (0: none): the running fit received
+ * it too (or alone) and stopped cleanly (fit.h). */
 static volatile sig_atomic_t sweep_stop;
-static void on_signal(int sig) {
-    (void)sig;
-    sweep_stop = 1;
-}
+static void on_signal(int sig) { sweep_stop = sig; }
 
 static int usage_help(void) {
     printf("usage: wiresketch sweep SCENE --out DIR --vary NAME=V1,V2,... [--vary ...] [fit options]\n"
@@ -179,6 +182,12 @@ static int spawn_fit(char **args, const char *run, ws_status *st) {
     int status;
     while (waitpid(pid, &status, 0) < 0)
         if (errno != EINTR) return ws_fail(st, WS_EIO, "%s: lost the fit: %s", run, strerror(errno));
+    /* 128 + N: the fit was stopped by signal N, checkpointed, and the sweep
+     * stops with it (the same command continues) */
+    if (WIFEXITED(status) && WEXITSTATUS(status) > 128) {
+        if (!sweep_stop) sweep_stop = WEXITSTATUS(status) - 128;
+        return WS_OK;
+    }
     if (!WIFEXITED(status) || WEXITSTATUS(status))
         return ws_fail(st, WIFEXITED(status) && WEXITSTATUS(status) == 2 ? WS_EUSAGE : WS_EINPUT,
                        "%s: the fit failed (exit %d; its message is above)", run,
@@ -300,6 +309,33 @@ static void paste(ws_image *sheet, const char *path, int row, int col, int cell)
     if (ok) ws_image_free(&img);
 }
 
+/* The contact sheet's size, checked before the first fit rather than after
+ * the last: its cells (the photos' row and one per run, --sheet-views
+ * columns) in float RGB. */
+/* The contact sheet's width and height for nviews test views per row:
+ * the cells, and wide enough for every row's name. */
+static void sheet_size(const sweep_plan *p, int nruns, int nviews, size_t *width, size_t *height) {
+    int index[MAX_VARY];
+    char name[1024];
+    *width = GAP + (size_t)nviews * (p->cell + GAP);
+    for (int k = 0; k < nruns; k++) {
+        run_of(p, k, index, name, sizeof name);
+        size_t w = 2 * GAP + strlen(name) * WS_LABEL_ADVANCE * label_scale(p->cell);
+        if (w > *width) *width = w;
+    }
+    *height = GAP + (size_t)(nruns + 1) * (label_height(p->cell) + p->cell + GAP);
+}
+
+static int check_sheet(const sweep_plan *p, int nruns, ws_status *st) {
+    char what[200];
+    snprintf(what, sizeof what, "sweep: the contact sheet of %d runs with --sheet-views %d --sheet-cell %d", nruns,
+             p->views, p->cell);
+    size_t bytes, f[4] = {0, 0, 3, sizeof(float)};
+    sheet_size(p, nruns, p->views, &f[0], &f[1]);
+    if (ws_size_product(what, f, 4, MAX_SHEET_BYTES, "a contact sheet", &bytes, st)) st->code = WS_EUSAGE;
+    return st->code;
+}
+
 /* DIR/contact_sheet.png (row 0: the photos; then one row per run, in grid
  * order) and DIR/index.html (the same with names, metrics and times). */
 static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
@@ -311,16 +347,10 @@ static int write_summary(const sweep_plan *p, int nruns, ws_status *st) {
     if (nviews == 0) return ws_fail(st, WS_EINPUT, "%s/test: no test renders to show (a scene without a test split?)", first);
     ws_image sheet;
     const int cell = p->cell;
-    /* wide enough for every row's name */
     const int pitch = label_height(cell) + cell + GAP;
-    int width = GAP + nviews * (cell + GAP);
-    for (int k = 0; k < nruns; k++) {
-        run_of(p, k, index, name, sizeof name);
-        int w = 2 * GAP + (int)strlen(name) * WS_LABEL_ADVANCE * label_scale(cell);
-        if (w > width) width = w;
-    }
-    run_of(p, 0, index, name, sizeof name);
-    if (ws_image_alloc(&sheet, width, GAP + (nruns + 1) * pitch, 3, st)) return st->code;
+    size_t width, height;
+    sheet_size(p, nruns, nviews, &width, &height);
+    if (ws_image_alloc(&sheet, (int)width, (int)height, 3, st)) return st->code;
     for (size_t k = 0; k < (size_t)sheet.width * sheet.height * 3; k++) sheet.data[k] = 1;
     ws_label_draw(&sheet, GAP, GAP + 2, "photos", label_scale(cell), 0);
     snprintf(path, sizeof path, "%s/index.html", p->out);
@@ -410,20 +440,21 @@ int cmd_sweep(int argc, char **argv) {
     long nruns = 1;
     for (int a = 0; a < p.nvary; a++) nruns *= p.vary[a].n;
     int rc = nruns > MAX_RUNS ? ws_fail(&st, WS_EUSAGE, "--vary: %ld runs; at most %d", nruns, MAX_RUNS)
-                              : check_runs(&p, (int)nruns, &st);
+                              : check_sheet(&p, (int)nruns, &st) || check_runs(&p, (int)nruns, &st);
     if (!rc && !(rc = ws_outfile_protect(NULL, 0, &p.scene, 1, &st))) rc = ws_mkdir(p.out, &st);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    static const int stops[] = {SIGINT, SIGTERM, SIGHUP, SIGXCPU, SIGXFSZ};
+    for (size_t k = 0; k < sizeof stops / sizeof stops[0]; k++) sigaction(stops[k], &sa, NULL);
     for (int k = 0; k < nruns && !rc && !sweep_stop; k++) rc = do_run(&p, k, (int)nruns, &st);
     if (!rc && !sweep_stop) rc = write_summary(&p, (int)nruns, &st);
     free(p.fit_args);
     if (rc) return ws_cli_fail(&st);
     if (sweep_stop) {
-        fprintf(stderr, "wiresketch: sweep interrupted; run the same command again to continue\n");
-        return 1;
+        fprintf(stderr, "wiresketch: sweep stopped by signal %d; run the same command again to continue\n",
+                (int)sweep_stop);
+        return 128 + sweep_stop;
     }
     fprintf(stderr, "wiresketch: sweep done; see %s/index.html and %s/contact_sheet.png\n", p.out, p.out);
     return 0;

@@ -15,3 +15,15 @@ const ws_command ws_commands[] = {
     {"scene", cmd_scene, "write a synthetic test scene (NeRF layout) with its ground-truth curves"},
 };
 const int ws_ncommands = sizeof ws_commands / sizeof ws_commands[0];
+
+/* The exit codes (commands.h). */
+const char ws_exit_status_text[] =
+    "exit status:\n"
+    "  0      done\n"
+    "  1      bad input, or an output that could not be written (a full disk, a closed stdout, "
+    "ulimit -f): one line on stderr names it, no temporary file left\n"
+    "  2      bad usage\n"
+    "  130    fit stopped by SIGINT (Ctrl-C): checkpoint and outputs written; `fit --resume DIR` continues\n"
+    "  128+N  fit stopped by signal N, like SIGINT: 129 SIGHUP, 143 SIGTERM, 152 SIGXCPU (ulimit -t), "
+    "153 SIGXFSZ (ulimit -f: what fits is written), 141 the reader of its progress gone; any other "
+    "command ended by signal N, its temporary files removed\n";

@@ -13,6 +13,10 @@ typedef struct {
 extern const ws_command ws_commands[];
 extern const int ws_ncommands;
 
+/* "exit status:" and one line per code, for `wiresketch --help`, fit's
+ * --help and the man page (tools/make_man.sh reads them from there). */
+extern const char ws_exit_status_text[];
+
 int cmd_render(int argc, char **argv);
 int cmd_grad(int argc, char **argv);
 int cmd_export(int argc, char **argv);

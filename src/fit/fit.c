@@ -12,7 +12,9 @@
  * the same state: the objective spreads each step's work and hands every
  * rank the same gradient. Rank 0 alone writes checkpoints, outputs and
  * messages; a stop request is agreed on at each step. */
+#include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -157,16 +159,20 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     char left[32], spent[32];
     clock_text(ws_fit_time_left(&r->time, r->s.global_step), left);
     clock_text(ws_fit_state_elapsed(&r->s, r->start), spent);
-    if (final) {
-        fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
-                tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
-        ws_fit_time_print(&r->time, stderr);
-        return;
-    }
-    fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
-            tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1, batches_per_epoch(r),
-            r->s.global_step, total_steps(r), loss, rate, spent, left, tty ? "   " : "\n");
-    fflush(stderr);
+    int written;
+    if (final)
+        written = fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
+                          tty ? "\r" : "", r->s.global_step, r->s.skipped_steps, spent, rate, loss);
+    else
+        written = fprintf(stderr, "%sepoch %d/%d batch %d/%d step %ld/%ld loss %.6g  %.2f steps/s  %s spent, %s left%s",
+                          tty ? "\r" : "", r->s.epoch + 1, r->opt->epochs, r->s.batch_in_epoch + 1,
+                          batches_per_epoch(r), r->s.global_step, total_steps(r), loss, rate, spent, left,
+                          tty ? "   " : "\n");
+    if (final && written >= 0) ws_fit_time_print(&r->time, stderr);
+    /* A pipe whose reader went away (SIGPIPE is ignored: main.c) stops the
+     * run as the signal would have, its outputs written. */
+    if ((written < 0 || fflush(stderr) != 0) && errno == EPIPE && !ws_fit_stop_requested)
+        ws_fit_stop_requested = SIGPIPE;
 }
 
 /* The state of a new fit: initial curves (fit/init.h), fresh Adam, first order. */
@@ -281,8 +287,9 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
     rate_start = last_checkpoint = ws_seconds();
     double step_wall = rate_start, step_cpu = ws_cpu_seconds();
     while (s->epoch < o->epochs && !(o->max_steps > 0 && s->global_step >= o->max_steps)) {
-        if (ws_dist_max(ws_fit_stop_requested)) {
-            *interrupted = 1;
+        int stop = ws_dist_max(ws_fit_stop_requested);
+        if (stop) {
+            *interrupted = stop;
             break;
         }
         int first = s->batch_in_epoch * o->batch_size;
@@ -299,7 +306,13 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
         step_cpu = cpu;
         progress(r, loss, rate_start, steps_this_run, 0);
         if (ws_seconds() - last_checkpoint > 60.0 * o->checkpoint_minutes) {
-            if (save_checkpoint(r, argv, argc, st)) return ws_dist_fail_alone(st);
+            if (save_checkpoint(r, argv, argc, st)) {
+                /* past `ulimit -f` (SIGXFSZ came with the failure): the
+                 * stop at the next step tries again and reports it */
+                if (!ws_fit_stop_requested) return ws_dist_fail_alone(st);
+                ws_status_clear(st);
+                continue;
+            }
             last_checkpoint = ws_seconds();
         }
     }
@@ -398,6 +411,11 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
          ws_respawn_create(&r->respawn, &r->scene, r->targets, &r->hull, o->n_curves, o->length, st)) ||
         (!resume && init_state(r, st)))
         return st->code;
+    /* the Gaussian limit (base/limits.h) refused now, not in every step */
+    ws_gaussians first = {0};
+    int rc = ws_curves_sample(&r->s.curves, &first, st);
+    ws_gaussians_free(&first);
+    if (rc) return rc;
     ws_splat_options splat_opt;
     ws_splat_options_default(&splat_opt);
     splat_opt.cutoff = o->cutoff;
@@ -471,11 +489,22 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     r.opt = opt;
     *interrupted = 0;
     r.start = ws_seconds();
-    int rc = fit_run_setup(&r, resume, argv, argc, st);
-    if (!rc) rc = check_same_state(&r, st);
-    rc = ws_dist_agree(rc, st);
+    /* A failure one rank met alone in the setup (rank 0's output directory
+     * or first checkpoint) reaches every rank before the next collective,
+     * so that its line is the one printed, not a collective's mismatch. */
+    int rc = ws_dist_agree(fit_run_setup(&r, resume, argv, argc, st), st);
+    if (!rc) rc = ws_dist_agree(check_same_state(&r, st), st);
     if (!rc) rc = run_schedule(&r, argv, argc, interrupted, st);
     if (!rc) rc = save_checkpoint(&r, argv, argc, st);
+    /* A stopped run writes every output it can: a checkpoint past the file
+     * size limit does not cost the others. */
+    ws_status stop_failure;
+    ws_status_clear(&stop_failure);
+    if (rc && *interrupted) {
+        stop_failure = *st;
+        ws_status_clear(st);
+        rc = WS_OK;
+    }
     double test_loss = NAN, *test_losses = NULL;
     if (!rc && !*interrupted) {
         test_losses = ws_calloc(r.scene.split[WS_TEST].n + 1, sizeof(double), "test losses", st);
@@ -490,5 +519,9 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     free(retire);
     free(test_losses);
     fit_run_free(&r);
+    if (stop_failure.code) {
+        *st = stop_failure;
+        rc = st->code;
+    }
     return rc;
 }

@@ -7,7 +7,10 @@
 
 #define TIGHT_REACH 0.5  /* the tight test's share of the ball's projected radius */
 
-int ws_hull_default_tolerance(int nviews) { return nviews / 20; }
+/* At most 250: the per-voxel counter is a byte that counts to tolerance + 2
+ * (ws_hull_carve refuses more); 250 of 5,000 views and more is still 5%
+ * or less. */
+int ws_hull_default_tolerance(int nviews) { return nviews / 20 < 250 ? nviews / 20 : 250; }
 
 void ws_hull_voxel_center(const ws_hull *h, int x, int y, int z, double p[3]) {
     p[0] = h->origin[0] + (x + 0.5) * h->voxel;

@@ -52,7 +52,7 @@ typedef struct {
     long kept;         /* voxels with outside <= tolerance */
 } ws_hull;
 
-/* The default tolerance for n views: n / 20 (5%, rounded down). */
+/* The default tolerance for n views: n / 20 (5%, rounded down), at most 250. */
 int ws_hull_default_tolerance(int nviews);
 
 int ws_hull_carve(const ws_hull_view *views, int nviews, const double center[3], int resolution,

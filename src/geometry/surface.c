@@ -116,6 +116,19 @@ static int candidate(const ws_hull_surface *s, int i) {
     return s->placeable == 0 || s->facing[i] >= WS_SURFACE_MIN_FACING;
 }
 
+void ws_hull_surface_nearer(const ws_hull_surface *s, const double *points, int n, double *nearest) {
+    #pragma omp parallel for schedule(static) if ((long)s->n * n > 20000)
+    for (int i = 0; i < s->n; i++)
+        for (int a = 0; a < n; a++) nearest[i] = fmin(nearest[i], dist2(s->p + 3 * i, points + 3 * a));
+}
+
+int ws_hull_surface_farthest(const ws_hull_surface *s, const double *nearest) {
+    int best = -1;
+    for (int i = 0; i < s->n; i++)
+        if (candidate(s, i) && (best < 0 || nearest[i] > nearest[best])) best = i;
+    return best;
+}
+
 int ws_hull_surface_spread(const ws_hull_surface *s, const double *avoid, int navoid, int k,
                            ws_rng *rng, int *picked, double *spacing, ws_status *st) {
     const int candidates = ws_hull_surface_candidates(s);
@@ -123,10 +136,8 @@ int ws_hull_surface_spread(const ws_hull_surface *s, const double *avoid, int na
         return ws_fail(st, WS_EINTERNAL, "surface: %d points asked of %d", k, candidates);
     double *nearest = ws_malloc(sizeof(double) * s->n, "farthest-point distances", st);
     if (!nearest) return st->code;
-    for (int i = 0; i < s->n; i++) {
-        nearest[i] = INFINITY;
-        for (int a = 0; a < navoid; a++) nearest[i] = fmin(nearest[i], dist2(s->p + 3 * i, avoid + 3 * a));
-    }
+    for (int i = 0; i < s->n; i++) nearest[i] = INFINITY;
+    ws_hull_surface_nearer(s, avoid, navoid, nearest);
     *spacing = 0;
     for (int m = 0; m < k; m++) {
         int best = -1;
@@ -135,13 +146,11 @@ int ws_hull_surface_spread(const ws_hull_surface *s, const double *avoid, int na
                 best = (int)ws_rng_below(rng, (uint64_t)s->n);
             while (!candidate(s, best));
         } else {
-            for (int i = 0; i < s->n; i++)
-                if (candidate(s, i) && (best < 0 || nearest[i] > nearest[best])) best = i;
+            best = ws_hull_surface_farthest(s, nearest);
             *spacing = sqrt(nearest[best]);
         }
         picked[m] = best;
-        #pragma omp parallel for schedule(static) if (s->n > 20000)
-        for (int i = 0; i < s->n; i++) nearest[i] = fmin(nearest[i], dist2(s->p + 3 * i, s->p + 3 * best));
+        ws_hull_surface_nearer(s, s->p + 3 * best, 1, nearest);
     }
     free(nearest);
     return WS_OK;

@@ -67,6 +67,14 @@ void ws_scene_hull_free(ws_scene_hull *h);
  * is 0. */
 int ws_hull_surface_candidates(const ws_hull_surface *s);
 
+/* Farthest-point sampling one point at a time, for a caller that adds the
+ * points to avoid as it goes (the respawn): nearest (s->n) holds each
+ * surface point's squared distance to the points so far (INFINITY for
+ * none); _nearer lowers it for n more points, _farthest is the candidate
+ * with the largest (the first among equals). */
+void ws_hull_surface_nearer(const ws_hull_surface *s, const double *points, int n, double *nearest);
+int ws_hull_surface_farthest(const ws_hull_surface *s, const double *nearest);
+
 /* picked[0..k): k <= ws_hull_surface_candidates(s) surface points by
  * farthest-point sampling (see above); *spacing: the distance of the last
  * one picked to the others. */

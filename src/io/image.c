@@ -16,6 +16,7 @@
 #include <string.h>
 #include "io/image.h"
 #include "io/jpeg.h"
+#include "base/limits.h"
 #include "base/outfile.h"
 #include "nn/base/fileopen.h"
 
@@ -169,6 +170,14 @@ static int decode_png(FILE *fp, const char *path, const float background[3], ws_
         goto done;
     }
     const size_t rowbytes = png_get_rowbytes(png, info);
+    /* the samples and the float planes (3, and alpha) side by side: checked
+     * before either is allocated (base/limits.h) */
+    char what[WS_PATH_MAX + 100];
+    snprintf(what, sizeof what, "%s (%d x %d pixels, %d channels of %d bits, decoded)", path, width, height,
+             channels, depth);
+    size_t bytes, need[2] = {rowbytes + (size_t)width * sizeof(float) * (3 + (channels == 2 || channels == 4)),
+                             (size_t)height};
+    if ((rc = ws_size_product(what, need, 2, WS_MAX_DECODE_BYTES, "a decoded image", &bytes, st))) goto done;
     pixels = ws_malloc(rowbytes * height, path, st);
     rows = pixels ? ws_malloc(sizeof *rows * height, path, st) : NULL;
     if (!rows) {

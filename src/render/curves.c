@@ -6,6 +6,7 @@
 #include <string.h>
 #include "nn/base/bytes.h"
 #include "render/curves.h"
+#include "base/limits.h"
 #include "base/outfile.h"
 
 int ws_curves_alloc(ws_curves *c, int n, ws_status *st) {
@@ -179,6 +180,12 @@ int ws_curves_sample(const ws_curves *c, ws_gaussians *g, ws_status *st) {
             capped++;
         }
         int M = (int)m;
+        /* checked before the memory is taken: the sum stays far below INT_MAX */
+        if (g->n + M > WS_MAX_GAUSSIANS)
+            return ws_fail(st, WS_ENUMERIC,
+                           "curves: more than %d Gaussians, the most one view takes (%d curves of thickness "
+                           "%g); use fewer, shorter or thicker curves",
+                           WS_MAX_GAUSSIANS, c->n, c->thickness);
         if (gaussians_reserve(g, g->n + M, st)) return st->code;
         int seg = 0;
         for (int k = 0; k < M; k++) {
@@ -218,6 +225,10 @@ void ws_curves_backward(const ws_curves *c, const ws_gaussians *g, const double 
 
 /* ---- curve files --------------------------------------------------------- */
 
+/* A curve file's bytes at the most: WS_MAX_CURVES curves of 12 numbers of
+ * up to 25 characters (%.17g), with room for indentation. */
+#define MAX_FILE_BYTES ((size_t)WS_MAX_CURVES * WS_CURVE_FLOATS * 48)
+
 /* 1-based line of byte `offset` in text. */
 static int line_of(const char *text, size_t offset) {
     int line = 1;
@@ -249,7 +260,11 @@ static int parse_curves(const cJSON *root, const char *path, ws_curves *c, ws_st
     if (!curves) return ws_fail(st, WS_EINPUT, "%s: missing \"curves\"", path);
     if (!cJSON_IsArray(curves))
         return ws_fail(st, WS_EINPUT, "%s: \"curves\" is not an array", path);
-    if (ws_curves_alloc(c, cJSON_GetArraySize(curves), st)) return st->code;
+    int count = cJSON_GetArraySize(curves);
+    if (count > WS_MAX_CURVES)
+        return ws_fail(st, WS_EINPUT, "%s: %d curves, more than the %d a curve file may hold", path, count,
+                       WS_MAX_CURVES);
+    if (ws_curves_alloc(c, count, st)) return st->code;
     c->thickness = thickness;
     c->overlap = overlap;
     int ci = 0;
@@ -291,7 +306,7 @@ int ws_curves_load(const char *path, ws_curves *c, ws_status *st) {
     c->P = NULL;
     unsigned char *text;
     size_t len;
-    if (ws_read_file(path, (size_t)1 << 30, &text, &len, st)) return st->code;
+    if (ws_read_file(path, MAX_FILE_BYTES, &text, &len, st)) return st->code;
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts((const char *)text, len, &end, 0);
     /* Text after the JSON value is an error too (cJSON stops silently). */

@@ -10,7 +10,9 @@
 # 2. one process of the same build and of the build without MPI give them too;
 # 3. a fit on 2 ranks whose rank 1 is killed (SIGKILL) must end at once with
 #    a non-zero exit and its line, leave a checkpoint that resumes on 3
-#    ranks, and end with the curves of the uninterrupted fit.
+#    ranks, and end with the curves of the uninterrupted fit;
+# 4. rank 0's write errors (its --out, its checkpoint, the file size limit)
+#    are the line printed, on a job of 2 ranks.
 # Prints one PASS or FAIL line last; exits non-zero on a mismatch.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -102,6 +104,29 @@ else
     fi
     echo "  rank 1 killed (exit $rc), resumed on 3 ranks: $(grep -c . "$work/killed/log.csv") log rows"
 fi
+
+# Rank 0's own I/O error is the line printed, not a collective's mismatch on the others: an
+# --out that cannot be made, a first checkpoint that cannot be written, and the file size
+# limit (standing in for a full disk) while checkpointing, which stops the job like SIGINT.
+small=(fit "$work/scene" --size 64 --loss edges --threads 1 --quiet)
+: >"$work/afile"
+mkdir -p "$work/ckdir/checkpoint.bin"
+for config in "afile/out|1|$work/afile/out: cannot create directory: Not a directory" \
+              "ckdir|1|$work/ckdir/checkpoint.bin: write failed: Is a directory"; do
+    IFS='|' read -r dir want_rc want <<<"$config"
+    "${mpirun[@]}" -np 2 "$bin" "${small[@]}" --max-steps 5 --out "$work/$dir" >"$work/io.log" 2>&1
+    rc=$?
+    [ $rc -eq "$want_rc" ] && [ "$(cat "$work/io.log")" = "wiresketch: $want" ] ||
+        fail "rank 0 cannot write $dir: exit $rc, said: $(cat "$work/io.log")"
+done
+"${mpirun[@]}" -np 2 bash -c 'if [ "$OMPI_COMM_WORLD_RANK" = 0 ]; then ulimit -f 60; fi; exec "$@"' - \
+    "$bin" "${small[@]}" --epochs 1000 --checkpoint-minutes 0.0001 --max-steps 100000 --out "$work/fsize" \
+    >"$work/io.log" 2>&1
+rc=$?
+want="wiresketch: stopped by SIGXFSZ (the file size limit, ulimit -f); $work/fsize/checkpoint.bin: write failed: File too large; what could be written is in $work/fsize; continue with \`wiresketch fit --resume $work/fsize\`"
+[ $rc -eq 153 ] && [ "$(cat "$work/io.log")" = "$want" ] && [ -f "$work/fsize/curves.json" ] ||
+    fail "rank 0 past the file size limit: exit $rc, said: $(cat "$work/io.log")"
+echo "  rank 0's write errors: their own line (exit 1, 1, 153)"
 
 if [ $failures -eq 0 ]; then
     echo "test-mpi: PASS (curves, losses and test loss the same bytes on 1, 2 and 3 ranks; a killed rank's checkpoint resumes)"
