@@ -156,11 +156,12 @@ static void test_intrinsics(void) {
     CHECK(t->crop[0] == 16 && t->crop[1] == 0 && t->crop[2] == 64 && t->crop[3] == 64, "square crop");
     CHECK(fabs(t->cam.focal - 80 * 0.75) < 1e-12 && fabs(t->cam.cx - 24) < 1e-12 && fabs(t->cam.cy - 24) < 1e-12,
           "square camera %g %g %g", t->cam.focal, t->cam.cx, t->cam.cy);
-    /* frame 1: aspect 100/110 -> 58 x 64 at x0 = 19 */
+    /* frame 1: aspect 100/110 -> 58 x 64 around the object's projection,
+     * its principal point (its camera looks at the scene centre): x0 = 50 - 29 */
     double sx = 48.0 / 58, sy = 48.0 / 64;
-    CHECK(v->crop[0] == 19 && v->crop[1] == 0 && v->crop[2] == 58 && v->crop[3] == 64, "crop %d %d %d %d",
+    CHECK(v->crop[0] == 21 && v->crop[1] == 0 && v->crop[2] == 58 && v->crop[3] == 64, "crop %d %d %d %d",
           v->crop[0], v->crop[1], v->crop[2], v->crop[3]);
-    CHECK(fabs(v->cam.focal - sqrt(100 * sx * 110 * sy)) < 1e-12 && fabs(v->cam.cx - 31 * sx) < 1e-12 &&
+    CHECK(fabs(v->cam.focal - sqrt(100 * sx * 110 * sy)) < 1e-12 && fabs(v->cam.cx - 29 * sx) < 1e-12 &&
               fabs(v->cam.cy - 30 * sy) < 1e-12,
           "camera %g %g %g", v->cam.focal, v->cam.cx, v->cam.cy);
     CHECK(fabs(100 * sx / (110 * sy) - 1) < 0.5 / 58, "square pixels to half a crop pixel");

@@ -13,6 +13,7 @@
 #include "check.h"
 #include "render/curves.h"
 #include "io/scene.h"
+#include "synth/room.h"
 #include "synth/solids.h"
 #include "synth/synth.h"
 #include "io/pointcloud.h"
@@ -396,6 +397,119 @@ static void test_wire_shapes(void) {
     }
 }
 
+/* The capture test bed's options (nerfstudio, 96 x 72, the principal point
+ * (10, -6) px off the centre, the box room, masks): the file lists that
+ * principal point and a mask_path per frame; the photo is the same with
+ * masks or without (to a grey level: the masks' photo is composited from
+ * two renders); where a mask says background (no ray of the
+ * pixel hits the object) the photo is the room as ws_room_render sees it,
+ * to a grey level; a floor point has one colour from any camera (the room
+ * is one 3D room in every view) and the floor has a pattern; bad options
+ * get their one-line messages. */
+static void test_room(void) {
+    ws_status st;
+    ws_synth_options opt;
+    ws_synth_options_default(&opt);
+    opt.views[WS_TRAIN] = 3;
+    opt.views[WS_VAL] = opt.views[WS_TEST] = 1;
+    opt.nerfstudio = opt.room = opt.masks = 1;
+    opt.width = 96;
+    opt.height = 72;
+    opt.principal[0] = 10;
+    opt.principal[1] = -6;
+    char a[512], b[512], pa[700], pb[700];
+    snprintf(a, sizeof a, "%s/room_masks", tmp);
+    snprintf(b, sizeof b, "%s/room", tmp);
+    int rc = ws_synth_write("cube", a, &opt, &st);
+    opt.masks = 0;
+    rc = rc || ws_synth_write("cube", b, &opt, &st);
+    CHECK(rc == 0, "room scenes: %s", st.msg);
+    if (rc) return;
+    snprintf(pa, sizeof pa, "%s/rgb/train/r_1.png", a);
+    snprintf(pb, sizeof pb, "%s/rgb/train/r_1.png", b);
+    ws_image with = {0}, without = {0};
+    rc = ws_image_read(pa, 0, 0, (const float[3]){0, 0, 0}, &with, &st) ||
+         ws_image_read(pb, 0, 0, (const float[3]){0, 0, 0}, &without, &st);
+    double moved = 0;
+    for (size_t p = 0; !rc && p < (size_t)3 * 96 * 72; p++) moved = fmax(moved, fabs(with.data[p] - without.data[p]));
+    CHECK(!rc && moved <= 1.0 / 255 + 1e-6, "the photo with masks and without: %g apart (%s)", moved, st.msg);
+    ws_image_free(&with);
+    ws_image_free(&without);
+    size_t n = 0;
+    snprintf(pa, sizeof pa, "%s/transforms.json", a);
+    char *json = (char *)slurp(pa, &n);
+    CHECK(json && strstr(json, "\"cx\":\t58") && strstr(json, "\"cy\":\t30") &&
+              strstr(json, "\"mask_path\":\t\"masks/test/r_0.png\""),
+          "principal point and mask_path in %s", pa);
+    free(json);
+    ws_scene sc;
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 72;
+    if (ws_scene_load(&sc, a, &so, &st)) {
+        CHECK(0, "room scene: %s", st.msg);
+        return;
+    }
+    const ws_view *v = &sc.split[WS_TRAIN].views[1];
+    ws_camera cam;
+    ws_image photo = {0}, mask = {0}, room = {0};
+    snprintf(pb, sizeof pb, "%s/masks/train/r_1.png", a);
+    rc = ws_camera_init_pinhole(&cam, v->cam.c2w, 0.5 * 72 / tan(atan(18.0 / 50.0)), 58, 30, 96, 72, "cam", &st) ||
+         ws_image_read(v->image_path, 0, 0, (const float[3]){0, 0, 0}, &photo, &st) ||
+         ws_image_read(pb, 0, 0, (const float[3]){0, 0, 0}, &mask, &st) ||
+         ws_room_render(&cam, sc.center, 3, &room, &st);
+    CHECK(rc == 0 && v->mask.data, "room view: %s", st.msg);
+    long background = 0, object = 0;
+    double worst = 0;
+    for (size_t p = 0; !rc && p < (size_t)96 * 72; p++) {
+        if (mask.data[p] > 0.5) {
+            object++;
+            continue;
+        }
+        if (mask.data[p] > 0) continue; /* partly covered */
+        background++;
+        for (int c = 0; c < 3; c++)
+            worst = fmax(worst, fabs(photo.data[c * 96 * 72 + p] - room.data[c * 96 * 72 + p]));
+    }
+    CHECK(!rc && object > 100 && background > 1000 && worst <= 0.5 / 255 + 1e-6,
+          "room photo: %ld object and %ld background pixels, worst difference from the room %g", object,
+          background, worst);
+    const double floor_point[3] = {sc.center[0] - 2.3, sc.center[1] + 1.7, sc.center[2] - WS_ROOM_FLOOR};
+    const double from[2][3] = {{sc.center[0] + 1, sc.center[1], sc.center[2] + 0.5},
+                               {sc.center[0] - 1, sc.center[1] + 2, sc.center[2] + 3}};
+    float rgb[2][3], next[3];
+    for (int k = 0; k < 2; k++) {
+        double dir[3];
+        for (int i = 0; i < 3; i++) dir[i] = floor_point[i] - from[k][i];
+        ws_room_colour(sc.center, from[k], dir, rgb[k]);
+    }
+    const double dir_next[3] = {floor_point[0] + 1 - from[0][0], floor_point[1] - from[0][1],
+                                floor_point[2] - from[0][2]};
+    ws_room_colour(sc.center, from[0], dir_next, next);
+    CHECK(!memcmp(rgb[0], rgb[1], sizeof rgb[0]) && memcmp(rgb[0], next, sizeof next),
+          "a floor point: %g %g %g from one camera, %g %g %g from another; the next tile %g %g %g", rgb[0][0],
+          rgb[0][1], rgb[0][2], rgb[1][0], rgb[1][1], rgb[1][2], next[0], next[1], next[2]);
+    ws_image_free(&photo);
+    ws_image_free(&mask);
+    ws_image_free(&room);
+    ws_scene_free(&sc);
+    opt.principal[0] = 48;
+    rc = ws_synth_write("cube", b, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--principal 48,-6: not inside the 96 x 72 image (offsets from its centre)"),
+          "principal point out of the image: %s", st.msg);
+    opt.principal[0] = 10;
+    opt.nerfstudio = 0;
+    opt.width = opt.height = 0;
+    rc = ws_synth_write("cube", b, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "--principal 10,-6: a NeRF-synthetic scene has its principal point at "
+                                             "the centre (--layout nerfstudio or colmap takes others)"),
+          "principal point in a NeRF-synthetic scene: %s", st.msg);
+    opt.principal[0] = opt.principal[1] = 0;
+    rc = ws_synth_write("torus", b, &opt, &st);
+    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "torus: --background room and --masks are for the wire objects and solids"),
+          "a smooth object in the room: %s", st.msg);
+}
+
 int main(void) {
     snprintf(tmp, sizeof tmp, "/tmp/ws_test_synth_XXXXXX");
     if (!mkdtemp(tmp)) {
@@ -413,6 +527,7 @@ int main(void) {
     check_solid("nut", 26, 0);
     test_deterministic();
     test_errors();
+    test_room();
     nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

@@ -5,7 +5,8 @@
  * has a gt_points.ply, also how much of the silhouettes it leaves
  * uncovered (geometry/gt_coverage.h) and, where it misses a part, a warning
  * line; that leaves the exit status alone, as the ground truth does not
- * enter a fit (docs/METHOD.md section 12). */
+ * enter a fit (docs/METHOD.md section 12). A scene with no usable
+ * silhouette gets its line alone (exit 1). */
 #include <math.h>
 #include <stdio.h>
 #include <sys/stat.h>
@@ -16,6 +17,7 @@
 #include "base/outfile.h"
 #include "cli/commands.h"
 #include "geometry/check.h"
+#include "io/scene_crops.h"
 #include "metrics/quality.h"
 #include "objective/view_targets.h"
 
@@ -91,7 +93,10 @@ int cmd_check(int argc, char **argv) {
     struct stat out_st, err_st;
     int one_terminal = isatty(1) && isatty(2) && fstat(1, &out_st) == 0 && fstat(2, &err_st) == 0 &&
                        out_st.st_rdev == err_st.st_rdev;
-    print_table(&scene, &r);
+    char crops[1024];
+    ws_scene_crop_line(&scene, crops, sizeof crops);
+    if (crops[0]) printf("%s\n", crops);
+    if (!r.no_silhouette) print_table(&scene, &r);
     int code = r.consistent ? 0 : 1;
     if (r.consistent) {
         printf("consistent: every view agrees with the others\n");
@@ -102,6 +107,7 @@ int cmd_check(int argc, char **argv) {
     char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
     ws_scene_ground_truth(pos[0], gt_points, gt_curves);
     ws_gt_coverage cov;
+    if (r.no_silhouette) gt_points[0] = 0; /* it measures silhouettes */
     if (gt_points[0] && ws_scene_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
         code = ws_cli_fail(&st);
     } else if (gt_points[0]) {

@@ -206,7 +206,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--init", WS_ARG_STRING, &opt->init_curves, 0,
          "hull (on the visual hull), edges (on the photos' edges), random (the original's sphere) "
          "or a curve file [hull]"},
-        {"--no-check", WS_ARG_FLAG, &opt->no_check, 0, "fit even a scene `check` finds inconsistent (a focal estimate alone only warns)"},
+        {"--no-check", WS_ARG_FLAG, &opt->no_check, 0, "fit even a scene `check` finds inconsistent (a focal estimate alone, or no usable silhouette, only warns)"},
         {"--quiet", WS_ARG_FLAG, &opt->quiet, 0, "no progress line"},
     };
     const ws_command_spec spec = {

@@ -11,16 +11,21 @@
 int cmd_scene(int argc, char **argv) {
     ws_synth_options opt;
     ws_synth_options_default(&opt);
-    const char *out = NULL, *background = "black", *layout = "nerf", *lens = NULL;
+    const char *out = NULL, *background = "black", *layout = "nerf", *lens = NULL, *size = "224",
+               *principal = "0,0";
     int seed = 0;
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &out, 0, "directory to write the scene into (required)"},
         {"--views-train", WS_ARG_INT, &opt.views[WS_TRAIN], 0, "train views [48]"},
         {"--views-val", WS_ARG_INT, &opt.views[WS_VAL], 0, "val views, 0 for none [8]"},
         {"--views-test", WS_ARG_INT, &opt.views[WS_TEST], 0, "test views, 0 for none [8]"},
-        {"--size", WS_ARG_INT, &opt.size, 0, "image side in pixels [224]"},
+        {"--size", WS_ARG_STRING, &size, 0, "image side N, or width x height WxH (nerfstudio and colmap layouts), pixels [224]"},
         {"--seed", WS_ARG_INT, &seed, 0, "seed of the camera placement [0]"},
-        {"--background", WS_ARG_STRING, &background, 0, "black or white [black]"},
+        {"--background", WS_ARG_STRING, &background, 0,
+         "black, white, or room (a box room of patterned walls and floor far around the object) [black]"},
+        {"--masks", WS_ARG_FLAG, &opt.masks, 0, "also write masks/SPLIT/r_K.png (white = object) and each frame's mask_path"},
+        {"--principal", WS_ARG_STRING, &principal, 0,
+         "the principal point DX, DY pixels right of and below the image centre, nerfstudio and colmap layouts [0,0]"},
         {"--layout", WS_ARG_STRING, &layout, 0,
          "nerf (transforms_SPLIT.json), nerfstudio (one transforms.json with intrinsics), colmap "
          "or colmap-text (images/, sparse/0/*.bin or *.txt with a noisy sparse cloud) [nerf]"},
@@ -60,11 +65,25 @@ int cmd_scene(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--seed: %d is negative", seed);
         return ws_cli_fail(&st);
     }
-    if (strcmp(background, "black") && strcmp(background, "white")) {
-        ws_fail(&st, WS_EUSAGE, "--background: '%s' is not black or white", background);
+    if (strcmp(background, "black") && strcmp(background, "white") && strcmp(background, "room")) {
+        ws_fail(&st, WS_EUSAGE, "--background: '%s' is not black, white or room", background);
         return ws_cli_fail(&st);
     }
     opt.white_background = !strcmp(background, "white");
+    opt.room = !strcmp(background, "room");
+    int w, h, used = 0;
+    if (sscanf(size, "%dx%d%n", &w, &h, &used) == 2 && !size[used]) {
+        opt.width = w;
+        opt.height = h;
+    } else if (sscanf(size, "%d%n", &opt.size, &used) != 1 || size[used]) {
+        ws_fail(&st, WS_EUSAGE, "--size: '%s' is not N or WxH", size);
+        return ws_cli_fail(&st);
+    }
+    if (sscanf(principal, "%lf,%lf%n", &opt.principal[0], &opt.principal[1], &used) != 2 || principal[used] ||
+        !isfinite(opt.principal[0]) || !isfinite(opt.principal[1])) {
+        ws_fail(&st, WS_EUSAGE, "--principal: '%s' is not DX,DY", principal);
+        return ws_cli_fail(&st);
+    }
     if (strcmp(layout, "nerf") && strcmp(layout, "nerfstudio") && strcmp(layout, "colmap") &&
         strcmp(layout, "colmap-text")) {
         ws_fail(&st, WS_EUSAGE, "--layout: '%s' is not nerf, nerfstudio, colmap or colmap-text",
@@ -73,7 +92,7 @@ int cmd_scene(int argc, char **argv) {
     }
     opt.nerfstudio = !strcmp(layout, "nerfstudio");
     opt.colmap = !strcmp(layout, "colmap") ? 1 : !strcmp(layout, "colmap-text") ? 2 : 0;
-    int used = 0;
+    used = 0;
     if (lens && (sscanf(lens, "%lf,%lf,%lf,%lf%n", &opt.lens[0], &opt.lens[1], &opt.lens[2],
                         &opt.lens[3], &used) != 4 ||
                  lens[used] != '\0' || !isfinite(opt.lens[0] + opt.lens[1] + opt.lens[2] + opt.lens[3]))) {

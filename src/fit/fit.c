@@ -30,6 +30,7 @@
 #include "base/outfile.h"
 #include "base/timing.h"
 #include "io/scene.h"
+#include "io/scene_crops.h"
 #include "objective/objective.h"
 #include "objective/view_targets.h"
 
@@ -369,6 +370,9 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
         ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
+    char crops[1024];
+    ws_scene_crop_line(&r->scene, crops, sizeof crops);
+    if (crops[0] && speaks() && !o->quiet) printf("%s\n", crops);
     if (resume) {
         char path[WS_PATH_MAX];
         snprintf(path, sizeof path, "%s/checkpoint.bin", o->out_dir);
@@ -389,7 +393,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
         char warning[WS_CHECK_LINE];
         if (ws_fit_check_scene(&r->scene, r->targets, warning, st)) return st->code;
         if (warning[0] && speaks())
-            fprintf(stderr, "wiresketch: warning: %s (a focal estimate alone does not stop a fit)\n", warning);
+            fprintf(stderr, "wiresketch: warning: %s\n", warning);
     }
     int edges_init = !resume && !strcmp(o->init_curves, "edges");
     int hull_init = edges_init || (!resume && !strcmp(o->init_curves, "hull"));

@@ -26,8 +26,9 @@ int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char war
     if (ws_check_scene(scene, sil, WS_CHECK_RESOLUTION, &r, st)) return st->code;
     warning[0] = 0;
     int rc = WS_OK;
-    if (ws_check_focal_only(&r))
-        snprintf(warning, WS_CHECK_LINE, "%s", r.line);
+    if (ws_check_warning_only(&r))
+        snprintf(warning, WS_CHECK_LINE, "%.900s (%s)", r.line,
+                 r.no_silhouette ? "a fit goes on without silhouettes" : "a focal estimate alone does not stop a fit");
     else if (!r.consistent)
         rc = ws_fail(st, WS_EINPUT, "%.900s (or go on anyway with --no-check)", r.line);
     ws_check_report_free(&r);

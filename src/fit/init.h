@@ -29,8 +29,9 @@ int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_
 
 /* Fails with WS_EINPUT and the check's one line (geometry/check.h), which
  * ends naming --no-check, when the scene is not consistent; when its only
- * fault is the focal estimate of consistent splits (ws_check_focal_only)
- * it succeeds with that line in warning instead ("" otherwise). It reads
+ * fault is the focal estimate of consistent splits, or that it has no
+ * usable silhouette (ws_check_warning_only), it succeeds with that line and
+ * why it goes on in warning instead ("" otherwise). It reads
  * the silhouettes of every split from targets. */
 int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char warning[WS_CHECK_LINE],
                        ws_status *st);

@@ -46,14 +46,19 @@
  * almost like a scaled object (only perspective tells them apart), so the
  * conservative hull above hides it. The focal is therefore estimated on a
  * tight hull (hull.h): the scale 2^x, x in [-1, 1], whose tight hull gives
- * the highest mean agreement (steps of 1/4 in x, then around the best down
- * to 1/16; on at most 24 of the split's images). An inconsistent split
- * tries it as its focal hypothesis; a split that passes the test above and
- * has at least WS_CHECK_FOCAL_VIEWS views (fewer make the tight mean too
- * noisy) still has a wrong focal when the estimate is off 1 by more than a
- * factor WS_CHECK_FOCAL_OFF and lifts the tight mean agreement by more
- * than WS_CHECK_FOCAL_GAIN over the listed focal (correct scenes stay
- * below: docs/RESULTS.md). */
+ * the highest mean agreement (steps of 1/4 in x, then on a hull twice as
+ * fine around the best down to 1/16; on at most 24 of the split's images;
+ * check.c). Every hypothesis keeps each camera's principal point as
+ * listed. An inconsistent split tries it as its focal hypothesis; a split
+ * that passes the test above and has at least WS_CHECK_FOCAL_VIEWS views
+ * (fewer make the tight mean too noisy) still has a wrong focal when the
+ * estimate is off 1 by more than a factor WS_CHECK_FOCAL_OFF, lifts the
+ * tight mean agreement by more than WS_CHECK_FOCAL_GAIN over the listed
+ * focal, and that lift is at least WS_CHECK_FOCAL_EXPLAINS of what the
+ * tight hull misses at the listed focal (1 - its mean): a thin or
+ * self-similar object (a coil) loses parts of a tight hull at every focal,
+ * and a focal that wins back a small share of them is noise of the
+ * voxel grid, not the cause (docs/RESULTS.md "check: false alarms"). */
 #ifndef WS_GEOMETRY_CHECK_H
 #define WS_GEOMETRY_CHECK_H
 #include "geometry/silhouette.h"
@@ -67,8 +72,17 @@
 #define WS_CHECK_RESOLUTION 64
 #define WS_CHECK_FOCAL_OFF 1.1
 #define WS_CHECK_FOCAL_GAIN 0.003
+#define WS_CHECK_FOCAL_EXPLAINS 0.5
 #define WS_CHECK_FOCAL_VIEWS 8
 #define WS_CHECK_LINE 1024 /* bytes of the report's one line */
+/* A silhouette that is empty, or holds at least this share of the pixels
+ * on its frame's edge, shows no object: the edge is where the background
+ * colour is read (silhouette.h), and over a busy background the colour
+ * threshold calls most of it object (the box room of `scene --background
+ * room`: 46 of the cube's 48 train views, 90.8% of the frame on average),
+ * while an object on one colour touches a few edge pixels at most. A split whose views are more than half such has no usable
+ * silhouette, and nothing is measured. */
+#define WS_CHECK_SILHOUETTE_EDGE 0.5
 
 typedef enum {
     WS_CAUSE_NONE,       /* consistent */
@@ -106,6 +120,8 @@ typedef struct {
 typedef struct {
     ws_check_split split[WS_NSPLITS];
     int consistent;       /* every split */
+    int no_silhouette;    /* a split has no usable silhouette (WS_CHECK_SILHOUETTE_FULL): `line`
+                             says so, and nothing else was measured */
     int explained;        /* the split `line` explains; -1 when consistent */
     int reference;        /* the split the cross-split test carves (the most views); -1: none */
     char line[WS_CHECK_LINE]; /* what is wrong and how to fix it; "" when consistent */
@@ -121,10 +137,11 @@ void ws_check_report_free(ws_check_report *r);
 /* 1 when the report's only fault is a focal estimate on splits that the
  * conservative hull finds consistent (mean agreement at least
  * WS_CHECK_MEAN_OK, no view below WS_CHECK_VIEW_OK): the weakest evidence
- * the check has, since the tight hull that estimates the focal is biased
- * on thin wire objects (a correct coil reads x0.84; docs/METHOD.md section 12). `fit`
- * warns with the line then instead of refusing the scene. */
-int ws_check_focal_only(const ws_check_report *r);
+ * the check has; or that the scene has no usable silhouette, so that the
+ * cameras could not be checked at all (a capture over a busy background
+ * without masks, which a fit on photo edges may still fit). `fit` warns
+ * with the line then instead of refusing the scene. */
+int ws_check_warning_only(const ws_check_report *r);
 
 /* Writes a corrected copy of the scene into `out` (created if missing,
  * not the scene itself): every transforms file rewritten with the fix of

@@ -19,6 +19,7 @@
 #include "io/scene.h"
 #include "io/undistort.h"
 #include "base/limits.h"
+#include "io/view_crop.h"
 #include "nn/base/bytes.h"
 
 /* The largest transforms file read: 64 MiB holds some 100 000 frames, and
@@ -396,12 +397,7 @@ done:
  * with pinhole intrinsics (see scene.h).
  *
  * Every frame's intrinsics are its own value or the file's global one. The
- * working view is a centred crop whose pixels come out square at the
- * working size: with crop cw x ch resampled to W x H, the focal lengths
- * become fl_x W / cw and fl_y H / ch, equal when cw / ch = (fl_x / fl_y)
- * (W / H). The crop is whole pixels, so that equality holds to half a
- * pixel of the crop; the camera's one focal is the geometric mean of the
- * two. The principal point moves with the crop and scales with it. */
+ * working view is a crop around the object (io/view_crop.h). */
 
 /* Frame k of a file without split lists: test when k % 8 == 0, val when
  * k % 8 == 4, train else (7 / 8 of the frames for fitting, one in 8 each
@@ -559,29 +555,38 @@ static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *w
     return frame_lens(frame, root, what, in, st);
 }
 
-/* The crop of the image that makes the working view, and the camera. */
+static void axes_center(const ws_scene *scene, double center[3]);
+
+/* The working view's crop and camera (io/view_crop.h), first around the
+ * frame's centre: crop_around_object moves it once every camera is known. */
 static int frame_camera(const intrinsics *in, const double c2w[4][4], const ws_scene_options *opt,
                         const char *what, ws_view *v, ws_status *st) {
-    const double aspect = in->fx / in->fy * opt->width / opt->height; /* cw / ch wanted */
-    int cw, ch;
-    if ((double)in->w / in->h >= aspect) {
-        ch = in->h;
-        cw = (int)fmin(in->w, fmax(1, lround(in->h * aspect)));
-    } else {
-        cw = in->w;
-        ch = (int)fmin(in->h, fmax(1, lround(in->w / aspect)));
-    }
-    const int x0 = (in->w - cw) / 2, y0 = (in->h - ch) / 2;
-    const double sx = (double)opt->width / cw, sy = (double)opt->height / ch;
-    v->crop[0] = x0;
-    v->crop[1] = y0;
-    v->crop[2] = cw;
-    v->crop[3] = ch;
     v->file_width = in->w;
     v->file_height = in->h;
     v->lens = in->lens;
-    return ws_camera_init_pinhole(&v->cam, c2w, sqrt(in->fx * sx * in->fy * sy), (in->cx - x0) * sx,
-                                  (in->cy - y0) * sy, opt->width, opt->height, what, st);
+    return ws_view_crop(in->fx, in->fy, in->cx, in->cy, in->w, in->h, c2w, NULL, opt->width, opt->height, what,
+                        v->crop, &v->cam, st);
+}
+
+/* Each cropped view's crop moved around the object's projection: the
+ * centre the cameras look at (a nerfstudio or COLMAP scene; the pinhole
+ * intrinsics the view's images are undistorted to are v->lens's). */
+static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_status *st) {
+    double center[3];
+    axes_center(scene, center);
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (int k = 0; k < scene->split[s].n; k++) {
+            ws_view *v = &scene->split[s].views[k];
+            const ws_lens *l = &v->lens;
+            char what[4400];
+            double c2w[4][4];
+            memcpy(c2w, v->cam.c2w, sizeof c2w);
+            snprintf(what, sizeof what, "%s/%s: frame %d", scene->dir, ws_scene_file(scene, s), v->frame);
+            if (ws_view_crop(l->fx, l->fy, l->cx, l->cy, l->width, l->height, c2w, center, opt->width, opt->height,
+                             what, v->crop, &v->cam, st))
+                return st->code;
+        }
+    return WS_OK;
 }
 
 static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_options *opt,
@@ -986,8 +991,8 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
                        ws_colmap_find(dir, folder, sizeof folder) == 0;
     if (nerfstudio || colmap) {
         scene->layout = nerfstudio ? WS_LAYOUT_NERFSTUDIO : WS_LAYOUT_COLMAP;
-        if (nerfstudio ? parse_nerfstudio(scene, dir, opt, st)
-                       : parse_colmap(scene, dir, folder, opt, st)) {
+        if ((nerfstudio ? parse_nerfstudio(scene, dir, opt, st) : parse_colmap(scene, dir, folder, opt, st)) ||
+            crop_around_object(scene, opt, st)) {
             ws_scene_free(scene);
             return st->code;
         }

@@ -14,10 +14,11 @@
  * pinhole intrinsics fl_x, fl_y, cx, cy, w, h in pixels, global or per
  * frame (a frame's own value wins; fl_y defaults to fl_x, cx and cy to the
  * image centre, and camera_angle_x may stand for fl_x); images of any
- * aspect. The working view is the centred crop of the image whose aspect
- * makes its pixels square at the working size (fl_x / fl_y times the
- * working aspect: the largest square for fl_x = fl_y and a square working
- * size), resampled to the working size, with the intrinsics carried along.
+ * aspect. The working view is the crop of the image whose aspect makes its
+ * pixels square at the working size (fl_x / fl_y times the working aspect:
+ * the largest square for fl_x = fl_y and a square working size) around the
+ * object's projection (io/view_crop.h), resampled to the working size, with
+ * the intrinsics carried along.
  * Splits: train_filenames / val_filenames / test_filenames where the file
  * has them (frames in none are left out); otherwise frame k (in file
  * order) is a test view when k % 8 == 0, a val view when k % 8 == 4, and a

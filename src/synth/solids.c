@@ -298,9 +298,11 @@ static double ray_triangle(const double D[3], const double A[3], const double B[
 }
 
 int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
-                    const float background[3], ws_image *img, ws_status *st) {
+                    const ws_image *background, ws_image *img, ws_status *st) {
     if (supersample < 1 || supersample > 16)
         return ws_fail(st, WS_EINTERNAL, "solid: supersampling %d is not in [1, 16]", supersample);
+    if (background->width != cam->width || background->height != cam->height || background->channels != 3)
+        return ws_fail(st, WS_EINTERNAL, "solid: the background is not the camera's image");
     const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
     const size_t fine = (size_t)W2 * H2;
     double *depth = ws_malloc(sizeof *depth * fine, "a depth buffer", st);
@@ -383,7 +385,7 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
                 }
             for (int c = 0; c < 3; c++)
                 img->data[c * plane + (size_t)i * W + j] =
-                    (float)((s->albedo[c] * lit + background[c] * miss) / (ss * ss));
+                    (float)((s->albedo[c] * lit + background->data[c * plane + (size_t)i * W + j] * miss) / (ss * ss));
         }
     free(depth);
     free(shade);

@@ -17,8 +17,8 @@
  * with a key light l fixed in world space and a fill light f fixed to the
  * camera (from its upper left), so that faces of different orientation
  * differ in brightness like in a real render (a light on the camera's axis
- * would light two faces turned alike from it alike); the background colour
- * where no face is hit. */
+ * would light two faces turned alike from it alike); the background image
+ * (3 x height x width, e.g. room.h's) where no face is hit. */
 #ifndef WS_SOLIDS_H
 #define WS_SOLIDS_H
 #include <stdint.h>
@@ -51,7 +51,7 @@ void ws_solid_free(ws_solid *s);
 /* Renders s seen by cam into img (allocated here: 3 x height x width), the
  * average of supersample^2 rays per pixel spread evenly over it. */
 int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
-                    const float background[3], ws_image *img, ws_status *st);
+                    const ws_image *background, ws_image *img, ws_status *st);
 
 /* Writes n points of the surface (uniform by area, seeded) as an ASCII PLY
  * file: the scene's gt_points.ply. */

@@ -20,6 +20,7 @@
 #include "nn/base/rng.h"
 #include "io/ref_lines.h"
 #include "synth/line_drawing.h"
+#include "synth/room.h"
 #include "synth/smooth.h"
 #include "synth/solids.h"
 #include "synth/synth.h"
@@ -64,6 +65,8 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->seed = 0;
     opt->white_background = 0;
     opt->width = opt->height = 0;
+    opt->room = opt->masks = 0;
+    opt->principal[0] = opt->principal[1] = 0;
     opt->nerfstudio = 0;
     opt->colmap = 0;
     opt->jpeg = 0;
@@ -71,7 +74,8 @@ void ws_synth_options_default(ws_synth_options *opt) {
 }
 
 /* The image size of a scene, and the camera of view c2w: focal length from
- * the field of view over the shorter side, principal point at the centre. */
+ * the field of view over the shorter side, principal point at the centre
+ * or opt->principal off it. */
 static void image_size(const ws_synth_options *opt, int *w, int *h) {
     *w = opt->width ? opt->width : opt->size;
     *h = opt->height ? opt->height : opt->size;
@@ -82,7 +86,7 @@ static int synth_camera(const ws_synth_options *opt, const double c2w[4][4], con
     int w, h;
     image_size(opt, &w, &h);
     return ws_camera_init_pinhole(cam, c2w, 0.5 * (w < h ? w : h) / tan(0.5 * CAMERA_ANGLE_X),
-                                  0.5 * w, 0.5 * h, w, h, what, st);
+                                  0.5 * w + opt->principal[0], 0.5 * h + opt->principal[1], w, h, what, st);
 }
 
 /* The lens of the views (opt->lens on synth_camera's intrinsics). */
@@ -441,9 +445,11 @@ static void ball_screen_box(const double C[3], double r, double f, double cx, do
 }
 
 int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
-                    const float background[3], ws_image *img, ws_status *st) {
+                    const ws_image *background, ws_image *img, ws_status *st) {
     if (supersample < 1 || supersample > 16)
         return ws_fail(st, WS_EINTERNAL, "synth: supersampling %d is not in [1, 16]", supersample);
+    if (background->width != cam->width || background->height != cam->height || background->channels != 3)
+        return ws_fail(st, WS_EINTERNAL, "synth: the background is not the camera's image");
     const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
     const double r = obj->curves.thickness;
     /* The fine grid: sample (I, J) is the centre of the fine pixel (I, J),
@@ -515,7 +521,7 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
                 }
             for (int c = 0; c < 3; c++)
                 img->data[c * plane + (size_t)i * W + j] =
-                    (float)((obj->colour[c] * sum + background[c] * miss) / (ss * ss));
+                    (float)((obj->colour[c] * sum + background->data[c * plane + (size_t)i * W + j] * miss) / (ss * ss));
         }
     free(depth);
     free(shade);
@@ -600,7 +606,7 @@ static int write_json(const char *path, cJSON *root, int ok, ws_status *st) {
 
 /* transforms_SPLIT.json of the split's n cameras */
 static int write_transforms(const char *dir, int split, const double center[3],
-                            double (*c2w)[4][4], int n, ws_status *st) {
+                            double (*c2w)[4][4], int n, int masks, ws_status *st) {
     char path[4400];
     snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[split]);
     /* each item goes to its parent as soon as it is made (adding fails only
@@ -614,8 +620,11 @@ static int write_transforms(const char *dir, int split, const double center[3],
         char file_path[64];
         snprintf(file_path, sizeof file_path, "%s/r_%d", ws_split_names[split], k);
         cJSON *frame = cJSON_CreateObject(), *m = NULL;
+        char mask_path[64];
+        snprintf(mask_path, sizeof mask_path, "masks/%s/r_%d.png", ws_split_names[split], k);
         ok = cJSON_AddItemToArray(frames, frame) &&
              cJSON_AddStringToObject(frame, "file_path", file_path) &&
+             (!masks || cJSON_AddStringToObject(frame, "mask_path", mask_path)) &&
              (m = cJSON_AddArrayToObject(frame, "transform_matrix"));
         for (int i = 0; i < 4 && ok; i++)
             ok = cJSON_AddItemToArray(m, cJSON_CreateDoubleArray(c2w[k][i], 4));
@@ -648,8 +657,11 @@ static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *
             char file_path[64];
             view_file(opt, s, k, file_path, sizeof file_path);
             cJSON *frame = cJSON_CreateObject(), *m = NULL;
+            char mask_path[64];
+            snprintf(mask_path, sizeof mask_path, "masks/%s/r_%d.png", ws_split_names[s], k);
             ok = cJSON_AddItemToArray(frames, frame) &&
                  cJSON_AddStringToObject(frame, "file_path", file_path) &&
+                 (!opt->masks || cJSON_AddStringToObject(frame, "mask_path", mask_path)) &&
                  cJSON_AddItemToArray(lists[s], cJSON_CreateString(file_path)) &&
                  (m = cJSON_AddArrayToObject(frame, "transform_matrix"));
             for (int i = 0; i < 4 && ok; i++)
@@ -747,6 +759,16 @@ static int check_options(const ws_synth_options *opt, ws_status *st) {
                        "--width %d --height %d: a NeRF-synthetic scene is square (--layout nerfstudio "
                        "or colmap take other shapes)",
                        opt->width, opt->height);
+    int w, h;
+    image_size(opt, &w, &h);
+    if (!(fabs(opt->principal[0]) < 0.5 * w && fabs(opt->principal[1]) < 0.5 * h))
+        return ws_fail(st, WS_EUSAGE, "--principal %g,%g: not inside the %d x %d image (offsets from its centre)",
+                       opt->principal[0], opt->principal[1], w, h);
+    if (nerf && (opt->principal[0] || opt->principal[1]))
+        return ws_fail(st, WS_EUSAGE,
+                       "--principal %g,%g: a NeRF-synthetic scene has its principal point at the centre "
+                       "(--layout nerfstudio or colmap takes others)",
+                       opt->principal[0], opt->principal[1]);
     return WS_OK;
 }
 
@@ -757,28 +779,70 @@ typedef struct {
     const ws_smooth *smooth;
 } scene_object;
 
-/* The view of cam, through the lens when there is one: a pinhole render
- * at LENS_OVERSAMPLE times the resolution over every ray the frame sees,
- * resampled through the lens (undistort.h). */
-static int render_view(const scene_object *obj, const ws_synth_options *opt, const ws_camera *cam,
-                       const float background[3], ws_image *img, ws_status *st) {
+/* The background of a view: one colour v, or the room around `center`. */
+static int view_background(const ws_synth_options *opt, const ws_camera *cam, const double center[3], float v,
+                           ws_image *img, ws_status *st) {
+    if (opt->room && v < 0) return ws_room_render(cam, center, SUPERSAMPLE, img, st);
+    if (ws_image_alloc(img, cam->width, cam->height, 3, st)) return st->code;
+    for (size_t k = 0; k < (size_t)3 * cam->width * cam->height; k++) img->data[k] = v;
+    return WS_OK;
+}
+
+static int render_object(const scene_object *obj, const ws_camera *cam, const ws_image *background, ws_image *img,
+                         ws_status *st) {
+    return obj->solid ? ws_solid_render(obj->solid, cam, SUPERSAMPLE, background, img, st)
+                      : ws_synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, st);
+}
+
+/* One pinhole view's photo, and with opt->masks its mask (1 x H x W: the
+ * share of the pixel the object covers): rendered on black and on white,
+ * the difference is the share of the background each pixel shows, and the
+ * photo is the black one plus the background times it (the same pixels a
+ * render over the background gives). */
+static int pinhole_view(const scene_object *obj, const ws_camera *cam, const double center[3],
+                        const ws_synth_options *opt, ws_image *img, ws_image *mask, ws_status *st) {
+    ws_image background = {0}, white = {0};
+    const float colour = opt->room ? -1.0f : (float)opt->white_background;
+    int rc = view_background(opt, cam, center, opt->masks ? 0.0f : colour, &background, st) ||
+             render_object(obj, cam, &background, img, st);
+    if (!rc && opt->masks) {
+        ws_image_free(&background);
+        const size_t plane = (size_t)cam->width * cam->height;
+        rc = view_background(opt, cam, center, 1.0f, &white, st) || render_object(obj, cam, &white, mask, st) ||
+             view_background(opt, cam, center, colour, &background, st);
+        for (size_t k = 0; k < 3 * plane && !rc; k++) /* mask: white - black, the background's share */
+            mask->data[k] -= img->data[k];
+        for (size_t k = 0; k < 3 * plane && !rc; k++) img->data[k] += background.data[k] * mask->data[k];
+        for (size_t k = 0; k < plane && !rc; k++) mask->data[k] = 1 - mask->data[k];
+        mask->channels = 1;
+    }
+    ws_image_free(&background);
+    ws_image_free(&white);
+    return rc ? st->code : WS_OK;
+}
+
+/* The view of cam (and its mask), through the lens when there is one: a
+ * pinhole render at LENS_OVERSAMPLE times the resolution over every ray the
+ * frame sees, resampled through the lens (undistort.h; where that leaves
+ * the canvas, the background's colour, or grey for the room). */
+static int render_view(const scene_object *obj, const ws_camera *cam, const double center[3],
+                       const ws_synth_options *opt, ws_image *img, ws_image *mask, ws_status *st) {
     ws_lens lens;
     if (synth_lens(opt, cam, &lens, st)) return st->code;
-    if (ws_lens_is_pinhole(&lens))
-        return obj->solid ? ws_solid_render(obj->solid, cam, SUPERSAMPLE, background, img, st)
-                          : ws_synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, st);
+    if (ws_lens_is_pinhole(&lens)) return pinhole_view(obj, cam, center, opt, img, mask, st);
     int w, h;
     double K[4];
     ws_camera canvas;
-    ws_image pinhole = {0};
-    if (ws_lens_canvas(&lens, LENS_OVERSAMPLE, &w, &h, K, st) ||
-        ws_camera_init_pinhole(&canvas, cam->c2w, K[0], K[2], K[3], w, h, "--lens", st) ||
-        (obj->solid ? ws_solid_render(obj->solid, &canvas, SUPERSAMPLE, background, &pinhole, st)
-                    : ws_synth_render(obj->tubes, &canvas, SUPERSAMPLE, background, &pinhole, st)))
-        return st->code;
-    int rc = ws_image_distort(&pinhole, K, &lens, background, img, st);
+    ws_image pinhole = {0}, pinhole_mask = {0};
+    const float v = opt->room ? 0.5f : (float)opt->white_background, fill[3] = {v, v, v}, none[1] = {0};
+    int rc = ws_lens_canvas(&lens, LENS_OVERSAMPLE, &w, &h, K, st) ||
+             ws_camera_init_pinhole(&canvas, cam->c2w, K[0], K[2], K[3], w, h, "--lens", st) ||
+             pinhole_view(obj, &canvas, center, opt, &pinhole, &pinhole_mask, st) ||
+             ws_image_distort(&pinhole, K, &lens, fill, img, st) ||
+             (opt->masks && ws_image_distort(&pinhole_mask, K, &lens, none, mask, st));
     ws_image_free(&pinhole);
-    return rc;
+    ws_image_free(&pinhole_mask);
+    return rc ? st->code : WS_OK;
 }
 
 /* A view of a smooth object and, for a test view, its reference lines into
@@ -802,10 +866,8 @@ static int render_smooth(const char *dir, const ws_smooth *s, const ws_camera *c
 
 /* Renders and writes every view's image, in parallel; the failure of the
  * lowest view wins. */
-static int write_views(const char *dir, const scene_object *obj, const ws_synth_options *opt,
-                       double (*c2w)[4][4], int total, ws_status *st) {
-    const float black[3] = {0, 0, 0}, white[3] = {1, 1, 1};
-    const float *background = opt->white_background ? white : black;
+static int write_views(const char *dir, const scene_object *obj, const double center[3],
+                       const ws_synth_options *opt, double (*c2w)[4][4], int total, ws_status *st) {
     ws_status *status = ws_malloc(sizeof *status * total, "view statuses", st);
     if (!status) return st->code;
 #pragma omp parallel for schedule(dynamic)
@@ -820,12 +882,18 @@ static int write_views(const char *dir, const scene_object *obj, const ws_synth_
         snprintf(path, sizeof path, "%s/%s", dir, file);
         snprintf(what, sizeof what, "%s: camera", path);
         ws_camera cam;
-        ws_image img = {0};
+        ws_image img = {0}, mask = {0};
+        const float colour = (float)opt->white_background, background[3] = {colour, colour, colour};
         if (!synth_camera(opt, c2w[v], what, &cam, vs) &&
             !(obj->smooth ? render_smooth(dir, obj->smooth, &cam, split, k, background, &img, vs)
-                          : render_view(obj, opt, &cam, background, &img, vs)))
-            opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs);
+                          : render_view(obj, &cam, center, opt, &img, &mask, vs)) &&
+            !(opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs)) &&
+            opt->masks) {
+            snprintf(path, sizeof path, "%s/masks/%s/r_%d.png", dir, ws_split_names[split], k);
+            ws_png_write(path, &mask, vs);
+        }
         ws_image_free(&img);
+        ws_image_free(&mask);
     }
     int rc = WS_OK;
     for (int v = 0; v < total && !rc; v++)
@@ -960,6 +1028,8 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
      * no curves to scatter a sparse cloud along */
     if (smooth && (opt->colmap || opt->lens[0] || opt->lens[1] || opt->lens[2] || opt->lens[3]))
         return ws_fail(st, WS_EUSAGE, "%s: --lens and --layout colmap are for the wire objects and solids", name);
+    if (smooth && (opt->room || opt->masks))
+        return ws_fail(st, WS_EUSAGE, "%s: --background room and --masks are for the wire objects and solids", name);
     ws_synth_object obj = {0};
     ws_solid sol = {0};
     ws_smooth smo = {0};
@@ -983,6 +1053,12 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         snprintf(path, sizeof path, "%s/%s/%s", dir, images, ws_split_names[s]);
         if (opt->views[s]) rc = ws_mkdir_inside(path, st);
     }
+    snprintf(path, sizeof path, "%s/masks", dir);
+    if (!rc && opt->masks) rc = ws_mkdir_inside(path, st);
+    for (int s = 0; s < WS_NSPLITS && !rc && opt->masks; s++) {
+        snprintf(path, sizeof path, "%s/masks/%s", dir, ws_split_names[s]);
+        if (opt->views[s]) rc = ws_mkdir_inside(path, st);
+    }
     snprintf(path, sizeof path, "%s/sparse", dir);
     if (!rc && opt->colmap && !(rc = ws_mkdir(path, st))) {
         snprintf(path, sizeof path, "%s/sparse/0", dir);
@@ -995,13 +1071,13 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     }
     if (!rc) {
         place_cameras(center, opt, c2w);
-        rc = write_views(dir, &what, opt, c2w, total, st);
+        rc = write_views(dir, &what, center, opt, c2w, total, st);
     }
     const ws_curves *gt = solid ? &sol.edges : &obj.curves;
     if (!rc && opt->colmap) rc = write_colmap(dir, opt, c2w, gt, st);
     else if (!rc && opt->nerfstudio) rc = write_transforms_nerfstudio(dir, opt, c2w, st);
     for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio && !opt->colmap; first += opt->views[s++])
-        if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], st);
+        if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], opt->masks, st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     if (!rc && !smooth) rc = ws_curves_save(path, gt, st);
     snprintf(path, sizeof path, "%s/gt_points.ply", dir);

@@ -13,14 +13,16 @@
  * or, with opt.nerfstudio, in the nerfstudio layout: DIR/transforms.json
  * (fl_x, fl_y, cx, cy, w, h, k1, k2, p1, p2, frames[] with file_path
  * "rgb/SPLIT/r_K.png", train/val/test_filenames) and the same images,
- * which may be width x height; or, with opt.colmap, as COLMAP writes a
+ * which may be width x height, with the principal point off the centre;
+ * or, with opt.colmap, as COLMAP writes a
  * capture: DIR/sparse/0/{cameras,images,points3D}.{bin,txt} (one OPENCV
  * camera; points3D: points along the ground-truth curves with noise, and
  * outliers, as a reconstruction's are), DIR/images/SPLIT/r_KKKKK.png and
  * DIR/{train,val,test}_list.txt. opt.jpeg writes the images as JPEG;
  * opt.lens renders them through a lens (render/lens.h: a pinhole render
- * at twice the resolution, resampled through the lens' inverse). The focal length fits the field of view to the shorter side, so
- * the centred square of a wide image is the square image of the same
+ * at twice the resolution, resampled through the lens' inverse). The focal
+ * length fits the field of view to the shorter side, so the square of a
+ * wide image around its principal point is the square image of the same
  * camera.
  * Train cameras lie on a Fibonacci spiral over the upper hemisphere, val and
  * test cameras at random (seeded) positions of that hemisphere. Same name,
@@ -39,7 +41,13 @@ typedef struct {
     int size;              /* square image side in pixels [224] */
     uint64_t seed;         /* camera placement [0] */
     int white_background;  /* 1: the object on white instead of black [0] */
+    int room;              /* 1: the object in a box room instead (room.h) [0] */
+    int masks;             /* 1: also DIR/masks/SPLIT/r_K.png (white = object) and each
+                              frame's mask_path naming it [0] */
     int width, height;     /* a non-square image (nerfstudio layout); 0: size x size */
+    double principal[2];   /* the principal point this many pixels right of and below the
+                              image centre (nerfstudio layout), so that the object, which
+                              the cameras look at, is off-centre as in a crop [0, 0] */
     int nerfstudio;        /* 1: one transforms.json with intrinsics (scene.h) [0] */
     int colmap;            /* 1: a binary COLMAP model instead, 2: a text one [0] */
     int jpeg;              /* 1: the images as JPEG (quality 95), else PNG [0] */
@@ -67,10 +75,10 @@ void ws_synth_object_free(ws_synth_object *obj);
 
 /* Renders the object seen by cam into img (allocated here: 3 x cam->height x
  * cam->width): the nearest tube surface of each of supersample^2 rays per
- * pixel, Lambert + ambient shaded, averaged; the background colour where
- * no tube is hit. */
+ * pixel, Lambert + ambient shaded, averaged; the background image (3 x
+ * height x width, e.g. room.h's) where no tube is hit. */
 int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
-                    const float background[3], ws_image *img, ws_status *st);
+                    const ws_image *background, ws_image *img, ws_status *st);
 
 /* Writes the scene of object `name` into directory dir (created if needed). */
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st);

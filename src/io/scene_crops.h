@@ -1,0 +1,13 @@
+/* scene_crops.h: one line saying what the working views' crops of a scene
+ * did (io/view_crop.h), for the commands that load a scene to print. */
+#ifndef WS_IO_SCENE_CROPS_H
+#define WS_IO_SCENE_CROPS_H
+#include <stddef.h>
+#include "io/scene.h"
+
+/* "" when every view is its whole frame; else e.g. "SCENE: the working
+ * views are the 216 x 216 crops of the 288 x 216 frames around the object's
+ * projection (64 of 64 views, up to 36 px off the frame's centre)". */
+void ws_scene_crop_line(const ws_scene *scene, char *line, size_t size);
+
+#endif
