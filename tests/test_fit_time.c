@@ -1,3 +1,4 @@
+/* alone test */
 /* test_fit_time.c: the time left follows the schedule's phases. A short
  * edge-loss fit of a synthetic cube (the line loss adds its finer levels
  * as it goes, so later steps cost more) prints every phase's modelled CPU

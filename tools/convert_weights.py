@@ -911,10 +911,15 @@ def write_weight_file(out_path, arch, tower, expected, out_dtype, display):
     tmp = None if through else f"{out_path}.tmp.{os.getpid()}"
     created = False
     try:
-        # the temporary file is created new (O_EXCL), never opened through a link planted at its name
-        fd = (os.open(out_path, os.O_WRONLY | os.O_APPEND) if through else
-              os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666))
-        created = not through
+        # the temporary file is created new (O_EXCL), never opened through a link planted at its name;
+        # a stopping signal waits until `created` says so, or the file it made would stay
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+        try:
+            fd = (os.open(out_path, os.O_WRONLY | os.O_APPEND) if through else
+                  os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o666))
+            created = not through
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)
         with os.fdopen(fd, "wb") as f:
             crc, pos = 0, 0
 
