@@ -108,11 +108,13 @@ fi
 # Rank 0's own I/O error is the line printed, not a collective's mismatch on the others: an
 # --out that cannot be made, a first checkpoint that cannot be written, and the file size
 # limit (standing in for a full disk) while checkpointing, which stops the job like SIGINT.
-small=(fit "$work/scene" --size 64 --loss edges --threads 1 --quiet)
+# (--overwrite: a folder holding a checkpoint.bin, here a directory, is otherwise refused
+# before any rank writes.)
+small=(fit "$work/scene" --size 64 --loss edges --threads 1 --quiet --overwrite)
 : >"$work/afile"
 mkdir -p "$work/ckdir/checkpoint.bin"
 for config in "afile/out|1|$work/afile/out: cannot create directory: Not a directory" \
-              "ckdir|1|$work/ckdir/checkpoint.bin: write failed: Is a directory"; do
+              "ckdir|1|$work/ckdir/checkpoint.bin: is a directory"; do
     IFS='|' read -r dir want_rc want <<<"$config"
     "${mpirun[@]}" -np 2 "$bin" "${small[@]}" --max-steps 5 --out "$work/$dir" >"$work/io.log" 2>&1
     rc=$?
