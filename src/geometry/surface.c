@@ -179,3 +179,30 @@ int ws_curves_init_hull(ws_curves *c, const ws_hull_surface *s, int n, double le
     free(picked);
     return WS_OK;
 }
+
+void ws_hull_surface_depth(const ws_hull_surface *s, const ws_camera *cam, double rho, float *z, int *nearest) {
+    const int W = cam->width, H = cam->height;
+    for (size_t p = 0; p < (size_t)W * H; p++) {
+        z[p] = INFINITY;
+        nearest[p] = -1;
+    }
+    for (int k = 0; k < s->n; k++) {
+        double c[3], u, v;
+        ws_camera_to_cam(cam, s->p + 3 * k, c);
+        double d = ws_camera_project(cam, c, &u, &v);
+        if (!(d > rho)) continue;
+        double r = fmax(0.5, cam->focal * rho / d);
+        /* pixel (i, j) when its centre (j + 1/2, i + 1/2) lies within r of (u, v) */
+        int j0 = (int)fmax(0, ceil(u - r - WS_PIXEL_CENTER)), j1 = (int)fmin(W - 1, floor(u + r - WS_PIXEL_CENTER));
+        int i0 = (int)fmax(0, ceil(v - r - WS_PIXEL_CENTER)), i1 = (int)fmin(H - 1, floor(v + r - WS_PIXEL_CENTER));
+        for (int i = i0; i <= i1; i++)
+            for (int j = j0; j <= j1; j++) {
+                double dx = j + WS_PIXEL_CENTER - u, dy = i + WS_PIXEL_CENTER - v;
+                size_t at = (size_t)i * W + j;
+                if (dx * dx + dy * dy <= r * r && d < z[at]) {
+                    z[at] = (float)d;
+                    nearest[at] = k;
+                }
+            }
+    }
+}

@@ -11,7 +11,8 @@ struct ws_hidden_lines {
     ws_scene_hull own;         /* carved here when none was lent */
     const ws_scene_hull *hull;
     ws_view_cache far;         /* per view: the far limit, H x W */
-    float *z;                  /* H x W scratch: the window's row pass */
+    float *z;                  /* H x W scratch: the depth, then the window's row pass */
+    int *nearest;              /* H x W scratch: the surface voxel nearest at each pixel */
 };
 
 int ws_hidden_lines_create(ws_hidden_lines **out, const ws_scene *scene, const ws_scene_hull *hull,
@@ -26,7 +27,8 @@ int ws_hidden_lines_create(ws_hidden_lines **out, const ws_scene *scene, const w
         return st->code;
     hl->hull = hull ? hull : &hl->own;
     if (ws_view_cache_init(&hl->far, scene, hw, "hidden-line far limits", st) ||
-        !(hl->z = ws_malloc(hw * sizeof(float), "a hidden-line scratch map", st)))
+        !(hl->z = ws_malloc(hw * sizeof(float), "a hidden-line scratch map", st)) ||
+        !(hl->nearest = ws_malloc(hw * sizeof(int), "a hidden-line scratch map", st)))
         return st->code;
     return WS_OK;
 }
@@ -36,6 +38,7 @@ void ws_hidden_lines_free(ws_hidden_lines *hl) {
     ws_scene_hull_free(&hl->own);
     ws_view_cache_free(&hl->far);
     free(hl->z);
+    free(hl->nearest);
     free(hl);
 }
 
@@ -54,32 +57,18 @@ static double tolerance_voxels(const ws_camera *cam, const double n[3], const do
                                                                         : WS_HIDDEN_TOLERANCE;
 }
 
-/* Z of a view into z (H x W): the surface voxels z-buffered as discs; and
- * into far, Z plus the tolerance of the voxel nearest there (+inf where
- * none falls). */
-static void depth_map(const ws_scene_hull *h, const ws_camera *cam, float *z, float *far) {
-    const int W = cam->width, H = cam->height;
-    const double rho = h->hull.voxel * sqrt(3.0) / 2;
-    for (size_t k = 0; k < (size_t)W * H; k++) z[k] = far[k] = INFINITY;
-    for (int k = 0; k < h->surface.n; k++) {
-        double c[3], u, v;
+/* Z of a view into z (H x W): the surface voxels z-buffered as discs
+ * (surface.h; nearest: their indices); and into far, Z plus the tolerance
+ * of the voxel nearest there (+inf where none falls). */
+static void depth_map(const ws_scene_hull *h, const ws_camera *cam, float *z, int *nearest, float *far) {
+    ws_hull_surface_depth(&h->surface, cam, h->hull.voxel * sqrt(3.0) / 2, z, nearest);
+    for (size_t p = 0; p < (size_t)cam->width * cam->height; p++) {
+        int k = nearest[p];
+        far[p] = INFINITY;
+        if (k < 0) continue;
+        double c[3];
         ws_camera_to_cam(cam, h->surface.p + 3 * k, c);
-        double d = ws_camera_project(cam, c, &u, &v);
-        if (!(d > rho)) continue;
-        double r = fmax(0.5, cam->focal * rho / d);
-        double tolerance = tolerance_voxels(cam, h->surface.normal + 3 * k, c) * h->hull.voxel;
-        /* pixel (i, j) when its centre (j + 1/2, i + 1/2) lies within r of (u, v) */
-        int j0 = (int)fmax(0, ceil(u - r - WS_PIXEL_CENTER)), j1 = (int)fmin(W - 1, floor(u + r - WS_PIXEL_CENTER));
-        int i0 = (int)fmax(0, ceil(v - r - WS_PIXEL_CENTER)), i1 = (int)fmin(H - 1, floor(v + r - WS_PIXEL_CENTER));
-        for (int i = i0; i <= i1; i++)
-            for (int j = j0; j <= j1; j++) {
-                double dx = j + WS_PIXEL_CENTER - u, dy = i + WS_PIXEL_CENTER - v;
-                size_t at = (size_t)i * W + j;
-                if (dx * dx + dy * dy <= r * r && d < z[at]) {
-                    z[at] = (float)d;
-                    far[at] = (float)(z[at] + tolerance);
-                }
-            }
+        far[p] = (float)(z[p] + tolerance_voxels(cam, h->surface.normal + 3 * k, c) * h->hull.voxel);
     }
 }
 
@@ -111,7 +100,7 @@ static int fill_far(void *ctx, int split, int view, float *slot, ws_status *st) 
     (void)st;
     ws_hidden_lines *hl = ctx;
     const ws_camera *cam = &hl->scene->split[split].views[view].cam;
-    depth_map(hl->hull, cam, hl->z, slot);
+    depth_map(hl->hull, cam, hl->z, hl->nearest, slot);
     window_max(slot, hl->z, slot, cam->width, cam->height);
     return WS_OK;
 }

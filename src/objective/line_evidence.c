@@ -86,33 +86,13 @@ void ws_line_evidence_free(ws_line_evidence *e) {
     e->crease = NULL;
 }
 
-/* Z and K of a view (line_evidence.h) into z and crease (H x W). */
-static void hull_depth(const ws_line_evidence *e, const ws_camera *cam, float *z, uint8_t *crease) {
-    const int W = cam->width, H = cam->height;
+/* Z and K of a view (line_evidence.h) into z and crease (H x W; nearest:
+ * scratch, the surface voxel nearest at each pixel). */
+static void hull_depth(const ws_line_evidence *e, const ws_camera *cam, float *z, int *nearest, uint8_t *crease) {
     const ws_scene_hull *hl = e->hull;
-    const double rho = hl->hull.voxel * sqrt(3.0) / 2;
-    for (size_t p = 0; p < (size_t)W * H; p++) {
-        z[p] = INFINITY;
-        crease[p] = 0;
-    }
-    for (int k = 0; k < hl->surface.n; k++) {
-        double c[3], u, v;
-        ws_camera_to_cam(cam, hl->surface.p + 3 * k, c);
-        double d = ws_camera_project(cam, c, &u, &v);
-        if (!(d > rho)) continue;
-        double r = fmax(0.5, cam->focal * rho / d);
-        int j0 = (int)fmax(0, ceil(u - r - WS_PIXEL_CENTER)), j1 = (int)fmin(W - 1, floor(u + r - WS_PIXEL_CENTER));
-        int i0 = (int)fmax(0, ceil(v - r - WS_PIXEL_CENTER)), i1 = (int)fmin(H - 1, floor(v + r - WS_PIXEL_CENTER));
-        for (int i = i0; i <= i1; i++)
-            for (int j = j0; j <= j1; j++) {
-                double dx = j + WS_PIXEL_CENTER - u, dy = i + WS_PIXEL_CENTER - v;
-                size_t at = (size_t)i * W + j;
-                if (dx * dx + dy * dy <= r * r && d < z[at]) {
-                    z[at] = (float)d;
-                    crease[at] = e->crease[k];
-                }
-            }
-    }
+    ws_hull_surface_depth(&hl->surface, cam, hl->hull.voxel * sqrt(3.0) / 2, z, nearest);
+    for (size_t p = 0; p < (size_t)cam->width * cam->height; p++)
+        crease[p] = nearest[p] < 0 ? 0 : e->crease[nearest[p]];
 }
 
 /* Whether pixel (i, j) of z lies nearer than a 4-neighbour by more than
@@ -133,6 +113,7 @@ static int depth_jump(const float *z, int W, int H, int i, int j) {
 /* Buffers of one view, H x W each. */
 typedef struct {
     float *z, *dist, *inside;
+    int *nearest;
     uint8_t *crease, *set, *support;
 } view_buffers;
 
@@ -144,7 +125,8 @@ static int buffers_alloc(view_buffers *b, size_t n, ws_status *st) {
     b->crease = b->inside ? ws_malloc(n, "hull lines", st) : NULL;
     b->set = b->crease ? ws_malloc(n, "hull lines", st) : NULL;
     b->support = b->set ? ws_malloc(n, "hull lines", st) : NULL;
-    return b->support ? WS_OK : st->code;
+    b->nearest = b->support ? ws_malloc(n * sizeof(int), "hull lines", st) : NULL;
+    return b->nearest ? WS_OK : st->code;
 }
 
 static void buffers_free(view_buffers *b) {
@@ -154,6 +136,7 @@ static void buffers_free(view_buffers *b) {
     free(b->crease);
     free(b->set);
     free(b->support);
+    free(b->nearest);
 }
 
 /* support from z and crease (b->dist is overwritten). */
@@ -172,7 +155,7 @@ int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8
     view_buffers b;
     int rc = buffers_alloc(&b, (size_t)cam->width * cam->height, st);
     if (!rc) {
-        hull_depth(e, cam, b.z, b.crease);
+        hull_depth(e, cam, b.z, b.nearest, b.crease);
         rc = support_map(&b, cam->width, cam->height, support, st);
     }
     buffers_free(&b);
@@ -187,7 +170,7 @@ int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_camera *cam, co
     view_buffers b;
     int rc = buffers_alloc(&b, n, st);
     if (!rc) {
-        hull_depth(e, cam, b.z, b.crease);
+        hull_depth(e, cam, b.z, b.nearest, b.crease);
         rc = support_map(&b, W, H, b.support, st);
     }
     /* inside: the distance to the hull's outside */
