@@ -10,6 +10,7 @@
 #include <dirent.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
 
@@ -57,6 +58,17 @@ static inline int temporaries_in(const char *dir, const char *name) {
     }
     if (d) closedir(d);
     return n;
+}
+
+/* A shell command line's exit: 1 when it ran and exited 0. */
+static inline int sh(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static inline int sh(const char *fmt, ...) {
+    char cmd[4096];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cmd, sizeof cmd, fmt, ap);
+    va_end(ap);
+    return system(cmd) == 0;
 }
 
 #endif

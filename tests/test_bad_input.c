@@ -24,6 +24,7 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "check.h"
+#include "cli_run.h"
 #include "fit/checkpoint.h"
 
 static char bin[512], tmp[256];
@@ -103,15 +104,6 @@ static int stderr_is(const char *fmt, ...) {
 
 /* Expands to: exit code, then the exact stderr line (after "wiresketch: "). */
 #define ANSWER(code, rc, ...) ((rc) == (code) && stderr_is(__VA_ARGS__))
-
-static int sh(const char *fmt, ...) {
-    char cmd[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    return system(cmd) == 0;
-}
 
 static const char *const results[] = {"curves.json", "curves.obj", "curves.ply", "log.csv",
                                        "metrics.json", "report.html", "turntable.gif",

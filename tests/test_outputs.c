@@ -30,15 +30,6 @@ static char out[1 << 16];
 
 #define FIT "--loss edges --size 32 --max-steps 1 --quiet --threads 1"
 
-static int sh(const char *fmt, ...) {
-    char cmd[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    return system(cmd) == 0;
-}
-
 /* Did the run print exactly "wiresketch: LINE\n" (stdout and stderr)? */
 static int said(const char *fmt, ...) {
     char line[4096], want[4200];
