@@ -139,6 +139,32 @@ static void test_splat_measure(const ws_scene *scene) {
     CHECK(r.pixel_visits[ex] == 500.0 * 64 * 64, "exact visits %g", r.pixel_visits[ex]);
 }
 
+/* bench bank: a bank against itself differs by nothing, against another
+ * bank or fresh transforms by something; the bias never exceeds the
+ * difference it is taken from; too few steps are refused. */
+static void test_bank_bias(const ws_scene *scene, const clip_model *m, const ws_curves *c) {
+    ws_status st = {0};
+    ws_bench_bank_row rows[] = {{.bank = 4, .aug_seed = 5, .against = -1},
+                                {.bank = 4, .aug_seed = 6, .against = 0},
+                                {.bank = 4, .aug_seed = 5, .against = 0}};
+    ws_bench_bank_input in = {scene, m, c, 4};
+    CHECK(ws_bench_bank(&in, rows, 3, &st) == WS_OK, "bank bench: %s", st.msg);
+    for (int r = 0; r < 3; r++)
+        CHECK(isfinite(rows[r].difference) && rows[r].bias <= rows[r].difference && rows[r].difference_noise > 0 &&
+                  rows[r].fresh_step_noise > 0 && rows[r].num_aug == 4 && rows[r].steps == 4,
+              "bank row %d: difference %g, bias %g, noise %g, step noise %g", r, rows[r].difference, rows[r].bias,
+              rows[r].difference_noise, rows[r].fresh_step_noise);
+    CHECK(rows[0].difference > 0 && rows[1].difference > 0, "a bank equal to fresh transforms or to another bank");
+    CHECK(rows[2].difference == 0 && rows[2].bias == 0 && rows[2].loss_difference == 0,
+          "a bank against itself: %g", rows[2].difference);
+    CHECK(fabs(rows[0].predicted - rows[0].fresh_step_noise) < 1e-12 * rows[0].predicted &&
+              fabs(rows[1].predicted - sqrt(2.0) * rows[1].fresh_step_noise) < 1e-12 * rows[1].predicted,
+          "predicted %g %g for step noise %g", rows[0].predicted, rows[1].predicted, rows[0].fresh_step_noise);
+    in.steps = 1;
+    CHECK(ws_bench_bank(&in, rows, 1, &st) == WS_EUSAGE && !strcmp(st.msg, "bench bank: 1 steps, at least 2 needed"),
+          "one step: %s", st.msg);
+}
+
 /* m16: m's weights with bf16 GEMMs, or NULL on a CPU without AVX512_BF16
  * (then the approx table has no bf16 rows). */
 static void test_step_and_approx(const ws_scene *scene, const clip_model *m, const clip_model *m16,
@@ -279,6 +305,7 @@ int main(void) {
     if (rc) return check_summary();
     test_bank_and_timing(&scene, m, &c);
     test_splat_measure(&scene);
+    test_bank_bias(&scene, m, &c);
     clip_model *m16 = NULL;
     if (nn_bf16_available()) {
         CHECK(clip_model_random(&m16, &small_arch, 2, &st) == WS_OK &&

@@ -101,4 +101,32 @@ typedef struct {
 int ws_bench_approx(const ws_bench_approx_input *in, ws_bench_approx_row *rows, int max, int *nrows,
                     ws_status *st);
 
+/* ---- the augmentation bank: how far its fixed transforms move a gradient -- */
+
+typedef struct {
+    const ws_scene *scene;
+    const clip_model *model;
+    const ws_curves *sketch;
+    int steps;          /* steps of each setting (other draws of the step's generator) */
+} ws_bench_bank_input;
+
+typedef struct {
+    /* the setting (filled by the caller) */
+    int bank;           /* N transforms per view */
+    uint64_t aug_seed;  /* which N */
+    int against;        /* the row it is compared with, -1: fresh transforms */
+    /* the measurement, relative to |mean gradient with fresh transforms| (2-norms
+     * over all control points of training view 0's default loss) */
+    int num_aug, steps;
+    double difference;       /* |mean gradient - the other's mean gradient| */
+    double difference_noise; /* what the two means' own sampling noise gives that difference */
+    double bias;             /* sqrt(difference^2 - difference_noise^2): the bank's own */
+    double predicted;        /* sqrt(A / N) x fresh_step_noise (x sqrt 2 between two banks) */
+    double fresh_step_noise; /* one fresh step's spread around the mean */
+    double loss_difference;  /* |mean loss - the other's| / |the other's| */
+} ws_bench_bank_row;
+
+/* Fills the measurement of rows[0..nrows) (their settings given). */
+int ws_bench_bank(const ws_bench_bank_input *in, ws_bench_bank_row *rows, int nrows, ws_status *st);
+
 #endif

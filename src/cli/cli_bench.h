@@ -41,6 +41,7 @@ int ws_cli_bench_splat(ws_cli_bench *ctx, cJSON *out, ws_status *st);
 int ws_cli_bench_step(ws_cli_bench *ctx, cJSON *out, ws_status *st);
 int ws_cli_bench_approx(ws_cli_bench *ctx, cJSON *out, ws_status *st);
 int ws_cli_bench_memory(ws_cli_bench *ctx, cJSON *out, ws_status *st);
+int ws_cli_bench_bank(ws_cli_bench *ctx, cJSON *out, ws_status *st);
 
 /* A JSON number, null when not finite (JSON has no NaN). */
 /* Adds KEY: x to o, or for a non-finite x KEY: null and beside it KEY_why,

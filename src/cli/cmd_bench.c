@@ -23,6 +23,7 @@ static const struct {
     {"step", ws_cli_bench_step, "where the time of a default training step goes"},
     {"approx", ws_cli_bench_approx, "error against run time of every approximation"},
     {"memory", ws_cli_bench_memory, "peak memory of a default fit (a child process)"},
+    {"bank", ws_cli_bench_bank, "how far the augmentation bank's fixed transforms move a view's gradient"},
 };
 enum { NPARTS = sizeof parts / sizeof parts[0] };
 
@@ -135,13 +136,13 @@ int cmd_bench(int argc, char **argv) {
         {"--weights-f32", WS_ARG_STRING, &ctx.weights_f32, 0,
          "random weights as f32 (tools/make_random_weights.py) [weights/random-f32.bin]"},
         {"--weights-f16", WS_ARG_STRING, &ctx.weights_f16, 0, "the same as f16 [weights/random-f16.bin]"},
-        {"--aug-bank", WS_ARG_INT, &ctx.aug_bank, 0, "approx: transforms per view of the bank row [8]"},
+        {"--aug-bank", WS_ARG_INT, &ctx.aug_bank, 0, "approx and bank: transforms per view of the bank [8]"},
         {"--precision", WS_ARG_STRING, &precision, 0,
          "CLIP's weight GEMMs in the step part and clip's second row: fp32, bf16 or auto (bf16 where the CPU "
          "has AVX512_BF16) [auto]"},
     };
     const ws_command_spec spec = {
-        "bench [clip|splat|step|approx|memory] [options]",
+        "bench [clip|splat|step|approx|memory|bank] [options]",
         "Speed against the hardware's floor and error against run time; every part without PART.",
         args, sizeof args / sizeof args[0], 0, 1};
     const char *pos[1];
@@ -158,7 +159,7 @@ int cmd_bench(int argc, char **argv) {
     for (int i = 0; npos && i < NPARTS; i++)
         if (!strcmp(pos[0], parts[i].name)) only = i;
     if (npos && only < 0) {
-        ws_fail(&st, WS_EUSAGE, "bench %s: unknown part (clip, splat, step, approx or memory)", pos[0]);
+        ws_fail(&st, WS_EUSAGE, "bench %s: unknown part (clip, splat, step, approx, memory or bank)", pos[0]);
         return ws_cli_fail(&st);
     }
     if (ctx.batch < 1 || ctx.threads < 0 || ctx.rounds < 1 || ctx.aug_bank < 4) {
