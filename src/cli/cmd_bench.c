@@ -131,7 +131,7 @@ int cmd_bench(int argc, char **argv) {
         {"--threads", WS_ARG_INT, &ctx.threads, 0, "threads, 0 = one per core [0]"},
         {"--rounds", WS_ARG_INT, &ctx.rounds, 0, "timed rounds; the best counts [3]"},
         {"--batch", WS_ARG_INT, &ctx.batch, 0, "clip: images per pass [5, a default step's]"},
-        {"--scene", WS_ARG_STRING, &ctx.scene_dir, 0, "scene of splat, step, approx, memory [../shared/scenes/rose]"},
+        {"--scene", WS_ARG_STRING, &ctx.scene_dir, 0, "scene of splat, step, approx, memory, bank [../shared/scenes/rose]"},
         {"--weights", WS_ARG_STRING, &ctx.weights, 0, "CLIP weights [none: ViT-B/32, random weights]"},
         {"--weights-f32", WS_ARG_STRING, &ctx.weights_f32, 0,
          "random weights as f32 (tools/make_random_weights.py) [weights/random-f32.bin]"},
