@@ -14,7 +14,7 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "geometry/check.h"
 #include "geometry/hull.h"
 #include "geometry/silhouette.h"
@@ -24,7 +24,7 @@
 #include "synth/synth.h"
 #include "scene_load.h"
 
-static char tmp[256];
+static const char *tmp;
 
 static void test_silhouette(void) {
     ws_status st;
@@ -605,12 +605,9 @@ static void test_captures(const char *bin) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    char bin[300];
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_check.%ld", (long)getpid());
+    const char *bin = program_path();
     char out[1 << 16], dir[400], broken[400], fixed[400];
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    tmp = test_tmpdir("check");
     test_silhouette();
     snprintf(dir, sizeof dir, "%s/trefoil", tmp);
     if (make_scene("trefoil", dir, 64, 24, 6, 6)) return check_summary();
@@ -681,6 +678,5 @@ int main(void) {
     CHECK(rc == 0 && strstr(out, "wiresketch: warning: ") && strstr(out, "about 0.687 does") &&
               strstr(out, "(a focal estimate alone does not stop a fit)"),
           "fit of a scene whose focal alone is off: exit %d: %s", rc, out);
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }
