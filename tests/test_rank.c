@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <math.h>
 #include <string.h>
+#include "base/runtime.h"
 #include "check.h"
 #include "test_util.h"
 #include "objective/ranking.h"
@@ -172,7 +173,8 @@ static void drop_one_scenes(const char *tmp, const char *const *names, int count
     CHECK(pays_without > 0, "without hidden-line removal no curve of the nut pays");
 }
 
-int main(void) {
+int main(int argc, char **argv) {
+    ws_runtime_reexec_if_needed(argv); /* OpenMP's idle threads sleep (base/runtime.h) */
     const char *tmp = test_tmpdir("rank");
     char dir[600], weights[600], cmd[1400];
     snprintf(weights, sizeof weights, "%s/tiny.bin", tmp);
