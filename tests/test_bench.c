@@ -1,3 +1,4 @@
+/* slow test */
 /* test_bench.c: the augmentation bank (its cache changes no bit, a resumed
  * fit with a bank ends bit-identical, bad sizes are refused), the step's
  * timers (they change no bit and account for the step), and the
