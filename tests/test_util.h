@@ -232,7 +232,7 @@ static int run_cmd(char *out, size_t size, const char *fmt, ...) {
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    snprintf(cmd, sizeof cmd, "{ %s\n} 2>&1", line);
+    snprintf(cmd, sizeof cmd, "( %s\n) 2>&1", line);
     FILE *p = popen(cmd, "r");
     out[0] = '\0';
     if (!p) return -1;
