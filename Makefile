@@ -57,7 +57,7 @@ TEST_SRC  := $(wildcard tests/test_*.c)
 LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/obj/%.o)
 CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/obj/%.o)
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
-HEADERS   := $(wildcard src/*.h src/*/*.h nn/*.h nn/*/*.h) tests/check.h tests/cli_run.h
+HEADERS   := $(wildcard src/*.h src/*/*.h nn/*.h nn/*/*.h) tests/check.h tests/test_util.h
 
 .PHONY: all test test-scenes check-layers clean install uninstall bench demo fuzz fuzz-build test-mpi bench-mpi
 all: $(BUILD)/wiresketch $(BUILD)/libwiresketch.a $(BUILD)/embed_example

@@ -17,6 +17,10 @@ if [ "${1:-}" = --args ]; then
     shift 2
 fi
 jobs=${TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
+# OpenMP's idle threads sleep instead of spinning, as in `wiresketch`
+# (base/runtime.h): spinning ones take the cores that the programs running
+# beside them need.
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 results=$(mktemp -d /tmp/ws_test_run_XXXXXX)
 trap 'rm -rf "$results"' EXIT
 

@@ -24,57 +24,10 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "fit/checkpoint.h"
 
-static char bin[512], tmp[256];
-
-/* ---------------------------------------------------------------- running */
-
-/* Runs `wiresketch ARGS` through the shell with stdout and stderr in files;
- * with fsize_limit > 0 no file it writes may grow beyond that many bytes
- * (RLIMIT_FSIZE: a write past it fails with EFBIG, as on a full disk, and
- * SIGXFSZ is ignored so that the write reports it). Returns the exit code. */
-static int run_limited(long fsize_limit, const char *fmt, ...) {
-    char args[3000], cmd[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
-    va_end(ap);
-    snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
-    pid_t pid = fork();
-    if (pid == 0) {
-        alarm(120); /* a hang (a FIFO opened for reading) ends as a failure, not a stuck test */
-        if (fsize_limit > 0) {
-            struct rlimit rl = {(rlim_t)fsize_limit, (rlim_t)fsize_limit};
-            signal(SIGXFSZ, SIG_IGN);
-            if (setrlimit(RLIMIT_FSIZE, &rl) != 0) _exit(126);
-        }
-        execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
-        _exit(127);
-    }
-    int status;
-    if (pid < 0 || waitpid(pid, &status, 0) != pid) return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-#define run(...) run_limited(0, __VA_ARGS__)
-
-static char *read_all(const char *path, size_t *len) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *data = malloc((size_t)n + 1);
-    if (data && fread(data, 1, (size_t)n, f) != (size_t)n) {
-        free(data);
-        data = NULL;
-    }
-    fclose(f);
-    if (data) data[n] = '\0';
-    if (len) *len = (size_t)n;
-    return data;
-}
+static const char *tmp;
 
 static int write_all(const char *path, const void *data, size_t len) {
     FILE *f = fopen(path, "wb");
@@ -87,18 +40,16 @@ static int write_text(const char *path, const char *text) { return write_all(pat
 
 /* stderr of the last run is exactly "wiresketch: MSG\n" (printf-style). */
 static int stderr_is(const char *fmt, ...) {
-    char want[4096], path[300];
+    char want[4096];
     int n = snprintf(want, sizeof want, "wiresketch: ");
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(want + n, sizeof want - n, fmt, ap);
     va_end(ap);
     strncat(want, "\n", sizeof want - strlen(want) - 1);
-    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
-    char *got = read_all(path, NULL);
-    int same = got && !strcmp(got, want);
-    if (!same) fprintf(stderr, "stderr was: %s", got ? got : "(none)\n");
-    free(got);
+    const char *got = run_stderr();
+    int same = !strcmp(got, want);
+    if (!same) fprintf(stderr, "stderr was: %s", got);
     return same;
 }
 
@@ -298,7 +249,7 @@ static void test_pngs(void) {
     snprintf(out, sizeof out, "%s/out_png", tmp);
     snprintf(good, sizeof good, "%s/scene/rgb/train/r_0.png", tmp);
     size_t len;
-    unsigned char *png = (unsigned char *)read_all(good, &len);
+    unsigned char *png = (unsigned char *)slurp(good, &len);
     CHECK(png && len > 60, "no PNG to break");
     if (!png || len <= 60) return;
     const char *path = broken_png("s_png_cut", png, 50);
@@ -332,7 +283,7 @@ static void test_weights(void) {
     char path[400], image[400];
     snprintf(image, sizeof image, "%s/scene/rgb/train/r_0.png", tmp);
     size_t len;
-    unsigned char *w = (unsigned char *)read_all(tiny, &len);
+    unsigned char *w = (unsigned char *)slurp(tiny, &len);
     CHECK(w && len > 3000, "%s missing", tiny);
     if (!w || len <= 3000) return;
     CHECK(run("embed --weights %s %s", tiny, image) == 0, "the tiny weight file does not load");
@@ -563,7 +514,7 @@ static void test_checkpoints(void) {
     CHECK(run("fit %s/scene --out %s " FIT, tmp, dir) == 0, "base fit failed");
     snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
     size_t len;
-    unsigned char *c = (unsigned char *)read_all(path, &len);
+    unsigned char *c = (unsigned char *)slurp(path, &len);
     CHECK(c && len > 200, "no checkpoint written");
     if (!c || len <= 200) return;
     size_t curves_at, points_at;
@@ -599,7 +550,7 @@ static void test_checkpoints(void) {
     snprintf(dir, sizeof dir, "%s/ck_changed", tmp);
     CHECK(run("fit %s --out %s " FIT, s, dir) == 0, "fit of the scene copy failed");
     CHECK(sh("%s scene trefoil --out %s --size 32 --views-train 2 --views-val 1 --views-test 1 "
-             ">/dev/null 2>&1", bin, s), "scene rewrite failed");
+             ">/dev/null 2>&1", program_path(), s), "scene rewrite failed");
     snprintf(path, sizeof path, "%s/checkpoint.bin", dir);
     rc = run("fit --resume %s --max-steps 4", dir);
     CHECK(ANSWER(1, rc, "%s: made for 3 training views, the scene has 2", path), "other scene");
@@ -696,7 +647,7 @@ static void test_output_faults(void) {
  * which stay where they started (the checkpoint's first snapshot). */
 static void test_numeric_faults(void) {
     size_t len;
-    unsigned char *w = (unsigned char *)read_all("tests/fuzz/corpus/weights/tiny_f32.bin", &len);
+    unsigned char *w = (unsigned char *)slurp("tests/fuzz/corpus/weights/tiny_f32.bin", &len);
     if (!w) return;
     size_t data = (size_t)w[WF_ENTRY0 + 104] | (size_t)w[WF_ENTRY0 + 105] << 8;
     size_t nbytes = (size_t)w[WF_ENTRY0 + 112] | (size_t)w[WF_ENTRY0 + 113] << 8;
@@ -797,10 +748,7 @@ static void test_usage(void) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_bad_input_XXXXXX");
-    if (!mkdtemp(tmp)) return 1;
+    tmp = test_tmpdir("bad_input");
     CHECK(run("scene trefoil --out %s/scene --size 32 --views-train 3 --views-val 1 --views-test 1",
               tmp) == 0,
           "scene generation failed");
@@ -815,6 +763,5 @@ int main(void) {
     test_numeric_faults();
     test_hopeless_fits();
     test_usage();
-    if (!check_failed) sh("rm -rf %s", tmp);
     return check_summary();
 }

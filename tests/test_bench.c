@@ -1,3 +1,4 @@
+/* slow test */
 /* test_bench.c: the augmentation bank (its cache changes no bit, a resumed
  * fit with a bank ends bit-identical, bad sizes are refused), the step's
  * timers (they change no bit and account for the step), and the
@@ -13,6 +14,7 @@
 #include <sys/wait.h>
 #include "bench/bench.h"
 #include "check.h"
+#include "test_util.h"
 #include "synth/synth.h"
 #include "base/runtime.h"
 #include "nn/clip.h"
@@ -20,34 +22,11 @@
 #include "wiresketch.h"
 #include "scene_load.h"
 
-static char bin[512], tmp[256];
+static const char *tmp;
 
 /* A 6-block ViT at 64 x 64 (17 tokens of width 64): blocks 2 and 3 of the
  * default loss exist, and a step takes milliseconds. */
 static const wf_arch small_arch = {64, 6, 4, 16, 64, 32};
-
-static int run(const char *args) {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
-    int rc = system(cmd);
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-static char *slurp(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    static char buf[1 << 20];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    return buf;
-}
-
-static int same_files(const char *a, const char *b) {
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "cmp -s %s %s", a, b);
-    return system(cmd) == 0;
-}
 
 /* The loss and gradient of one training step on view 0 from rng state rng0. */
 static double step_loss(ws_objective *s, const ws_curves *c, const ws_rng *rng0, double *grad) {
@@ -229,31 +208,26 @@ static void test_fit_with_bank(void) {
     const char *const dirs[] = {"bank", "bank_resumed", "fresh"};
     for (int k = 0; k < 3; k++) {
         snprintf(args, sizeof args, FIT_BANK " --out %s/%s %s", tmp, weights, tmp, dirs[k], variants[k]);
-        CHECK(run(args) == 0, "fit %s failed", dirs[k]);
+        CHECK(run("%s", args) == 0, "fit %s failed", dirs[k]);
     }
     snprintf(args, sizeof args, "fit --resume %s/bank_resumed --max-steps 6", tmp);
-    CHECK(run(args) == 0, "resume failed");
+    CHECK(run("%s", args) == 0, "resume failed");
     snprintf(a, sizeof a, "%s/bank/curves.json", tmp);
     snprintf(b, sizeof b, "%s/bank_resumed/curves.json", tmp);
-    CHECK(same_files(a, b), "a resumed fit with an augmentation bank differs from an uninterrupted one");
+    CHECK(same_file(a, b), "a resumed fit with an augmentation bank differs from an uninterrupted one");
     snprintf(b, sizeof b, "%s/fresh/curves.json", tmp);
-    CHECK(!same_files(a, b), "the bank made no difference");
+    CHECK(!same_file(a, b), "the bank made no difference");
     snprintf(args, sizeof args, FIT_BANK " --out %s/bad --aug-bank 3", tmp, weights, tmp);
-    char path[300];
-    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
-    CHECK(run(args) == 2 && strstr(slurp(path), "--aug-bank: 3 is not 0 or in 4..4096"),
-          "bad --aug-bank: %s", slurp(path));
+    CHECK(run("%s", args) == 2 && strstr(run_stderr(), "--aug-bank: 3 is not 0 or in 4..4096"),
+          "bad --aug-bank: %s", run_stderr());
 }
 
 static void test_command(void) {
-    char path[300];
-    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
-    CHECK(run("bench nope") == 2 && strstr(slurp(path), "bench nope: unknown part"), "unknown part: %s",
-          slurp(path));
+    CHECK(run("bench nope") == 2 && strstr(run_stderr(), "bench nope: unknown part"), "unknown part: %s",
+          run_stderr());
     CHECK(run("bench --help") == 0, "bench --help");
-    CHECK(run("bench clip --json --rounds 1 --batch 1") == 0, "bench clip --json failed: %s", slurp(path));
-    snprintf(path, sizeof path, "%s/stdout.txt", tmp);
-    cJSON *j = cJSON_Parse(slurp(path));
+    CHECK(run("bench clip --json --rounds 1 --batch 1") == 0, "bench clip --json failed: %s", run_stderr());
+    cJSON *j = cJSON_Parse(run_stdout());
     cJSON *clip = cJSON_GetObjectItem(j, "clip"), *machine = cJSON_GetObjectItem(j, "machine");
     CHECK(cJSON_IsString(cJSON_GetObjectItem(machine, "kernels")), "no machine description");
     static const char *const keys[] = {"forward", "forward_backward", "floor_forward",
@@ -277,10 +251,7 @@ static void test_command(void) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_bench_XXXXXX");
-    if (!mkdtemp(tmp)) return 1;
+    tmp = test_tmpdir("bench");
     /* one thread: this process cannot make OpenMP's idle threads sleep
      * (OMP_WAIT_POLICY is read before main), and spinning ones would take
      * most of the time of the many small steps below */
@@ -319,8 +290,5 @@ int main(void) {
     ws_curves_free(&c);
     clip_model_free(m);
     ws_scene_free(&scene);
-    char cmd[300];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-    if (!check_failed && system(cmd) != 0) return 1;
     return check_summary();
 }

@@ -18,12 +18,13 @@
 #include <unistd.h>
 #include <jpeglib.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "io/image.h"
 #include "io/scene.h"
 #include "scene_load.h"
 
-static char bin[1024], tmp[256];
+static char bin[1024];
+static const char *tmp;
 
 #define SCENE_ARGS "--width 80 --height 60 --views-train 6 --views-val 1 --views-test 1"
 #define LENS "--lens -0.25,0.06,0.002,-0.001"
@@ -286,19 +287,14 @@ static void test_refusals(void) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    char cwd[256], rel[sizeof bin]; /* the scenes are made from inside tmp */
-    if (bin[0] != '/' && getcwd(cwd, sizeof cwd)) {
-        memcpy(rel, bin, sizeof rel);
-        snprintf(bin, sizeof bin, "%.255s/%.700s", cwd, rel);
-    }
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_capture.%ld", (long)getpid());
-    char out[600];
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    char cwd[256]; /* the scenes are made from inside tmp */
+    if (program_path()[0] != '/' && getcwd(cwd, sizeof cwd))
+        snprintf(bin, sizeof bin, "%.255s/%.700s", cwd, program_path());
+    else
+        snprintf(bin, sizeof bin, "%s", program_path());
+    tmp = test_tmpdir("capture");
     test_formats();
     test_jpeg();
     test_refusals();
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

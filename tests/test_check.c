@@ -13,8 +13,9 @@
 #include <string.h>
 #include <unistd.h>
 #include "base/paths.h"
+#include "base/runtime.h"
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "geometry/check.h"
 #include "geometry/hull.h"
 #include "geometry/silhouette.h"
@@ -24,7 +25,7 @@
 #include "synth/synth.h"
 #include "scene_load.h"
 
-static char tmp[256];
+static const char *tmp;
 
 static void test_silhouette(void) {
     ws_status st;
@@ -246,8 +247,11 @@ static void edit_fov(cJSON *root, int split) { scale_focal(root, 0.5); }
 static void edit_fov_08(cJSON *root, int split) { scale_focal(root, 0.8); }
 static void edit_fov_125(cJSON *root, int split) { scale_focal(root, 1.25); }
 
+/* `dir`'s check finds cause `want` in-process, and `wiresketch check` says
+ * `phrase` with the matching exit code; with `fixed`, that run writes the
+ * corrected copy there too (one run of the command for both). */
 static void check_cause(const char *bin, const char *dir, int size, ws_check_cause want,
-                        const char *label, const char *phrase) {
+                        const char *label, const char *phrase, const char *fixed) {
     ws_status st;
     ws_scene scene = {0};
     ws_check_report r;
@@ -269,9 +273,12 @@ static void check_cause(const char *bin, const char *dir, int size, ws_check_cau
     ws_view_targets_free(targets);
     ws_scene_free(&scene);
     static char out[1 << 16];
-    int rc = run_cmd(out, sizeof out, "%s check %s --size %d", bin, dir, size);
+    int rc = run_cmd(out, sizeof out, "%s check %s --size %d%s%s", bin, dir, size, fixed ? " --write-fixed " : "",
+                     fixed ? fixed : "");
     CHECK(rc == (want == WS_CAUSE_NONE ? 0 : 1) && strstr(out, phrase), "%s: exit %d, output:\n%s", label,
           rc, out);
+    if (fixed)
+        CHECK(rc == 1 && strstr(out, "wrote a corrected copy"), "%s --write-fixed: %s", label, out);
 }
 
 /* One split's file alone with frame k listed with the camera of frame
@@ -604,18 +611,16 @@ static void test_captures(const char *bin) {
     }
 }
 
-int main(void) {
-    const char *build = getenv("BUILD");
-    char bin[300];
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_check.%ld", (long)getpid());
+int main(int argc, char **argv) {
+    ws_runtime_reexec_if_needed(argv); /* OpenMP's idle threads sleep (base/runtime.h) */
+    const char *bin = program_path();
     char out[1 << 16], dir[400], broken[400], fixed[400];
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    tmp = test_tmpdir("check");
     test_silhouette();
     snprintf(dir, sizeof dir, "%s/trefoil", tmp);
     if (make_scene("trefoil", dir, 64, 24, 6, 6)) return check_summary();
     test_hull(dir);
-    check_cause(bin, dir, 64, WS_CAUSE_NONE, "intact trefoil", "consistent");
+    check_cause(bin, dir, 64, WS_CAUSE_NONE, "intact trefoil", "consistent", NULL);
     test_cross_split(bin, dir);
     /* A wrong field of view shows in the perspective alone (a pinhole's
      * focal and the object's size trade off), so it needs the full size:
@@ -623,7 +628,7 @@ int main(void) {
     char full[400];
     snprintf(full, sizeof full, "%s/trefoil224", tmp);
     if (make_scene("trefoil", full, 224, 48, 8, 8)) return check_summary();
-    check_cause(bin, full, 224, WS_CAUSE_NONE, "trefoil 224", "consistent");
+    check_cause(bin, full, 224, WS_CAUSE_NONE, "trefoil 224", "consistent", NULL);
     const struct {
         const char *name;
         edit_fn edit;
@@ -648,14 +653,11 @@ int main(void) {
     for (size_t b = 0; b < sizeof broken_ways / sizeof broken_ways[0]; b++) {
         snprintf(broken, sizeof broken, "%s/%s", tmp, broken_ways[b].name);
         broken_copy(broken_ways[b].from, broken, broken_ways[b].edit);
-        check_cause(bin, broken, broken_ways[b].size, broken_ways[b].cause, broken_ways[b].name,
-                    broken_ways[b].phrase);
-        if (!broken_ways[b].fix) continue;
         snprintf(fixed, sizeof fixed, "%s/%s_fixed", tmp, broken_ways[b].name);
-        int rc = run_cmd(out, sizeof out, "%s check %s --size %d --write-fixed %s", bin, broken,
-                     broken_ways[b].size, fixed);
-        CHECK(rc == 1 && strstr(out, "wrote a corrected copy"), "%s --write-fixed: %s", broken_ways[b].name, out);
-        check_cause(bin, fixed, broken_ways[b].size, WS_CAUSE_NONE, "corrected copy", "consistent");
+        check_cause(bin, broken, broken_ways[b].size, broken_ways[b].cause, broken_ways[b].name,
+                    broken_ways[b].phrase, broken_ways[b].fix ? fixed : NULL);
+        if (broken_ways[b].fix)
+            check_cause(bin, fixed, broken_ways[b].size, WS_CAUSE_NONE, "corrected copy", "consistent", NULL);
     }
     int bad = run_cmd(out, sizeof out, "%s check %s --resolution 4", bin, dir);
     CHECK(bad == 2 && strstr(out, "--resolution: 4 is not in [8, 512]"), "bad --resolution: %d %s", bad, out);
@@ -681,6 +683,5 @@ int main(void) {
     CHECK(rc == 0 && strstr(out, "wiresketch: warning: ") && strstr(out, "about 0.687 does") &&
               strstr(out, "(a focal estimate alone does not stop a fit)"),
           "fit of a scene whose focal alone is off: exit %d: %s", rc, out);
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -16,7 +16,7 @@
 #include <string.h>
 #include "base/runtime.h"
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "nn/clip.h"
 #include "nn/gemm_bf16.h"
 #include "nn/base/rng.h"

@@ -6,9 +6,10 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
+#include "test_util.h"
 #include "render/curves.h"
 
-static char tmpdir[256];
+static const char *tmpdir;
 
 static double dist3(const double *a, const double *b) {
     return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
@@ -313,17 +314,12 @@ static void test_init(void) {
 }
 
 int main(void) {
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/ws_test_curves.%ld", (long)getpid());
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "mkdir -p %s", tmpdir);
-    if (system(cmd)) return 1;
+    tmpdir = test_tmpdir("curves");
     test_bernstein();
     test_sampling_counts();
     test_cap_and_order();
     test_backward();
     test_files();
     test_init();
-    snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-    if (system(cmd)) fprintf(stderr, "could not remove %s\n", tmpdir);
     return check_summary();
 }

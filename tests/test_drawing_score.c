@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
+#include "test_util.h"
 #include "io/image.h"
 #include "io/ref_lines.h"
 #include "metrics/drawing_score.h"
@@ -92,8 +93,7 @@ static void test_thick_stroke(void) {
 }
 
 static void test_files(void) {
-    char dir[] = "/tmp/ws_test_drawing_XXXXXX";
-    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    const char *dir = test_tmpdir("drawing");
     static uint8_t part[W * H], back[W * H];
     make_reference(part);
     ws_status st;
@@ -129,12 +129,6 @@ static void test_files(void) {
     snprintf(want, sizeof want, "%s: pixel (row 3, column 5) is (1,48,48), not one of the five part colours", path);
     CHECK(!strcmp(st.msg, want), "message: %s", st.msg);
     ws_image_free(&rgb);
-    const char *names[] = {"r_0.png", "r_0_parts.png", "r_1.png", "r_1_parts.png"};
-    for (int k = 0; k < 4; k++) {
-        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        unlink(path);
-    }
-    rmdir(dir);
 }
 
 int main(void) {

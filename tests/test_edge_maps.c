@@ -2,20 +2,15 @@
  * edge_path; scene.h) replace the thin edges in the line loss: they load
  * resampled to the working size, the loss compares the strokes with them,
  * and a missing one is an error naming what was tried. */
-#define _XOPEN_SOURCE 700
-#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include "check.h"
+#include "test_util.h"
 #include "io/image.h"
 #include "objective/loss.h"
 #include "synth/synth.h"
-
-static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
-    return remove(path);
-}
 
 /* A 128 x 128 gray PNG with one bright row at y = 64. */
 static void write_map(const char *path) {
@@ -71,8 +66,8 @@ static void check_loaded(const char *dir, const char *edge_maps, const char *wha
 }
 
 int main(void) {
-    char tmp[] = "/tmp/ws_test_edge_maps_XXXXXX", dir[300], maps[300], path[700];
-    if (!mkdtemp(tmp)) return 1;
+    const char *tmp = test_tmpdir("edge_maps");
+    char dir[300], maps[300], path[700];
     ws_status st;
     ws_synth_options syn;
     ws_synth_options_default(&syn);
@@ -124,6 +119,5 @@ int main(void) {
         fclose(f);
         check_loaded(dir, NULL, "edge_path");
     }
-    nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

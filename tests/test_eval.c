@@ -10,10 +10,10 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 
 #define FIXTURE "tests/fixtures/scene_small"
-static char bin[512], tmp[256];
+static const char *bin, *tmp;
 
 /* --loss auto's line (stderr, before the JSON) of the last eval_json, or "". */
 static char auto_line[1024];
@@ -140,14 +140,12 @@ static void test_eval(void) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_eval.%ld", (long)getpid());
+    bin = program_path();
+    tmp = test_tmpdir("eval");
     char out[512];
     /* a scene without ground truth: the fixture's cameras and images */
     run_cmd(out, sizeof out, "mkdir -p %s/bare && cp -r " FIXTURE "/transforms_*.json " FIXTURE "/rgb %s/bare",
             tmp, tmp);
     test_eval();
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -10,18 +10,16 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 
 #define FIXTURE "tests/fixtures/scene_small"
-static char bin[512], tmp[256];
+static const char *bin, *tmp;
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_export_read.%ld", (long)getpid());
+    bin = program_path();
+    tmp = test_tmpdir("export_read");
     static char out[1 << 14], svg[1 << 16];
     char path[512];
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
     int rc = run_cmd(out, sizeof out,
                      "%s export " FIXTURE "/gt_curves.json --svg %s/whole.svg --obj %s/curves.obj --scene " FIXTURE
                      " --size 1024",
@@ -52,6 +50,5 @@ int main(void) {
     rc = run_cmd(out, sizeof out, "%s export " FIXTURE "/gt_curves.json --svg %s/x.svg --scene " FIXTURE
                  " --hidden-lines back", bin, tmp);
     CHECK(rc == 2 && !strcmp(out, "wiresketch: --hidden-lines: 'back' is not hull or none\n"), "a bad mode: %s", out);
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

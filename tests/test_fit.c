@@ -15,40 +15,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "check.h"
+#include "test_util.h"
 #include "fit/checkpoint.h"
 
-static char bin[600], dirname_of_bin[512], tmp[256];
+static const char *tmp;
 
-/* Runs `wiresketch ARGS` (through the shell), stderr into tmp/stderr.txt;
- * returns the exit code. */
-static int run(const char *args) {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
-    int rc = system(cmd);
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-static int file_has(const char *path, const char *text) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return 0;
-    static char buf[1 << 16];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    return strstr(buf, text) != NULL;
-}
-
-static int stderr_has(const char *text) {
-    char path[300];
-    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
-    return file_has(path, text);
-}
-
-static int same_files(const char *a, const char *b) {
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "cmp -s %s %s", a, b);
-    return system(cmd) == 0;
-}
+/* The last run's stderr holds text. */
+static int stderr_has(const char *text) { return strstr(run_stderr(), text) != NULL; }
 
 static int exists(const char *dir, const char *name) {
     char path[600];
@@ -69,7 +42,7 @@ static void test_outputs_and_loss(void) {
     char args[1024], dir[300];
     snprintf(dir, sizeof dir, "%s/a", tmp);
     snprintf(args, sizeof args, FIT " --out %s --max-steps 60", tmp, dir);
-    CHECK(run(args) == 0, "fit failed");
+    CHECK(run("%s", args) == 0, "fit failed");
     const char *outputs[] = {"curves.json", "curves.obj", "curves.ply", "log.csv", "metrics.json",
                              "report.html", "turntable.gif", "evolution.gif", "checkpoint.bin",
                              "test/r_0.png", "test/r_0_photo.png"};
@@ -98,7 +71,7 @@ static void test_outputs_and_loss(void) {
     snprintf(path, sizeof path, "%s/metrics.json", dir);
     last = json_number(path, "test_loss");
     snprintf(args, sizeof args, FIT " --out %s/one --max-steps 1", tmp, tmp);
-    CHECK(run(args) == 0, "1-step fit failed");
+    CHECK(run("%s", args) == 0, "1-step fit failed");
     snprintf(path, sizeof path, "%s/one/metrics.json", tmp);
     first = json_number(path, "test_loss");
     CHECK(last < 0.9 * first, "test loss did not fall: after 1 step %g, after 60 %g", first, last);
@@ -129,13 +102,14 @@ static double json_number(const char *path, const char *key) {
 static void test_quality(void) {
     char args[1024], path[300];
     snprintf(args, sizeof args, FIT " --out %s/q --max-steps 300", tmp, tmp);
-    CHECK(run(args) == 0, "300-step fit failed");
+    CHECK(run("%s", args) == 0, "300-step fit failed");
     snprintf(path, sizeof path, "%s/q/metrics.json", tmp);
     double chamfer = json_number(path, "chamfer");
     CHECK(chamfer < 0.04, "Chamfer after 300 steps %g, docs/RESULTS.md promises < 0.04", chamfer);
     snprintf(args, sizeof args, "%s/scene %s/q/curves.json", tmp, tmp);
     char cmd[2400];
-    snprintf(cmd, sizeof cmd, "%s/embed_example %s > %s/stdout.txt 2>&1", dirname_of_bin, args, tmp);
+    const char *build = getenv("BUILD");
+    snprintf(cmd, sizeof cmd, "%s/embed_example %s > %s/stdout.txt 2>&1", build && *build ? build : "build", args, tmp);
     CHECK(system(cmd) == 0, "embed_example failed");
     snprintf(path, sizeof path, "%s/stdout.txt", tmp);
     CHECK(file_has(path, "view r_0: 25 curves,") && file_has(path, "l2 loss"), "embed_example output");
@@ -153,7 +127,7 @@ static void test_init_edges(void) {
     for (int k = 0; k < 2; k++) {
         snprintf(args, sizeof args, FIT " --out %s/i%s --max-steps 1 --respawn-every 0 --init %s", tmp,
                  tmp, init[k], init[k]);
-        CHECK(run(args) == 0, "--init %s failed", init[k]);
+        CHECK(run("%s", args) == 0, "--init %s failed", init[k]);
         snprintf(path, sizeof path, "%s/i%s/metrics.json", tmp, init[k]);
         chamfer[k] = json_number(path, "chamfer");
     }
@@ -168,11 +142,11 @@ static void test_resume_after_max_steps(void) {
     snprintf(a, sizeof a, "%s/a/curves.json", tmp);
     snprintf(b, sizeof b, "%s/b/curves.json", tmp);
     snprintf(args, sizeof args, FIT " --out %s/b --max-steps 23", tmp, tmp);
-    CHECK(run(args) == 0, "first part failed");
-    CHECK(!same_files(a, b), "23 steps gave the same curves as 60");
+    CHECK(run("%s", args) == 0, "first part failed");
+    CHECK(!same_file(a, b), "23 steps gave the same curves as 60");
     snprintf(args, sizeof args, "fit --resume %s/b --max-steps 60", tmp);
-    CHECK(run(args) == 0, "resume failed");
-    CHECK(same_files(a, b), "resumed run differs from the uninterrupted one");
+    CHECK(run("%s", args) == 0, "resume failed");
+    CHECK(same_file(a, b), "resumed run differs from the uninterrupted one");
 }
 
 /* Curves that start far outside the object (a sphere of radius 2.5) are
@@ -184,12 +158,12 @@ static void test_resume_with_respawn(void) {
     snprintf(b, sizeof b, "%s/rb/curves.json", tmp);
 #define RESPAWN " --init random --radius 2.5 --respawn-every 10"
     snprintf(args, sizeof args, FIT RESPAWN " --out %s/ra --max-steps 40", tmp, tmp);
-    CHECK(run(args) == 0, "uninterrupted run with respawns failed");
+    CHECK(run("%s", args) == 0, "uninterrupted run with respawns failed");
     snprintf(args, sizeof args, FIT RESPAWN " --out %s/rb --max-steps 15", tmp, tmp);
-    CHECK(run(args) == 0, "first part failed");
+    CHECK(run("%s", args) == 0, "first part failed");
     snprintf(args, sizeof args, "fit --resume %s/rb --max-steps 40", tmp);
-    CHECK(run(args) == 0, "resume failed");
-    CHECK(same_files(a, b), "resumed run with respawns differs from the uninterrupted one");
+    CHECK(run("%s", args) == 0, "resume failed");
+    CHECK(same_file(a, b), "resumed run with respawns differs from the uninterrupted one");
     snprintf(a, sizeof a, "%s/ra/metrics.json", tmp);
     CHECK(file_has(a, "\"respawned_curves\": ") && !file_has(a, "\"respawned_curves\": 0,"),
           "no curve was respawned (--respawn-every 10, curves started outside the object)");
@@ -205,13 +179,13 @@ static void test_resume_after_sigint(void) {
     snprintf(c, sizeof c, "%s/c/curves.json", tmp);
     snprintf(ckpt, sizeof ckpt, "%s/c/checkpoint.bin", tmp);
     snprintf(args, sizeof args, FIT " --epochs 100 --out %s/long --max-steps 2000", tmp, tmp);
-    CHECK(run(args) == 0, "uninterrupted run failed");
+    CHECK(run("%s", args) == 0, "uninterrupted run failed");
     pid_t pid = fork();
     if (pid == 0) {
         char out[300];
         snprintf(out, sizeof out, "%s/c", tmp);
         snprintf(args, sizeof args, "%s/scene", tmp);
-        execl(bin, bin, "fit", args, "--size", "64", "--loss", "edges", "--length", "0.3",
+        execl(program_path(), program_path(), "fit", args, "--size", "64", "--loss", "edges", "--length", "0.3",
               "--learning-rate", "0.01", "--inner-steps", "5", "--epochs", "100", "--threads", "1", "--seed", "7",
               "--quiet", "--out", out, "--max-steps", "2000", (char *)NULL);
         _exit(127);
@@ -239,31 +213,31 @@ static void test_resume_after_sigint(void) {
         ws_checkpoint_free_args(ac, av);
     }
     snprintf(args, sizeof args, "fit --resume %s/c", tmp);
-    CHECK(run(args) == 0, "resume after SIGINT failed");
-    CHECK(same_files(a, c), "run resumed after SIGINT differs from the uninterrupted one");
+    CHECK(run("%s", args) == 0, "resume after SIGINT failed");
+    CHECK(same_file(a, c), "run resumed after SIGINT differs from the uninterrupted one");
 }
 
 static void test_bad_input(void) {
     char args[1024], path[300];
     snprintf(args, sizeof args, "fit %s/scene --out %s/d --loss clip --size 64 --weights %s/none.bin", tmp, tmp, tmp);
-    CHECK(run(args) == 1 && stderr_has("none.bin: no CLIP weight file") && stderr_has("--loss edges"),
+    CHECK(run("%s", args) == 1 && stderr_has("none.bin: no CLIP weight file") && stderr_has("--loss edges"),
           "missing weights not explained");
     /* A stored position that other schedule options do not have is refused,
      * not run on zero views forever. */
     snprintf(args, sizeof args, FIT " --out %s/h --max-steps 23", tmp, tmp);
-    CHECK(run(args) == 0, "fit of 23 steps failed");
+    CHECK(run("%s", args) == 0, "fit of 23 steps failed");
     snprintf(args, sizeof args, "fit --resume %s/h --inner-steps 2", tmp);
-    CHECK(run(args) == 2 && stderr_has("h/checkpoint.bin: stopped at batch 4, step 3 of its epoch, which "
+    CHECK(run("%s", args) == 2 && stderr_has("h/checkpoint.bin: stopped at batch 4, step 3 of its epoch, which "
                                        "--batch-size 1 and --inner-steps 2 do not have"),
           "resume with a schedule that does not fit");
     /* What the checkpoint's curves and Adam moments embody cannot be
      * overridden: refused, not silently ignored. */
     snprintf(args, sizeof args, "fit --resume %s/h --learning_rate 0.1", tmp);
-    CHECK(run(args) == 2 && stderr_has("--learning-rate: fixed by the checkpoint of the run being resumed; "
+    CHECK(run("%s", args) == 2 && stderr_has("--learning-rate: fixed by the checkpoint of the run being resumed; "
                                        "start a new fit to change it"),
           "a resumed run's learning rate override");
     snprintf(args, sizeof args, "fit --resume %s/h --n-curves 3", tmp);
-    CHECK(run(args) == 2 && stderr_has("--n-curves: fixed by the checkpoint"), "a resumed run's curve count");
+    CHECK(run("%s", args) == 2 && stderr_has("--n-curves: fixed by the checkpoint"), "a resumed run's curve count");
     /* A bad weight file stops the fit before its first checkpoint. */
     snprintf(path, sizeof path, "%s/garbage.bin", tmp);
     FILE *g = fopen(path, "w");
@@ -274,9 +248,9 @@ static void test_bad_input(void) {
     snprintf(args, sizeof args, "fit %s/scene --out %s/i --size 64 --weights %s", tmp, tmp, path);
     char ckpt[400];
     snprintf(ckpt, sizeof ckpt, "%s/i/checkpoint.bin", tmp);
-    CHECK(run(args) == 1 && access(ckpt, F_OK) != 0, "a bad weight file left a checkpoint");
+    CHECK(run("%s", args) == 1 && access(ckpt, F_OK) != 0, "a bad weight file left a checkpoint");
     snprintf(args, sizeof args, "fit --resume %s/nowhere", tmp);
-    CHECK(run(args) == 1 && stderr_has("nowhere/checkpoint.bin: no checkpoint to resume from"),
+    CHECK(run("%s", args) == 1 && stderr_has("nowhere/checkpoint.bin: no checkpoint to resume from"),
           "resume without a checkpoint");
     CHECK(run("fit x --no-such-option 1") == 2 && stderr_has("--no-such-option: unknown option"),
           "unknown option");
@@ -294,7 +268,7 @@ static void test_bad_input(void) {
         fclose(f);
     }
     snprintf(args, sizeof args, "fit --resume %s/b", tmp);
-    CHECK(run(args) == 1 && stderr_has("checkpoint.bin: checksum mismatch (the file is damaged)"),
+    CHECK(run("%s", args) == 1 && stderr_has("checkpoint.bin: checksum mismatch (the file is damaged)"),
           "damaged checkpoint accepted");
 }
 
@@ -304,16 +278,16 @@ static void test_bad_input(void) {
 static void test_unusable_steps_refused(void) {
     char args[1024], a[300], e[300];
     snprintf(args, sizeof args, FIT " --out %s/e --max-steps 3 --learning-rate 1e300", tmp, tmp);
-    CHECK(run(args) == 0, "fit with unusable steps failed");
+    CHECK(run("%s", args) == 0, "fit with unusable steps failed");
     snprintf(a, sizeof a, "%s/e/metrics.json", tmp);
     CHECK(file_has(a, "\"skipped_steps\": 3"), "unusable steps were not all refused");
     CHECK(stderr_has("the update made the curves unusable (curves: curve"), "refused step not reported");
     /* steps of 1e-300 leave every control point as it was */
     snprintf(args, sizeof args, FIT " --out %s/f --max-steps 3 --learning-rate 1e-300", tmp, tmp);
-    CHECK(run(args) == 0, "fit of tiny steps failed");
+    CHECK(run("%s", args) == 0, "fit of tiny steps failed");
     snprintf(a, sizeof a, "%s/e/curves.json", tmp);
     snprintf(e, sizeof e, "%s/f/curves.json", tmp);
-    CHECK(same_files(a, e), "curves moved by a refused step");
+    CHECK(same_file(a, e), "curves moved by a refused step");
     snprintf(a, sizeof a, "%s/huge.json", tmp);
     FILE *f = fopen(a, "w");
     if (f) {
@@ -322,20 +296,16 @@ static void test_unusable_steps_refused(void) {
         fclose(f);
     }
     snprintf(args, sizeof args, FIT " --out %s/g --init %s", tmp, tmp, a);
-    CHECK(run(args) == 1 && stderr_has("huge.json: curve 0 is too long to measure"),
+    CHECK(run("%s", args) == 1 && stderr_has("huge.json: curve 0 is too long to measure"),
           "unusable --init accepted");
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(dirname_of_bin, sizeof dirname_of_bin, "%s", build ? build : "build");
-    snprintf(bin, sizeof bin, "%s/wiresketch", dirname_of_bin);
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_XXXXXX");
-    if (!mkdtemp(tmp)) return 1;
+    tmp = test_tmpdir("fit");
     char args[600];
     snprintf(args, sizeof args,
              "scene trefoil --out %s/scene --size 64 --views-train 6 --views-val 2 --views-test 2", tmp);
-    CHECK(run(args) == 0, "scene generation failed");
+    CHECK(run("%s", args) == 0, "scene generation failed");
     test_outputs_and_loss();
     test_quality();
     test_init_edges();
@@ -344,8 +314,5 @@ int main(void) {
     test_resume_after_sigint();
     test_bad_input();
     test_unusable_steps_refused();
-    char cmd[300];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-    if (!check_failed && system(cmd) != 0) return 1;
     return check_summary();
 }

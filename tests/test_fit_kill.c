@@ -24,28 +24,14 @@
 #include <time.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "fit/checkpoint.h"
 
-static char bin[512], tmp[256], dir[300], ckpt[400];
+static char dir[300], ckpt[400];
+static const char *bin, *tmp;
 
-static int run(const char *args) {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s %s >%s/stdout.txt 2>%s/stderr.txt", bin, args, tmp, tmp);
-    int rc = system(cmd);
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-static int stderr_is(const char *want) {
-    char path[300], got[4096] = "";
-    snprintf(path, sizeof path, "%s/stderr.txt", tmp);
-    FILE *f = fopen(path, "r");
-    if (f) {
-        got[fread(got, 1, sizeof got - 1, f)] = '\0';
-        fclose(f);
-    }
-    return !strcmp(got, want);
-}
+/* The last run's stderr is exactly `want`. */
+static int stderr_is(const char *want) { return !strcmp(run_stderr(), want); }
 
 /* The step the checkpoint on disk is at: -1 when there is none, -2 when it
  * does not load. */
@@ -149,22 +135,20 @@ static void test_stale_temporaries(void) {
     fclose(fopen(dead, "w"));
     fclose(fopen(live, "w"));
     snprintf(args, sizeof args, "export %s/scene/gt_curves.json --obj %s/curves.obj", tmp, out);
-    CHECK(run(args) == 0, "export failed");
+    CHECK(run("%s", args) == 0, "export failed");
     CHECK(access(dead, F_OK) != 0, "the stale temporary of a dead PID stayed");
     CHECK(access(live, F_OK) == 0, "the temporary of a live PID was removed");
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_kill_XXXXXX");
-    if (!mkdtemp(tmp)) return 1;
+    bin = program_path();
+    tmp = test_tmpdir("fit_kill");
     snprintf(dir, sizeof dir, "%s/fit", tmp);
     snprintf(ckpt, sizeof ckpt, "%s/checkpoint.bin", dir);
     char args[1024];
     snprintf(args, sizeof args,
              "scene trefoil --out %s/scene --size 64 --views-train 6 --views-val 1 --views-test 1", tmp);
-    CHECK(run(args) == 0, "scene generation failed");
+    CHECK(run("%s", args) == 0, "scene generation failed");
     unsigned seed = (unsigned)time(NULL);
     srand(seed);
     int killed = 0, resumed = 0, none = 0, interrupted = 0;
@@ -173,8 +157,8 @@ int main(void) {
          * first checkpoint; rounds 3-9 resume one and kill it anywhere */
         int fresh = round < 3;
         if (fresh) {
-            snprintf(args, sizeof args, "rm -rf %s", dir);
-            if (system(args) != 0) break;
+            remove_tree(dir);
+            if (access(dir, F_OK) == 0) break;
         } else if (round == 3 && checkpoint_step() == -1) {
             int status;
             waitpid(start_fit(0, "1"), &status, 0);
@@ -189,7 +173,7 @@ int main(void) {
         CHECK(fresh || step >= 0, "seed %u round %d: the checkpoint vanished", seed, round);
         /* --resume continues from it for one step, or says there is none */
         snprintf(args, sizeof args, "fit --resume %s --max-steps %ld", dir, step + 1);
-        int rc = run(args);
+        int rc = run("%s", args);
         if (step == -1) {
             char want[600];
             snprintf(want, sizeof want, "wiresketch: %s: no checkpoint to resume from\n", ckpt);
@@ -211,7 +195,5 @@ int main(void) {
     printf("kill -9 at random moments (seed %u): %d killed, %d resumed, %d without checkpoint, %d "
            "checkpoint writes interrupted\n",
            seed, killed, resumed, none, interrupted);
-    snprintf(args, sizeof args, "rm -rf %s", tmp);
-    if (!check_failed && system(args) != 0) return 1;
     return check_summary();
 }

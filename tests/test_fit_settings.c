@@ -9,9 +9,9 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 
-static char bin[512], tmp[256];
+static const char *bin, *tmp;
 static char report[1 << 20];
 
 static void read_report(const char *dir) {
@@ -37,13 +37,11 @@ static int has_name(const char *name) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_settings.%ld", (long)getpid());
+    bin = program_path();
+    tmp = test_tmpdir("fit_settings");
     static char out[1 << 16];
     char run_dir[300];
     snprintf(run_dir, sizeof run_dir, "%s/run", tmp);
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
     /* the kernels a user chose are kept and recorded (runtime.h) */
     int rc = run_cmd(out, sizeof out,
                      "OPENBLAS_CORETYPE=Haswell %s fit tests/fixtures/scene_small --out %s/run --loss edges --size 64 --max-steps 2 "
@@ -101,6 +99,5 @@ int main(void) {
               "--loss %s: epochs %s, inner-steps %s, eval-every %s", loss_defaults[k][0], loss_defaults[k][1],
               loss_defaults[k][2], loss_defaults[k][3]);
     }
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -19,11 +19,11 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "fit/fit_time.h"
 
 #define PHASES 8
-static char bin[512], tmp[256];
+static const char *bin, *tmp;
 
 typedef struct {
     int n;
@@ -111,11 +111,9 @@ static void test_announce(void) {
 
 int main(void) {
     test_announce();
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_fit_time.%ld", (long)getpid());
+    bin = program_path();
+    tmp = test_tmpdir("fit_time");
     static char out[1 << 16];
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
     int rc = run_cmd(out, sizeof out,
                      "%s scene cube --out %s/cube --size 160 --views-train 6 --views-val 1 --views-test 1", bin, tmp);
     CHECK(rc == 0, "scene: %s", out);
@@ -135,6 +133,5 @@ int main(void) {
         CHECK(e <= 0.25, "the time left is %.0f%% off at step %ld: %s", 100 * e, at, out);
         CHECK(flat > 0.25, "every step alike would do (%.0f%% off at most): the test shows nothing", 100 * flat);
     }
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "check.h"
+#include "test_util.h"
 #include "geometry/check.h"
 #include "geometry/gt_coverage.h"
 #include "objective/view_targets.h"
@@ -22,21 +23,7 @@
 #define FIXTURE "tests/fixtures/scene_small"
 #define CUT_RADIUS 0.3
 
-static char tmp[256], bin[300];
-
-/* Runs a shell command (its own redirections); its output in out. */
-static int run(char *out, size_t size, const char *fmt, ...) {
-    char cmd[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(cmd, sizeof cmd, fmt, ap);
-    va_end(ap);
-    FILE *p = popen(cmd, "r");
-    size_t n = p ? fread(out, 1, size - 1, p) : 0;
-    out[n] = 0;
-    int status = p ? pclose(p) : -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+static const char *bin, *tmp;
 
 /* The coverage of `dir`'s gt_points.ply at the check's default size. */
 static int measure(const char *dir, ws_gt_coverage *c) {
@@ -71,7 +58,7 @@ static int cut_copy(const char *dir, double removed[3]) {
         return 1;
     }
     char path[WS_PATH_MAX], out[1024];
-    run(out, sizeof out, "mkdir -p %s && for f in rgb transforms_train.json transforms_val.json transforms_test.json "
+    run_cmd(out, sizeof out, "mkdir -p %s && for f in rgb transforms_train.json transforms_val.json transforms_test.json "
         "gt_curves.json; do ln -s \"$PWD/" FIXTURE "/$f\" %s/$f; done", dir, dir);
     const double *o = pc.xyz;
     int kept = 0, n = 0;
@@ -101,9 +88,8 @@ static int cut_copy(const char *dir, double removed[3]) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_gt_coverage.%ld", (long)getpid());
+    bin = program_path();
+    tmp = test_tmpdir("gt_coverage");
     char out[1 << 16], cut[400], want[2 * WS_GT_LINE];
     ws_gt_coverage c;
     /* complete: below both thresholds, no line */
@@ -112,17 +98,14 @@ int main(void) {
                   c.split[WS_TRAIN].mean < WS_GT_UNCOVERED_FLAG,
               "the complete ground truth passes: %.4f uncovered, %ld voxels", c.split[WS_TRAIN].mean,
               c.region_voxels);
-    int rc = run(out, sizeof out, "%s check " FIXTURE " 2>&1", bin);
+    int rc = run_cmd(out, sizeof out, "%s check " FIXTURE " 2>&1", bin);
     CHECK(rc == 0 && strstr(out, FIXTURE "/gt_points.ply: the ground truth covers the silhouettes\n") &&
               !strstr(out, "warning"),
           "check of the fixture: exit %d: %s", rc, out);
     /* a piece of the knot left out */
     snprintf(cut, sizeof cut, "%s/cut", tmp);
     double removed[3];
-    if (cut_copy(cut, removed) || measure(cut, &c)) {
-        run(out, sizeof out, "rm -rf %s", tmp);
-        return check_summary();
-    }
+    if (cut_copy(cut, removed) || measure(cut, &c)) return check_summary();
     double off = hypot(hypot(c.centroid[0] - removed[0], c.centroid[1] - removed[1]), c.centroid[2] - removed[2]);
     CHECK(c.flagged && c.split[WS_TRAIN].mean >= WS_GT_UNCOVERED_FLAG && c.region_voxels >= WS_GT_REGION_VOXELS &&
               off < 0.15,
@@ -138,21 +121,21 @@ int main(void) {
                                                        "the sketch"),
                       "); surface distances there measure the ground truth, not the sketch"),
           "the line: %s", c.line);
-    rc = run(out, sizeof out, "%s check %s 2>/dev/null", bin, cut);
+    rc = run_cmd(out, sizeof out, "%s check %s 2>/dev/null", bin, cut);
     snprintf(want, sizeof want, "\n%s\n", c.line);
     CHECK(rc == 0 && strstr(out, want), "check of the cut copy: exit 0 (a fit is not refused), the line: %d %s", rc,
           out);
     /* on a terminal (stdout and stderr the same), the line once */
-    rc = run(out, sizeof out, "python3 -c 'import pty, sys; pty.spawn(sys.argv[1:])' %s check %s", bin, cut);
+    rc = run_cmd(out, sizeof out, "python3 -c 'import pty, sys; pty.spawn(sys.argv[1:])' %s check %s", bin, cut);
     int times = 0;
     for (const char *at = strstr(out, c.line); at; at = strstr(at + 1, c.line)) times++;
     CHECK(times == 1, "check on a terminal shows the line %d times: %s", times, out);
-    rc = run(out, sizeof out, "%s check %s 2>&1 >/dev/null", bin, cut);
+    rc = run_cmd(out, sizeof out, "%s check %s 2>&1 >/dev/null", bin, cut);
     snprintf(want, sizeof want, "wiresketch: warning: %s\n", c.line);
     CHECK(rc == 0 && !strcmp(out, want), "check's warning on stderr: %s", out);
-    rc = run(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>&1 >/dev/null", bin, cut);
+    rc = run_cmd(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>&1 >/dev/null", bin, cut);
     CHECK(rc == 0 && !strcmp(out, want), "eval's warning on stderr: %d %s", rc, out);
-    rc = run(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>/dev/null", bin, cut);
+    rc = run_cmd(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>/dev/null", bin, cut);
     cJSON *j = rc == 0 ? cJSON_Parse(out) : NULL;
     const cJSON *g = cJSON_GetObjectItem(j, "gt_coverage"), *u = cJSON_GetObjectItem(g, "train_uncovered");
     CHECK(cJSON_IsTrue(cJSON_GetObjectItem(g, "flagged")) && cJSON_IsNumber(u) &&
@@ -166,7 +149,7 @@ int main(void) {
     static char text[1 << 20];
     const char *dirs[2] = {cut, FIXTURE};
     for (int k = 0; k < 2; k++) {
-        rc = run(out, sizeof out, "%s fit %s --out %s/fit%d --loss edges --max-steps 5 --threads 1 --quiet 2>&1",
+        rc = run_cmd(out, sizeof out, "%s fit %s --out %s/fit%d --loss edges --max-steps 5 --threads 1 --quiet 2>&1",
                  bin, dirs[k], tmp, k);
         CHECK(rc == 0, "fit of %s: %s", dirs[k], out);
         char path[600];
@@ -195,18 +178,17 @@ int main(void) {
      * measure needs), with a warning in place of the coverage */
     char bare[400]; /* the cut copy's files copied, not linked, one photo removed */
     snprintf(bare, sizeof bare, "%s/bare", tmp);
-    run(out, sizeof out, "cp -rL %s %s && rm %s/rgb/train/r_0.png", cut, bare, bare);
-    rc = run(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>&1 >/dev/null", bin, bare);
+    run_cmd(out, sizeof out, "cp -rL %s %s && rm %s/rgb/train/r_0.png", cut, bare, bare);
+    rc = run_cmd(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>&1 >/dev/null", bin, bare);
     snprintf(want, sizeof want,
              "wiresketch: warning: %s/transforms_train.json: frame 0: image not found (tried %s/train/r_0.png, "
              "%s/rgb/train/r_0.png); the ground truth's coverage of the photos is not measured\n",
              bare, bare, bare);
     CHECK(rc == 0 && !strcmp(out, want), "eval without a photo: exit %d, stderr %s", rc, out);
-    rc = run(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>/dev/null", bin, bare);
+    rc = run_cmd(out, sizeof out, "%s eval %s --curves " FIXTURE "/gt_curves.json --loss none 2>/dev/null", bin, bare);
     j = rc == 0 ? cJSON_Parse(out) : NULL;
     CHECK(cJSON_IsNumber(cJSON_GetObjectItem(j, "surface_mean")) && !cJSON_GetObjectItem(j, "gt_coverage"),
           "eval without a photo measures the sketch and leaves gt_coverage out: %s", out);
     cJSON_Delete(j);
-    run(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "test_util.h"
 #include "metrics/metrics.h"
 #include "objective/hidden_lines.h"
 #include "render/splat.h"
@@ -202,11 +203,8 @@ done:
 }
 
 int main(void) {
-    char tmp[] = "/tmp/ws_test_hidden_XXXXXX", cmd[700];
-    if (!mkdtemp(tmp)) return 1;
+    const char *tmp = test_tmpdir("hidden");
     cube(tmp);
     trefoil(tmp);
-    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-    if (!check_failed && system(cmd) != 0) return 1;
     return check_summary();
 }

@@ -18,7 +18,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 
 /* Under include/wiresketch/, in C-locale order. */
 #define PUBLIC_HEADERS                                                                                       \
@@ -29,13 +29,9 @@
     "render/lens.h " /* a view keeps its lens (scene.h) */                                               \
     "render/splat.h wiresketch.h "
 
-static char bin[512], build[256], tmp[256];
+static char build[256];
+static const char *bin, *tmp;
 static char out[1 << 16];
-
-static int file_has(const char *path, const char *text) {
-    static char buf[1 << 20];
-    return strstr(read_text(path, buf, sizeof buf), text) != NULL;
-}
 
 /* Every command of `wiresketch --help` and every option of its own --help
  * appears in the man page (options as roff writes them: \-\-name). */
@@ -87,9 +83,8 @@ int main(void) {
         printf("test_install: skipped for BUILD=%s (the sanitizer build)\n", build);
         return check_summary();
     }
-    snprintf(bin, sizeof bin, "%s/wiresketch", build);
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_install.%ld", (long)getpid());
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    bin = program_path();
+    tmp = test_tmpdir("install");
     /* the sub-make runs on its own: no job server of the calling make */
     const char *make = "env -u MAKEFLAGS -u MFLAGS make -s";
     int rc = run_cmd(out, sizeof out, "%s install PREFIX=%s/usr", make, tmp);
@@ -141,6 +136,5 @@ int main(void) {
     rc = run_cmd(out, sizeof out, "%s uninstall PREFIX=/usr/local DESTDIR=%s/stage && find %s/stage -type f | wc -l",
                  make, tmp, tmp);
     CHECK(rc == 0 && atoi(out) == 0, "DESTDIR uninstall leaves %s files", out);
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -11,11 +11,12 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "base/limits.h"
 #include "geometry/hull.h"
 
-static char bin[512], tmp[256], out[8192];
+static char out[8192];
+static const char *bin, *tmp;
 
 /* n curves, each a segment of length `length` along x, of `thickness`. */
 static void write_curves(const char *path, int n, double length, double thickness) {
@@ -155,10 +156,8 @@ static void test_stack_size(const char *scene) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_limits_XXXXXX");
-    if (!mkdtemp(tmp)) return 1;
+    bin = program_path();
+    tmp = test_tmpdir("limits");
     char scene[300];
     snprintf(scene, sizeof scene, "%s/scene", tmp);
     int rc = run_cmd(out, sizeof out, "%s scene trefoil --out %s --size 32 --views-train 3 --views-val 1 "
@@ -173,8 +172,5 @@ int main(void) {
     test_frames();
     test_sheet(scene);
     test_stack_size(scene);
-    char cmd[300];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-    if (!check_failed && system(cmd) != 0) return 1;
     return check_summary();
 }

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "io/ref_lines.h"
 #include "synth/line_drawing.h"
 
@@ -79,8 +79,8 @@ static void test_rules(void) {
 
 /* `scene torus` writes every test view's lines; eval scores against them. */
 static void test_scene(const char *bin) {
-    char dir[] = "/tmp/ws_test_line_drawing_XXXXXX", out[4096], path[300];
-    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    const char *dir = test_tmpdir("line_drawing");
+    char out[4096], path[300];
     int rc = run_cmd(out, sizeof out, "%s scene torus --out %s/torus --views-train 24 --views-val 0 --views-test 2 "
                      "--size 96", bin, dir);
     CHECK(rc == 0 && strstr(out, "reference lines"), "scene torus: %d %s", rc, out);
@@ -117,14 +117,10 @@ static void test_scene(const char *bin) {
     double recall_drawing = rd ? atof(rd + 12) : -1, recall_curves = rcv ? atof(rcv + 12) : -1;
     CHECK(recall_drawing > 0.6 && recall_curves >= 0 && recall_curves < 0.5, "recall: drawing %g, curves alone %g",
           recall_drawing, recall_curves);
-    run_cmd(out, sizeof out, "rm -rf %s", dir);
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    char bin[512];
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
     test_rules();
-    test_scene(bin);
+    test_scene(program_path());
     return check_summary();
 }

@@ -16,6 +16,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
+#include "test_util.h"
 #include "wiresketch.h"
 #include "objective/hidden_lines.h"
 #include "synth/synth.h"
@@ -192,8 +193,8 @@ static void test_passes(const char *scene_dir, const ws_loss_options *lo) {
 }
 
 int main(void) {
-    char dir[] = "/tmp/ws_test_loss_XXXXXX", scene[300], weights[300], cmd[1024];
-    if (!mkdtemp(dir)) return 1;
+    const char *dir = test_tmpdir("loss");
+    char scene[300], weights[300], cmd[1024];
     snprintf(scene, sizeof scene, "%s/scene", dir);
     snprintf(weights, sizeof weights, "%s/tiny.bin", dir);
     snprintf(cmd, sizeof cmd, "python3 tools/convert_weights.py tests/fixtures/clip_tiny/clip_tiny_state_dict.pt %s >/dev/null",
@@ -323,7 +324,5 @@ int main(void) {
           "unknown geometric variant: '%s'", st.msg);
     ws_scene_free(&s.scene);
     ws_curves_free(&c);
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    if (!check_failed && system(cmd) != 0) return 1;
     return check_summary();
 }

@@ -8,6 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "check.h"
+#include "test_util.h"
 #include "metrics/metrics.h"
 #include "metrics/line_metrics.h"
 #include "nn/base/rng.h"
@@ -25,7 +26,7 @@ typedef struct {
 static gt_set GT = {"fixture", "tests/fixtures/scene_small/gt_points.ply", 1200, -0.44, 1.04, 0.22, 0.78,
                     2.08140569};
 
-static char tmpdir[] = "/tmp/ws_test_metrics_XXXXXX";
+static const char *tmpdir;
 static char path[256];
 
 static double now(void) {
@@ -644,10 +645,7 @@ int main(int argc, char **argv) {
         snprintf(rose, sizeof rose, "%s/rose/gt_points.ply", argv[1]);
         GT = (gt_set){"rose", rose, 136205, 11, 14, 3.5, 7.5, 4.1609178};
     }
-    if (!mkdtemp(tmpdir)) {
-        CHECK(0, "mkdtemp failed");
-        return check_summary();
-    }
+    tmpdir = test_tmpdir("metrics");
     test_gt_ply();
     test_binary_types();
     test_ascii();
@@ -658,8 +656,6 @@ int main(int argc, char **argv) {
     test_surface_gt();
     test_curve_metrics();
     test_line_metrics();
-    unlink(path);
-    rmdir(tmpdir);
     printf("test_metrics: %.2f s\n", now() - t0);
     return check_summary();
 }

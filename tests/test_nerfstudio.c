@@ -18,11 +18,11 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "io/scene.h"
 #include "scene_load.h"
 
-static char bin[512], tmp[256];
+static const char *bin, *tmp;
 
 static double max_diff(const ws_image *a, const ws_image *b) {
     if (a->width != b->width || a->height != b->height || a->channels != b->channels) return INFINITY;
@@ -278,15 +278,11 @@ static void test_background(void) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_nerfstudio.%ld", (long)getpid());
-    char out[600];
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    bin = program_path();
+    tmp = test_tmpdir("nerfstudio");
     test_twin();
     test_intrinsics();
     test_refusals();
     test_background();
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -21,11 +21,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "base/json_number.h"
 #include "fit/adam.h"
 
-static char bin[512], tmp[256], scene[300], curves[400];
+static char scene[300], curves[400];
+static const char *bin, *tmp;
 static char out[1 << 16];
 
 #define FIT "--loss edges --size 32 --max-steps 1 --quiet --threads 1"
@@ -341,10 +342,8 @@ static void test_json_numbers(void) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_outputs_XXXXXX");
-    if (!mkdtemp(tmp)) return 1;
+    bin = program_path();
+    tmp = test_tmpdir("outputs");
     snprintf(scene, sizeof scene, "%s/scene", tmp);
     snprintf(curves, sizeof curves, "%s/gt_curves.json", scene);
     int rc = run_cmd(out, sizeof out, "%s scene cube --out %s --size 32 --views-train 3 --views-val 1 --views-test 1",
@@ -358,6 +357,5 @@ int main(void) {
     test_fit_bounds();
     test_same_base_names();
     test_json_numbers();
-    if (!check_failed) sh("rm -rf %s", tmp);
     return check_summary();
 }

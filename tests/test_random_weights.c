@@ -10,14 +10,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "nn/clip.h"
 #include "nn/weightfile.h"
 
 #define TOOL "python3 tools/make_random_weights.py"
 #define SMALL "--width 64 --layers 2 --heads 4 --patch 16 --resolution 64 --output-dim 32"
 
-static char dir[] = "/tmp/ws_test_random_weights_XXXXXX";
+static const char *dir;
 
 /* dir/name made with extra options; 0 when the tool succeeded. */
 static int make(const char *name, const char *options) {
@@ -27,28 +27,12 @@ static int make(const char *name, const char *options) {
     return rc;
 }
 
-static char *slurp(const char *name, long *size) {
-    char path[300];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "rb");
-    char *data = NULL;
-    *size = -1;
-    if (f && fseek(f, 0, SEEK_END) == 0 && (*size = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
-        (data = malloc((size_t)*size + 1)) && fread(data, 1, (size_t)*size, f) != (size_t)*size) {
-        free(data);
-        data = NULL;
-    }
-    if (f) fclose(f);
-    return data;
-}
-
-static int same_file(const char *a, const char *b) {
-    long na, nb;
-    char *x = slurp(a, &na), *y = slurp(b, &nb);
-    int same = x && y && na == nb && !memcmp(x, y, (size_t)na);
-    free(x);
-    free(y);
-    return same;
+/* dir/a and dir/b hold the same bytes. */
+static int same_weights(const char *a, const char *b) {
+    char pa[300], pb[300];
+    snprintf(pa, sizeof pa, "%s/%s", dir, a);
+    snprintf(pb, sizeof pb, "%s/%s", dir, b);
+    return same_file(pa, pb);
 }
 
 /* clip_model_random's (centre, standard deviation) of a tensor of the
@@ -176,12 +160,12 @@ static void test_errors(void) {
 }
 
 int main(void) {
-    if (!mkdtemp(dir)) return 1;
+    dir = test_tmpdir("random_weights");
     if (make("a.bin", "--seed 5") || make("b.bin", "--seed 5") || make("c.bin", "--seed 6") ||
         make("f16.bin", "--seed 5 --dtype f16"))
         return check_summary();
-    CHECK(same_file("a.bin", "b.bin"), "the same seed gave other bytes");
-    CHECK(!same_file("a.bin", "c.bin"), "another seed gave the same bytes");
+    CHECK(same_weights("a.bin", "b.bin"), "the same seed gave other bytes");
+    CHECK(!same_weights("a.bin", "c.bin"), "another seed gave the same bytes");
     char path[300];
     wf_file *f32 = NULL, *f16 = NULL;
     ws_status st;
@@ -203,8 +187,5 @@ int main(void) {
     wf_close(f16);
     test_models();
     test_errors();
-    char cmd[400];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    if (system(cmd)) fprintf(stderr, "could not remove %s\n", dir);
     return check_summary();
 }

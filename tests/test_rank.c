@@ -11,13 +11,13 @@
  * random weights see no lines (the ground truth loses even to the empty
  * sketch on the cube and the dodecahedron), so of it only finite values are
  * asserted. */
-#define _XOPEN_SOURCE 700
-#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <math.h>
 #include <string.h>
+#include "base/runtime.h"
 #include "check.h"
+#include "test_util.h"
 #include "objective/ranking.h"
 #include "synth/synth.h"
 #include "scene_load.h"
@@ -27,10 +27,6 @@
 #define DROP_THICKNESS 0.02
 
 static const double thickness[4] = {0.005, 0.01, 0.02, 0.04};
-
-static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
-    return remove(path);
-}
 
 /* A tube's two outlines, as the thin edges of its photo draw them: two
  * copies of gt (whose thickness is the tube radius) moved by +-r along
@@ -177,9 +173,10 @@ static void drop_one_scenes(const char *tmp, const char *const *names, int count
     CHECK(pays_without > 0, "without hidden-line removal no curve of the nut pays");
 }
 
-int main(void) {
-    char tmp[] = "/tmp/ws_test_rank_XXXXXX", dir[600], weights[600], cmd[1400];
-    if (!mkdtemp(tmp)) return 1;
+int main(int argc, char **argv) {
+    ws_runtime_reexec_if_needed(argv); /* OpenMP's idle threads sleep (base/runtime.h) */
+    const char *tmp = test_tmpdir("rank");
+    char dir[600], weights[600], cmd[1400];
     snprintf(weights, sizeof weights, "%s/tiny.bin", tmp);
     snprintf(cmd, sizeof cmd,
              "python3 tools/convert_weights.py tests/fixtures/clip_tiny/clip_tiny_state_dict.pt %s >/dev/null", weights);
@@ -211,6 +208,5 @@ int main(void) {
         rank_scene(dir, names[k], &lo, "clip", 64, 0, 0); /* the tiny model's size */
     }
     drop_one_scenes(tmp, names, 3);
-    nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "test_util.h"
 #include "fit/checkpoint.h"
 #include "nn/clip.h"
 #include "render/curves.h"
@@ -24,7 +25,7 @@
 
 /* A scene directory with train/r_0.png .. train/r_2.png, as fuzz_scene.c
  * makes it; each scene input is copied in as its transforms_train.json. */
-static char scene_dir[256];
+static const char *scene_dir;
 
 static int load_png(const char *path, ws_status *st) {
     static const float background[3] = {0.25f, 0.5f, 0.75f};
@@ -177,8 +178,7 @@ static void check_seeds(int t) {
 }
 
 static int make_scene_dir(void) {
-    snprintf(scene_dir, sizeof scene_dir, "/tmp/ws_test_regressions_XXXXXX");
-    if (!mkdtemp(scene_dir)) return 0;
+    scene_dir = test_tmpdir("regressions");
     char path[400];
     snprintf(path, sizeof path, "%s/train", scene_dir);
     ws_status st = {0};
@@ -204,8 +204,5 @@ int main(void) {
     for (int k = 0; k < NREGRESSIONS; k++)
         CHECK(seen[k], "tests/fuzz/regressions/%s/%s is missing", regressions[k].target,
               regressions[k].file);
-    char cmd[300];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", scene_dir);
-    if (system(cmd) != 0) return 1;
     return check_summary();
 }

@@ -13,14 +13,15 @@
 #include <unistd.h>
 #include "nn/base/bytes.h"
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "render/curves.h"
 #include "io/image.h"
 #include "objective/loss_l2.h"
 #include "io/scene.h"
 #include "render/splat.h"
 
-static char tmp[256], bin[512], SCENE[1024] = "tests/fixtures/scene_small";
+static char SCENE[1024] = "tests/fixtures/scene_small";
+static const char *bin, *tmp;
 
 /* The bytes of a PNG's IHDR: width, height, bit depth, colour type. */
 static int png_header(const char *path, unsigned *w, unsigned *h, int *depth, int *type) {
@@ -275,12 +276,8 @@ static void test_errors(const char *curves_path, int ntest) {
 
 int main(int argc, char **argv) {
     if (argc > 1) snprintf(SCENE, sizeof SCENE, "%s/rose", argv[1]);
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_render.%ld", (long)getpid());
-    char cmd[600], out[256];
-    snprintf(cmd, sizeof cmd, "mkdir -p %s", tmp);
-    if (system(cmd)) return 1;
+    bin = program_path();
+    tmp = test_tmpdir("render");
     CHECK(access(bin, X_OK) == 0, "%s exists (set BUILD)", bin);
     ws_scene scene;
     ws_scene_options so;
@@ -302,7 +299,5 @@ int main(int argc, char **argv) {
     test_errors(curves_path, scene.split[WS_TEST].n);
     ws_curves_free(&c);
     ws_scene_free(&scene);
-    snprintf(cmd, sizeof cmd, "rm -rf %s", tmp);
-    if (run_cmd(out, sizeof out, "%s", cmd)) fprintf(stderr, "could not remove %s\n", tmp);
     return check_summary();
 }

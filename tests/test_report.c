@@ -9,12 +9,12 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "io/gif.h"
 #include "io/report.h"
 #include "io/turntable.h"
 
-static char dir[64];
+static const char *dir;
 
 static const char *in_dir(const char *name) {
     static char path[4][256];
@@ -22,19 +22,6 @@ static const char *in_dir(const char *name) {
     slot = (slot + 1) % 4;
     snprintf(path[slot], sizeof path[slot], "%s/%s", dir, name);
     return path[slot];
-}
-
-static char *read_all(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    size_t got = fread(s, 1, (size_t)n, f);
-    s[got] = '\0';
-    fclose(f);
-    return s;
 }
 
 static int count(const char *s, const char *what) {
@@ -51,7 +38,7 @@ static int left_nothing(const char *path) {
     return access(path, F_OK) != 0 && temporaries_in(dir, slash + 1) == 0;
 }
 
-static GifFileType *slurp(const char *path) {
+static GifFileType *read_gif(const char *path) {
     int err = 0;
     GifFileType *g = DGifOpenFileName(path, &err);
     CHECK(g != NULL, "%s: DGifOpenFileName: %s", path, GifErrorString(err));
@@ -91,7 +78,7 @@ static void test_gif_gray(void) {
     for (int f = 0; f < N && !rc; f++) rc = ws_gif_add_frame(&gif, frames[f], &st);
     rc = rc ? rc : ws_gif_commit(&gif, &st);
     CHECK(rc == WS_OK, "gray GIF: %s", st.msg);
-    GifFileType *g = slurp(path);
+    GifFileType *g = read_gif(path);
     if (!g) return;
     CHECK(g->ImageCount == N, "frames %d", g->ImageCount);
     CHECK(g->SWidth == W && g->SHeight == H, "size %d x %d", g->SWidth, g->SHeight);
@@ -129,7 +116,7 @@ static void test_gif_rgb(void) {
     rc = rc ? rc : ws_gif_add_frame(&gif, px, &st);
     rc = rc ? rc : ws_gif_commit(&gif, &st);
     CHECK(rc == WS_OK, "RGB GIF: %s", st.msg);
-    GifFileType *g = slurp(path);
+    GifFileType *g = read_gif(path);
     if (!g) return;
     const SavedImage *im = &g->SavedImages[0];
     const ColorMapObject *map = im->ImageDesc.ColorMap ? im->ImageDesc.ColorMap : g->SColorMap;
@@ -276,7 +263,7 @@ static void test_turntable_render(void) {
     const char *path = in_dir("turntable.gif");
     rc = ws_turntable_gif(path, &c, center, 3.0, 0.69, SIZE, N, &st);
     CHECK(rc == WS_OK, "turntable GIF: %s", st.msg);
-    GifFileType *g = slurp(path);
+    GifFileType *g = read_gif(path);
     if (g) {
         GraphicsControlBlock gcb = {0};
         DGifSavedExtensionToGCB(g, 0, &gcb);
@@ -348,7 +335,7 @@ static void test_report(void) {
     const char *path = in_dir("report.html");
     int rc = ws_report_write(path, &r, &st);
     CHECK(rc == WS_OK, "report: %s", st.msg);
-    char *html = read_all(path);
+    char *html = slurp(path, NULL);
     CHECK(html != NULL, "report.html not written");
     if (!html) return;
 
@@ -426,14 +413,14 @@ static void test_report(void) {
     r.n_val = 0;
     r.curves = NULL;
     rc = ws_report_write(path, &r, &st);
-    html = rc ? NULL : read_all(path);
+    html = rc ? NULL : slurp(path, NULL);
     CHECK(html && !strstr(html, "log scale") && strstr(html, ">loss</text>") &&
               !strstr(html, "curve-data") && !strstr(html, "#curves-3d"),
           "linear report: %s", st.msg);
     free(html);
     r.n_train = 0;
     rc = ws_report_write(path, &r, &st);
-    html = rc ? NULL : read_all(path);
+    html = rc ? NULL : slurp(path, NULL);
     CHECK(html && !strstr(html, "<svg") && strstr(html, "No finite loss values"), "empty loss");
     free(html);
 
@@ -446,11 +433,7 @@ static void test_report(void) {
 }
 
 int main(void) {
-    snprintf(dir, sizeof dir, "/tmp/ws_test_report_XXXXXX");
-    if (!mkdtemp(dir)) {
-        CHECK(0, "cannot make a temporary directory");
-        return check_summary();
-    }
+    dir = test_tmpdir("report");
     test_gif_gray();
     test_gif_rgb();
     test_gif_failures();

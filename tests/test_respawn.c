@@ -8,20 +8,15 @@
  * the side, along it), and leave the others and their moments alone; the
  * same step on the same input gives the same bits; and the end of a fit
  * would retire these three alone. */
-#define _XOPEN_SOURCE 700
-#include <ftw.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "test_util.h"
 #include "fit/respawn.h"
 #include "scene_load.h"
 #include "synth/synth.h"
-
-static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
-    return remove(path);
-}
 
 /* The distance from p to curve ci of c, and the curve's unit direction at
  * its nearest sample (a straight ground-truth edge: end minus start). */
@@ -71,8 +66,8 @@ static int make_sketch(const ws_curves *gt, ws_curves *sk, ws_status *st) {
 }
 
 int main(void) {
-    char tmp[] = "/tmp/ws_test_respawn_XXXXXX", dir[300], path[400];
-    if (!mkdtemp(tmp)) return 1;
+    const char *tmp = test_tmpdir("respawn");
+    char dir[300], path[400];
     ws_status st;
     ws_synth_options syn;
     ws_synth_options_default(&syn);
@@ -141,6 +136,5 @@ int main(void) {
     ws_curves_free(&again);
     ws_curves_free(&gt);
     ws_scene_free(&scene);
-    nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

@@ -7,9 +7,9 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 
-static char bin[512], tmp[256];
+static const char *bin, *tmp;
 
 static const char *text_of(const cJSON *o, const char *key) {
     const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
@@ -111,13 +111,9 @@ static void test_help(void) {
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_run_record.%ld", (long)getpid());
-    char out[512];
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
+    bin = program_path();
+    tmp = test_tmpdir("run_record");
     test_record();
     test_help();
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

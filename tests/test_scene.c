@@ -2,8 +2,6 @@
  * resampling), scene loading (both layouts, missing splits, the committed
  * fixture scene; with a scenes folder as argument, the shared rose and
  * duck), every malformed input with its exact message, and the scene centre. Temporary scenes live in a mkdtemp directory. */
-#define _XOPEN_SOURCE 700
-#include <ftw.h>
 #include <math.h>
 #include <png.h>
 #include <stdint.h>
@@ -14,15 +12,11 @@
 #include <unistd.h>
 #include <zlib.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "io/image.h"
 #include "io/scene.h"
 
-static char tmp[256];
-
-static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
-    return remove(path);
-}
+static const char *tmp;
 
 static void path_in(char *out, const char *a, const char *b) { snprintf(out, 1024, "%s/%s", a, b); }
 
@@ -887,11 +881,7 @@ int main(int argc, char **argv) {
         test_shared_scenes(argv[1]);
         return check_summary();
     }
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_scene_XXXXXX");
-    if (!mkdtemp(tmp)) {
-        perror("mkdtemp");
-        return 1;
-    }
+    tmp = test_tmpdir("scene");
     test_png_formats();
     test_resample();
     test_layouts();
@@ -899,6 +889,5 @@ int main(int argc, char **argv) {
     test_center();
     test_fixture_scene();
     test_mask_path();
-    nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

@@ -22,9 +22,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "check.h"
+#include "test_util.h"
 #include "fit/checkpoint.h"
 
-static char bin[512], tmp[256], scene[300];
+static char scene[300];
+static const char *bin, *tmp;
 
 /* Where a child's stdout goes: a path, or closed. */
 #define CLOSED NULL
@@ -36,7 +38,7 @@ static pid_t start(const char *args, const char *out, int err_fd, long fsize_kib
     char copy[2048], *argv[64];
     int n = 0;
     snprintf(copy, sizeof copy, "%s", args);
-    argv[n++] = bin;
+    argv[n++] = (char *)bin;
     for (char *w = strtok(copy, " "); w && n < 63; w = strtok(NULL, " ")) argv[n++] = w;
     argv[n] = NULL;
     pid_t pid = fork();
@@ -71,20 +73,11 @@ static int finish(pid_t pid) {
 static char err_path[300];
 
 /* Runs args to its end; stderr into err_path. */
-static int run(const char *args, const char *out, long fsize_kib) {
+static int run_to_end(const char *args, const char *out, long fsize_kib) {
     int fd = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     int rc = finish(start(args, out, fd, fsize_kib));
     close(fd);
     return rc;
-}
-
-/* The first size - 1 bytes of a file as a string ("" when unreadable). */
-static const char *read_text(const char *path, char *buf, size_t size) {
-    FILE *f = fopen(path, "rb");
-    size_t n = f ? fread(buf, 1, size - 1, f) : 0;
-    if (f) fclose(f);
-    buf[n] = '\0';
-    return buf;
 }
 
 static int stderr_is(const char *want) {
@@ -140,10 +133,10 @@ static void test_stdout(void) {
     snprintf(lines[5], sizeof lines[5], "embed --weights %s %s", tiny, image);
     snprintf(lines[6], sizeof lines[6], "check %s", scene);
     for (int k = 0; k < 7; k++) {
-        int rc = run(lines[k], "/dev/full", 0);
+        int rc = run_to_end(lines[k], "/dev/full", 0);
         CHECK(rc == 1 && stderr_is("wiresketch: standard output: write failed: No space left on device\n"),
               "`%s >/dev/full`: exit %d", lines[k], rc);
-        rc = run(lines[k], CLOSED, 0);
+        rc = run_to_end(lines[k], CLOSED, 0);
         CHECK(rc == 1 && stderr_is("wiresketch: standard output: write failed: Bad file descriptor\n"),
               "`%s >&-`: exit %d", lines[k], rc);
     }
@@ -216,7 +209,7 @@ static void test_fit_broken_pipe(void) {
 static void test_fit_file_limit(void) {
     char out[300], args[1024], want[2048];
     snprintf(out, sizeof out, "%s/fit_fsize", tmp);
-    int rc = run(fit_args(args, sizeof args, out, 1), "/dev/null", 60);
+    int rc = run_to_end(fit_args(args, sizeof args, out, 1), "/dev/null", 60);
     CHECK(rc == 128 + SIGXFSZ, "fit past the file size limit: exit %d", rc);
     snprintf(want, sizeof want,
              "wiresketch: stopped by SIGXFSZ (the file size limit, ulimit -f); %s/checkpoint.bin: write "
@@ -236,30 +229,28 @@ static void test_file_limit(void) {
     snprintf(dir, sizeof dir, "%s/limit", tmp);
     mkdir(dir, 0777);
     snprintf(args, sizeof args, "scene trefoil --out %s/s --size 128 --views-train 2 --views-val 1 --views-test 1", dir);
-    int rc = run(args, "/dev/null", 4);
+    int rc = run_to_end(args, "/dev/null", 4);
     snprintf(want, sizeof want, "wiresketch: %s/s/rgb/train/r_0.png: write failed: File too large\n", dir);
     CHECK(rc == 1 && stderr_is(want), "scene past the file size limit: exit %d", rc);
     snprintf(args, sizeof args, "render %s/gt_curves.json --scene %s --out %s/r --size 256", scene, scene, dir);
-    rc = run(args, "/dev/null", 4);
+    rc = run_to_end(args, "/dev/null", 4);
     snprintf(want, sizeof want, "wiresketch: %s/r/r_0.png: write failed: File too large\n", dir);
     CHECK(rc == 1 && stderr_is(want), "render past the file size limit: exit %d", rc);
     snprintf(args, sizeof args, "export %s/gt_curves.json --obj %s/c.obj", scene, dir);
-    rc = run(args, "/dev/null", 4);
+    rc = run_to_end(args, "/dev/null", 4);
     snprintf(want, sizeof want, "wiresketch: %s/c.obj: write failed: File too large\n", dir);
     CHECK(rc == 1 && stderr_is(want), "export past the file size limit: exit %d", rc);
     CHECK(temporaries(dir) == 0, "a run past the file size limit left temporaries");
 }
 
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_signals_XXXXXX");
-    if (!mkdtemp(tmp)) return 1;
+    bin = program_path();
+    tmp = test_tmpdir("signals");
     snprintf(err_path, sizeof err_path, "%s/stderr.txt", tmp);
     snprintf(scene, sizeof scene, "%s/scene", tmp);
     char args[1024];
     snprintf(args, sizeof args, "scene trefoil --out %s --size 64 --views-train 6 --views-val 1 --views-test 1", scene);
-    CHECK(run(args, "/dev/null", 0) == 0, "scene generation failed");
+    CHECK(run_to_end(args, "/dev/null", 0) == 0, "scene generation failed");
     test_stdout();
     test_fit_signal(SIGHUP, "SIGHUP");
     test_fit_signal(SIGTERM, "SIGTERM");
@@ -267,7 +258,5 @@ int main(void) {
     test_fit_broken_pipe();
     test_fit_file_limit();
     test_file_limit();
-    snprintf(args, sizeof args, "rm -rf %s", tmp);
-    if (!check_failed && system(args) != 0) return 1;
     return check_summary();
 }

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "test_util.h"
 #include "wiresketch.h"
 #include "objective/silhouette_loss.h"
 #include "objective/view_targets.h"
@@ -114,8 +115,8 @@ static void test_objective(const ws_scene *scene, ws_silhouette_loss *term) {
 }
 
 int main(void) {
-    char dir[] = "/tmp/ws_test_silhouette_loss_XXXXXX", scene_dir[300];
-    if (!mkdtemp(dir)) return 1;
+    const char *dir = test_tmpdir("silhouette_loss");
+    char scene_dir[300];
     snprintf(scene_dir, sizeof scene_dir, "%s/scene", dir);
     ws_status st = {0};
     ws_synth_options syn;
@@ -179,8 +180,5 @@ int main(void) {
     ws_gaussians_free(&on);
     ws_curves_free(&gt);
     ws_scene_free(&scene);
-    char cmd[400];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", dir);
     return check_summary();
 }

@@ -9,11 +9,12 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
-#include "cli_run.h"
+#include "test_util.h"
 #include "io/image.h"
 #include "render/curves.h"
 
-static char bin[512], tmp[256], cwd[1024];
+static char cwd[1024];
+static const char *bin, *tmp;
 static char out[1 << 16];
 
 #define SWEEP "%s sweep tests/fixtures/scene_small --out %s/sw --vary n_curves=3,5 --vary thickness=0.02,0.03 " \
@@ -60,18 +61,10 @@ static int cell_is(const ws_image *sheet, int row, int col, const char *path) {
     return same;
 }
 
-static int same_file(const char *a, const char *b) {
-    char cmd[1400], o[64];
-    snprintf(cmd, sizeof cmd, "cmp -s '%s' '%s'", a, b);
-    return run_cmd(o, sizeof o, "%s", cmd) == 0;
-}
-
 int main(void) {
-    const char *build = getenv("BUILD");
-    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_sweep.%ld", (long)getpid());
+    bin = program_path();
+    tmp = test_tmpdir("sweep");
     if (!getcwd(cwd, sizeof cwd)) cwd[0] = '\0';
-    run_cmd(out, sizeof out, "mkdir -p %s", tmp);
     int rc = run_cmd(out, sizeof out, SWEEP, bin, tmp);
     CHECK(rc == 0 && strstr(out, "sweep: run 4 of 4 (n_curves=5,thickness=0.03)"), "sweep: %s", out);
     const char *runs[4] = {"n_curves=3,thickness=0.02", "n_curves=3,thickness=0.03", "n_curves=5,thickness=0.02",
@@ -160,6 +153,5 @@ int main(void) {
     CHECK(access(path, F_OK) != 0, "no run started when a later run's value is bad");
     rc = run_cmd(out, sizeof out, "%s sweep --help", bin);
     CHECK(rc == 0 && !strncmp(out, "usage: wiresketch sweep SCENE --out DIR --vary", 46), "--help: %s", out);
-    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

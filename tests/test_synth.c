@@ -3,14 +3,13 @@
  * elsewhere), the object is centred, gt_curves.json loads, and the same
  * options give the same bytes; the wire objects have their promised shapes.
  * Small scenes (few views, 64 to 96 px) keep it fast. */
-#define _XOPEN_SOURCE 700
-#include <ftw.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
+#include "test_util.h"
 #include "render/curves.h"
 #include "io/scene.h"
 #include "synth/room.h"
@@ -18,33 +17,7 @@
 #include "synth/synth.h"
 #include "io/pointcloud.h"
 
-static char tmp[256];
-
-static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
-    return remove(path);
-}
-
-/* Whole file into memory (NULL if missing); *n gets its size. */
-static unsigned char *slurp(const char *path, size_t *n) {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return NULL;
-    fseek(fp, 0, SEEK_END);
-    long len = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    unsigned char *buf = malloc(len + 1);
-    *n = fread(buf, 1, len, fp);
-    fclose(fp);
-    return buf;
-}
-
-static int same_file(const char *a, const char *b) {
-    size_t na = 0, nb = 0;
-    unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
-    int same = x && y && na == nb && !memcmp(x, y, na);
-    free(x);
-    free(y);
-    return same;
-}
+static const char *tmp;
 
 /* Checks one loaded view against the ground truth: every pixel on a
  * projected curve point is lit, every pixel farther than the tube's
@@ -437,7 +410,7 @@ static void test_room(void) {
     ws_image_free(&without);
     size_t n = 0;
     snprintf(pa, sizeof pa, "%s/transforms.json", a);
-    char *json = (char *)slurp(pa, &n);
+    char *json = slurp(pa, &n);
     CHECK(json && strstr(json, "\"cx\":\t58") && strstr(json, "\"cy\":\t30") &&
               strstr(json, "\"mask_path\":\t\"masks/test/r_0.png\""),
           "principal point and mask_path in %s", pa);
@@ -511,11 +484,7 @@ static void test_room(void) {
 }
 
 int main(void) {
-    snprintf(tmp, sizeof tmp, "/tmp/ws_test_synth_XXXXXX");
-    if (!mkdtemp(tmp)) {
-        perror("mkdtemp");
-        return 1;
-    }
+    tmp = test_tmpdir("synth");
     const int trefoil_views[3] = {5, 2, 2}, chair_views[3] = {4, 0, 1}, wire_views[3] = {4, 1, 1};
     check_scene("trefoil", "trefoil", trefoil_views, 64, 12);
     check_scene("chair", "chair", chair_views, 96, 15);
@@ -528,6 +497,5 @@ int main(void) {
     test_deterministic();
     test_errors();
     test_room();
-    nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

@@ -5,22 +5,17 @@
  * buffers instead of making them again, a view with its own edge map gets
  * that map, and what the setup alone reads, once released, is made again
  * the same while the training silhouettes stay. */
-#define _XOPEN_SOURCE 700
-#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "test_util.h"
 #include "objective/line_target.h"
 #include "objective/view_targets.h"
 #include "scene_load.h"
 #include "synth/synth.h"
 
 enum { SIZE = 64 };
-
-static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw) {
-    return remove(path);
-}
 
 static int same_silhouette(const ws_silhouette *a, const ws_silhouette *b) {
     size_t hw = (size_t)SIZE * SIZE;
@@ -30,8 +25,8 @@ static int same_silhouette(const ws_silhouette *a, const ws_silhouette *b) {
 }
 
 int main(void) {
-    char tmp[] = "/tmp/ws_test_view_targets_XXXXXX", dir[300];
-    if (!mkdtemp(tmp)) return 1;
+    const char *tmp = test_tmpdir("view_targets");
+    char dir[300];
     ws_status st;
     ws_synth_options syn;
     ws_synth_options_default(&syn);
@@ -105,6 +100,5 @@ int main(void) {
     free(direct);
     ws_view_targets_free(t);
     ws_scene_free(&scene);
-    nftw(tmp, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
     return check_summary();
 }

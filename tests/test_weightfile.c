@@ -11,6 +11,7 @@
 #include <zlib.h>
 #include "nn/base/bytes.h"
 #include "check.h"
+#include "test_util.h"
 #include "nn/weightfile.h"
 
 /* The file layout of weights/README.md, as offsets into a file. */
@@ -24,7 +25,7 @@ typedef struct {
     const void *data; /* little-endian f32 or f16 values */
 } spec;
 
-static char dir[] = "/tmp/ws_test_weightfile_XXXXXX";
+static const char *dir;
 static char path[256];
 
 static uint64_t numel_of(const spec *s) {
@@ -407,10 +408,7 @@ static void test_long_table(void) {
 }
 
 int main(void) {
-    if (!mkdtemp(dir)) {
-        perror("mkdtemp");
-        return 1;
-    }
+    dir = test_tmpdir("weightfile");
     snprintf(path, sizeof path, "%s/w.bin", dir);
     for (int i = 0; i < 40; i++) a_values[i] = (float)(i - 17) * 0.37f;
     for (int i = 0; i < 5; i++) c_values[i] = 1e-3f * (float)(i + 1);
@@ -424,8 +422,5 @@ int main(void) {
     test_non_finite();
     test_f16_widening();
     test_long_table();
-
-    unlink(path);
-    rmdir(dir);
     return check_summary();
 }
