@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_bench.h"
 #include "cli/cli_loss.h"
 #include "cli/commands.h"
@@ -127,7 +128,7 @@ int cmd_bench(int argc, char **argv) {
     const char *precision = "auto";
     const ws_arg args[] = {
         {"--json", WS_ARG_FLAG, &ctx.json, 0, "one JSON object instead of tables"},
-        {"--threads", WS_ARG_INT, &ctx.threads, 0, "threads, 0 = one per core [0]"},
+        WS_ROW_THREADS(&ctx.threads),
         {"--rounds", WS_ARG_INT, &ctx.rounds, 0, "timed rounds; the best counts [3]"},
         {"--batch", WS_ARG_INT, &ctx.batch, 0, "clip: images per pass [5, a default step's]"},
         {"--scene", WS_ARG_STRING, &ctx.scene_dir, 0, "scene of splat, step, approx, memory [../shared/scenes/rose]"},
@@ -136,24 +137,22 @@ int cmd_bench(int argc, char **argv) {
          "random weights as f32 (tools/make_random_weights.py) [weights/random-f32.bin]"},
         {"--weights-f16", WS_ARG_STRING, &ctx.weights_f16, 0, "the same as f16 [weights/random-f16.bin]"},
         {"--aug-bank", WS_ARG_INT, &ctx.aug_bank, 0, "approx: transforms per view of the bank row [8]"},
-        {"--precision", WS_ARG_STRING, &precision, 0,
-         "CLIP's weight GEMMs in the step part and clip's second row: fp32, bf16 or auto (bf16 where the CPU "
-         "has AVX512_BF16) [auto]"},
+        WS_ROW_PRECISION(&precision),
     };
     const ws_command_spec spec = {
         "bench [clip|splat|step|approx|memory] [options]",
-        "Speed against the hardware's floor and error against run time; every part without PART.",
-        args, sizeof args / sizeof args[0], 0, 1};
+        "Speed against the hardware's floor and error against run time; every part without PART.\n"
+        "--precision applies to the step part and clip's second row.",
+        args, sizeof args / sizeof args[0], 0, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
-    ws_status st;
-    ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) {
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    if (done == 0) { /* --help: the usage was printed, the parts follow */
         printf("\nparts:\n");
         for (int i = 0; i < NPARTS; i++) printf("  %-8s %s\n", parts[i].name, parts[i].summary);
-        return 0;
     }
+    if (done != WS_CLI_GO_ON) return done;
+    ws_status st;
+    ws_status_clear(&st);
     int only = -1;
     for (int i = 0; npos && i < NPARTS; i++)
         if (!strcmp(pos[0], parts[i].name)) only = i;

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_view.h"
 #include "base/outfile.h"
@@ -49,9 +50,9 @@ int cmd_check(int argc, char **argv) {
     const char *fixed_dir = NULL, *images = NULL;
     int size = 224, resolution = WS_CHECK_RESOLUTION;
     const ws_arg args[] = {
-        {"--size", WS_ARG_INT, &size, 0, "working resolution in pixels, square [224]"},
+        WS_ROW_SIZE(&size),
         {"--resolution", WS_ARG_INT, &resolution, 0, "hull voxels along its longest side [64]"},
-        {"--images", WS_ARG_STRING, &images, 0, "a COLMAP scene's images folder [SCENE/images]"},
+        WS_ROW_IMAGES(&images),
         {"--write-fixed", WS_ARG_STRING, &fixed_dir, 0,
          "write a corrected copy of the scene here when the cause is found [none]"},
     };
@@ -59,13 +60,12 @@ int cmd_check(int argc, char **argv) {
         "check SCENE [options]",
         "Check that every view's silhouette agrees with the visual hull of the other views of its split, and\n"
         "the views of the other splits with the hull of the split with the most views (column \"vs train\").",
-        args, sizeof args / sizeof args[0], 1, 1};
+        args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    if (done != WS_CLI_GO_ON) return done;
     ws_status st;
     ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
     if (ws_cli_check_size(size, &st)) return ws_cli_fail(&st);
     if (resolution < 8 || resolution > 512) {
         ws_fail(&st, WS_EUSAGE, "--resolution: %d is not in [8, 512]", resolution);

@@ -20,6 +20,7 @@
 #include "cli/args.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_loss.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "io/pointcloud.h"
@@ -185,34 +186,30 @@ int cmd_eval(int argc, char **argv) {
     ws_splat_options so;
     ws_splat_options_default(&so);
     const ws_arg args[] = {
-        {"--curves", WS_ARG_STRING, &curves_path, 0, "the sketch (curve file) [required]"},
+        WS_ROW_CURVES(&curves_path),
         {"--gt", WS_ARG_STRING, &gt_points, 0, "ground-truth point cloud (PLY) [SCENE/gt_points.ply if present]"},
-        {"--gt-curves", WS_ARG_STRING, &gt_curves, 0, "ground-truth curves [SCENE/gt_curves.json if present]"},
-        {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
-        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
-        {"--edge-maps", WS_ARG_STRING, &edge_maps, 0,
-         "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0,
-         WS_CLI_LOSS_HELP("none, clip, edges, clip+edges or l2")},
-        {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
-        {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
-         "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
-        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
-        {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
-        {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
-        {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
-        {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = all cores [0]"},
+        WS_ROW_GT_CURVES(&gt_curves),
+        WS_ROW_SPLIT(&split_name),
+        WS_ROW_BACKGROUND(&background),
+        WS_ROW_EDGE_MAPS(&edge_maps),
+        WS_ROW_LOSS_OR_NONE(&loss_name),
+        WS_ROW_WEIGHTS(&lo.weights_path),
+        WS_ROW_LAYER_WEIGHTS(&layers),
+        WS_ROW_GEOMETRIC(&geometric),
+        WS_ROW_HIDDEN(&hidden),
+        WS_ROW_EDGES_WEIGHT(&edges_weight),
+        WS_ROW_SIZE(&size),
+        WS_ROW_CUTOFF(&so.cutoff),
+        WS_ROW_THREADS(&threads),
         {"--per-curve", WS_ARG_FLAG, &per_curve, 0,
          "also surface_curves: per curve, its Gaussians, their mean distance, what they add to surface_mean and how many lie beyond surface_p90"},
     };
     ws_command_spec spec = {"eval SCENE --curves C.json [--gt POINTS.ply] [--gt-curves C.json] [options]",
                             "test loss and distance to the ground truth of a sketch, as JSON", args,
-                            (int)(sizeof args / sizeof args[0]), 1, 1};
+                            (int)(sizeof args / sizeof args[0]), 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    if (done != WS_CLI_GO_ON) return done;
     if (!curves_path) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
         return ws_cli_fail(&st);

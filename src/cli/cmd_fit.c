@@ -10,6 +10,7 @@
 #include "cli/args.h"
 #include "fit/checkpoint.h"
 #include "cli/cli_loss.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "cli/run_record.h"
@@ -138,6 +139,27 @@ static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     if (opt->eval_every == -1) opt->eval_every = lines ? 60 : original->eval_every;
 }
 
+/* The headings of `fit --help`; the table in parse_fit keeps its order,
+ * which the report's settings and config.json follow. */
+static const char *const input_options[] = {"--resume", "--config", "--size", "--background", "--edge-maps",
+                                            "--images", "--no-check", NULL};
+static const char *const loss_options[] = {
+    "--loss",           "--weights",           "--edges-weight",  "--silhouette-weight", "--clip-weight",
+    "--clip-conv-loss", "--clip-fc-loss-weight", "--clip-conv-layer-weights", "--clip-geometric",
+    "--hidden-lines",   "--num-aug",           "--aug-bank",      NULL};
+static const char *const curve_options[] = {"--n-curves", "--init", "--thickness", "--radius",
+                                            "--length",   "--overlap", "--cutoff", NULL};
+static const char *const schedule_options[] = {"--batch-size", "--epochs",    "--inner-steps",   "--learning-rate",
+                                               "--seed",       "--eval-every", "--max-steps",    "--respawn-every",
+                                               NULL};
+static const char *const output_options[] = {"--out", "--overwrite", "--checkpoint-minutes", "--snapshot-every",
+                                             "--quiet", NULL};
+static const char *const performance_options[] = {"--threads", "--precision", "--clip-batch", NULL};
+static const ws_arg_group fit_groups[] = {
+    {"input", input_options},       {"loss", loss_options},     {"curve", curve_options},
+    {"schedule", schedule_options}, {"output", output_options}, {"performance", performance_options},
+};
+
 /* Parses the fit's own arguments (those of a new run, or those a checkpoint
  * stored) into opt; settings (or NULL) receives the report's table. */
 static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **resume_dir, int *help,
@@ -161,9 +183,9 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--overwrite", WS_ARG_FLAG, &overwrite, 0, "replace another run's outputs in --out (refused otherwise)"},
         {"--config", WS_ARG_STRING, &config, 0,
          "run the fit that FILE (a run's config.json) records again; options after it override"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, WS_CLI_LOSS_HELP("clip, edges, clip+edges, sobel or l2")},
-        {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
-        {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
+        WS_ROW_LOSS(&loss_name),
+        WS_ROW_WEIGHTS(&opt->loss.weights_path),
+        WS_ROW_EDGES_WEIGHT(&edges_weight),
         {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
          "weight of the silhouette term over the training views [0; 3 with --loss edges]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
@@ -176,27 +198,24 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02; 0.15 with --loss edges]"},
         {"--overlap", WS_ARG_DOUBLE, &opt->overlap, 0, "Gaussian overlap [0.6]"},
         {"--clip-weight", WS_ARG_DOUBLE, &opt->loss.global_weight, 0, "global term weight [1]"},
-        {"--clip-conv-loss", WS_ARG_DOUBLE, &opt->loss.conv_weight, 0, "geometric term weight, 0 = off [1]"},
-        {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &opt->loss.fc_weight, 0, "fc term weight [0.1]"},
-        {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
-         "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
-        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
+        WS_ROW_CONV_WEIGHT(&opt->loss.conv_weight),
+        WS_ROW_FC_WEIGHT(&opt->loss.fc_weight),
+        WS_ROW_LAYER_WEIGHTS(&layers),
+        WS_ROW_GEOMETRIC(&geometric),
+        WS_ROW_HIDDEN(&hidden),
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
-        {"--precision", WS_ARG_STRING, &precision, 0, WS_CLI_PRECISION_HELP},
+        WS_ROW_PRECISION(&precision),
         {"--clip-batch", WS_ARG_INT, &opt->loss.pass_items, 0,
          "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
-        {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
-        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
-        {"--edge-maps", WS_ARG_STRING, &opt->edge_maps, 0,
-         "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
-        {"--images", WS_ARG_STRING, &opt->images, 0,
-         "a COLMAP scene's images folder [SCENE/images]"},
-        {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
+        WS_ROW_SIZE(&opt->size),
+        WS_ROW_BACKGROUND(&background),
+        WS_ROW_EDGE_MAPS(&opt->edge_maps),
+        WS_ROW_IMAGES(&opt->images),
+        WS_ROW_CUTOFF(&opt->cutoff),
         {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
-        {"--threads", WS_ARG_INT, &opt->threads, 0, "threads, 0 = all cores [0]"},
+        WS_ROW_THREADS(&opt->threads),
         {"--eval-every", WS_ARG_INT, &opt->eval_every, 0, "validate every N batches, 0 = never [10; 60 with --loss edges]"},
         {"--max-steps", WS_ARG_INT, &opt->max_steps, 0, "stop after N steps in all, 0 = schedule [0]"},
         {"--checkpoint-minutes", WS_ARG_DOUBLE, &opt->checkpoint_minutes, 0, "checkpoint interval [5]"},
@@ -212,7 +231,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const ws_command_spec spec = {
         "fit SCENE [--out DIR] [options] | fit --resume DIR [options that override]",
         "fit 3D curves to a multi-view scene (docs/METHOD.md sections 5-7)", args,
-        (int)(sizeof args / sizeof args[0]), 0, 1};
+        (int)(sizeof args / sizeof args[0]), 0, 1, fit_groups, (int)(sizeof fit_groups / sizeof fit_groups[0])};
     const char *pos[1];
     int npos;
     if (ws_args_parse(&spec, argc, argv, pos, &npos, help, st) || *help) return st->code;

@@ -50,13 +50,12 @@ int cmd_scene(int argc, char **argv) {
         "solids also DIR/gt_points.ply); smooth objects instead each test view's\n"
         "reference lines DIR/lines/test/r_K.png and r_K_parts.png (silhouette, inner\n"
         "contours, creases), which `eval` scores a sketch against.",
-        args, sizeof args / sizeof args[0], 1, 1};
+        args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    if (done != WS_CLI_GO_ON) return done;
     ws_status st;
     ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
     if (!out) {
         ws_fail(&st, WS_EUSAGE, "--out: required (see --help)");
         return ws_cli_fail(&st);
