@@ -116,17 +116,17 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
 /* The defaults of the options a loss wants otherwise, where the command
  * line left them unset (NAN, -1): the original's for CLIP (no silhouette
  * term); for the line loss alone (`--loss edges`) those measured on the
- * solid scenes (docs/RESULTS.md, "Where it stands now"): thin strokes, long
- * initial strokes (0.15: at 0.3 a hull-start stroke spans two turns of a
- * coil, docs/RESULTS.md "Where it stands now"), a small step, and 5 steps per batch
- * over 24 epochs (the 4 x 30 of before in as many steps: 30 steps on one
- * view fit each view's own errors, such as the one line its line target
- * draws where two wires of the flat clip merge, and moved whole wires off
- * their place; docs/RESULTS.md "Where it stands now"), validated every 60 batches
- * (every 300 steps, as before: every 10 of 5 steps cost 15% more time); and
- * the silhouette term at
- * weight 3, measured on the shared rose and duck and the synthetic scenes
- * (docs/RESULTS.md, "Hull against random initialisation, and the silhouette term"). */
+ * solid scenes (docs/RESULTS.md, "Where it stands now"): thin strokes,
+ * initial strokes long enough to span an edge but not two turns of a coil
+ * (docs/RESULTS.md, "Initial strokes 0.15 long, not 0.3"), a small step,
+ * and few steps per batch over more epochs (many steps in a row on one
+ * view fit that view's own errors, such as the one line its line target
+ * draws where two wires of the flat clip merge, and move whole wires off
+ * their place), validated every 60 batches of 5 steps (validation is
+ * costly; docs/USAGE.md, `fit`); and the silhouette term at weight 3,
+ * measured on the shared rose and duck and the synthetic scenes
+ * (docs/RESULTS.md, "Hull against random initialisation, and the
+ * silhouette term"). */
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
     if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;

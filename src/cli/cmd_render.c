@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include "base/paths.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "cli/args.h"
@@ -28,7 +29,7 @@ static int render_split(const ws_curves *curves, const ws_split *split, const ch
         goto done;
     for (int k = 0; k < split->n; k++) {
         const ws_view *v = &split->views[k];
-        char path[8192];
+        char path[WS_PATH_MAX];
         snprintf(path, sizeof path, "%s/%s.png", out_dir, v->name);
         if (ws_splat_forward(splat, &v->cam, g.mu, g.n, curves->thickness, opt, alpha, st))
             goto done;

@@ -12,16 +12,15 @@
  * resolution, then, on one FOCAL_REFINE times finer, the listed focal and
  * around the coarse best by halving the step down to FOCAL_FINE; on every
  * k-th image so that at most FOCAL_VIEWS take part (its cost grows with
- * the views; 24 gave the same verdicts as all views on the copies
- * compared: the rose, the nut, the chair with its focal x1.1, the cube
- * with x0.8). The finer hull is what makes the estimate right: at 64
- * voxels a voxel spans 2.3 pixels of a 224-pixel view, and a tight hull
- * that coarse covers more of every view the shorter the focal, so the
- * peak leans to short focals (the cube with its focal x1.25: 0.738 at 64
- * voxels, 0.805 at 128, the truth 0.8; the correct spring 0.841 at 64,
- * 0.917 at 128). The coarse pass at 64 still lands within a coarse step
- * of the peak, which the refinement searches; where the listed focal wins
- * the coarse pass there is nothing to refine. */
+ * the views, and that many give the verdicts of all: docs/RESULTS.md,
+ * "Numbers behind the code's constants"). The finer hull is what makes the
+ * estimate right: at the check's resolution a voxel spans pixels, and a
+ * tight hull that coarse covers more of every view the shorter the focal,
+ * so the peak leans to short focals (docs/RESULTS.md, "check: false
+ * alarms, principal points, crops and busy backgrounds"). The coarse pass
+ * still lands within a coarse step of the peak, which the refinement
+ * searches; where the listed focal wins the coarse pass there is nothing
+ * to refine. */
 #define FOCAL_RANGE 1.0
 #define FOCAL_COARSE 0.25
 #define FOCAL_FINE (FOCAL_COARSE / 4)
@@ -488,9 +487,9 @@ typedef struct {
 } assignment;
 
 /* Fewer splits left disagreeing, then fewer changes, then the higher
- * pooled agreement (a frame shift either way along an orbit can agree
- * nearly as well: the synthetic cube's train views shifted by one give
- * 1.0000 re-paired the right way and 0.9961 the wrong one). */
+ * pooled agreement, with no margin: a frame shift either way along an
+ * orbit can agree nearly as well (docs/METHOD.md section 12, "Across
+ * splits"). */
 static int better(const assignment *a, const assignment *b) {
     if (a->unexplained != b->unexplained) return a->unexplained < b->unexplained;
     if (a->changes != b->changes) return a->changes < b->changes;
@@ -567,9 +566,8 @@ static int weigh(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLIT
  * hull tries the hypotheses of its own file. A hypothesis of R's file
  * counts only where every other split then agrees (a focal that differs
  * between the files, which the test cannot weigh, lifts the agreement a
- * little under some shift: the spring's copy with its train focal x0.841,
- * 0.984 -> 0.995, with the val views still 0.007 below the train views'
- * own); the assignment that leaves the fewest splits disagreeing, then
+ * little under some shift, docs/RESULTS.md "Numbers behind the code's
+ * constants"); the assignment that leaves the fewest splits disagreeing, then
  * changes the fewest fixes, then agrees best wins, and a split it leaves
  * disagreeing has an unknown cause. */
 static int cross_check(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,

@@ -33,9 +33,10 @@
  * reference split (the one with the most views), each split with the fix
  * found for it (its shift or flip; the focal as listed), and where one
  * disagrees (mean below WS_CHECK_MEAN_OK, a view below WS_CHECK_VIEW_OK, or
- * a mean below the reference's own by more than WS_CHECK_CROSS_GAP: correct
- * scenes measured 0.001 above it, the near-symmetric nut and dodecahedron
- * on train cameras shifted by a frame 0.005 - 0.016 below) the hypotheses of each file are weighed across the splits (check.c:
+ * a mean below the reference's own by more than WS_CHECK_CROSS_GAP, which
+ * lies between correct scenes and the near-symmetric solids on shifted
+ * cameras: docs/RESULTS.md, "Numbers behind the code's constants") the
+ * hypotheses of each file are weighed across the splits (check.c:
  * cross_check): a fault of the reference's file, under which the reference
  * still agrees with itself and the other splits agree with its hull, or of
  * a disagreeing split's own file. Its diagnosis names the file and the
