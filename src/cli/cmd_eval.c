@@ -50,6 +50,88 @@ static int surface_by_curve(const char *gt_points, const ws_gaussians *g, int n_
     return rc;
 }
 
+/* What eval measured, its one JSON object; NULL for what it did not. */
+typedef struct {
+    const char *split_name;
+    int views, curves, gaussians;
+    const char *loss_kind; /* NULL: no loss */
+    double loss;
+    const ws_quality *q;
+    const ws_surface_curve *per; /* per curve (--per-curve) */
+    const ws_drawing_score *drawing, *drawing_curves;
+    const ws_gt_coverage *cov;
+} eval_result;
+
+static void print_result(const eval_result *r) {
+    const ws_quality *q = r->q;
+    printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
+           "\"loss_kind\": \"%s\"",
+           r->split_name, r->views, r->curves, r->gaussians, r->loss_kind ? r->loss_kind : "none");
+    if (r->loss_kind) print_number("loss", r->loss);
+    if (q->have_surface) {
+        print_number("surface_mean", q->surface.mean);
+        print_number("surface_p90", q->surface.p90);
+        print_number("surface_precision", q->surface_strays.precision);
+        printf(", \"surface_stray_curves\": %d", q->surface_strays.stray_curves);
+        if (r->per) {
+            printf(", \"surface_curves\": [");
+            for (int ci = 0; ci < r->curves; ci++) {
+                printf("%s{\"gaussians\": %d", ci ? ", " : "", r->per[ci].n);
+                print_number("mean", r->per[ci].mean);
+                print_number("adds", r->per[ci].adds);
+                printf(", \"beyond_p90\": %d}", r->per[ci].beyond_p90);
+            }
+            printf("]");
+        }
+    }
+    if (q->have_curves) {
+        print_number("chamfer", q->curves.chamfer);
+        print_number("precision", q->curves.precision);
+        print_number("recall", q->curves.recall);
+        print_number("fscore", q->curves.fscore);
+        print_number("gaussian_precision", q->curve_strays.precision);
+        printf(", \"stray_curves\": %d", q->curve_strays.stray_curves);
+        printf(", ");
+        ws_line_metrics_json(stdout, &q->lines);
+    }
+    if (r->drawing) {
+        printf(", ");
+        ws_drawing_score_json(stdout, "drawing", r->drawing);
+        printf(", ");
+        ws_drawing_score_json(stdout, "drawing_curves", r->drawing_curves);
+    }
+    if (r->cov) {
+        printf(", ");
+        ws_gt_coverage_json(stdout, r->cov);
+    }
+    printf("}\n");
+}
+
+/* The drawing scores of the curves against split `split`'s reference
+ * lines in lines_dir: *drawing that of the drawing a user gets, the curves
+ * beside the hull's outline (the curves alone, with a warning, where the
+ * silhouettes carve no hull), *alone that of the curves alone. */
+static int score_drawings(const ws_scene *scene, int split, const ws_curves *curves, const char *curves_path,
+                          const char *lines_dir, ws_drawing_score *drawing, ws_drawing_score *alone, ws_status *st) {
+    if (curves->n == 0)
+        return ws_fail(st, WS_EINPUT, "%s: no curves to score against the reference lines", curves_path);
+    ws_drawing_hull dh;
+    int rc = ws_drawing_hull_make(&dh, scene, st), have_hull = rc == WS_OK;
+    if (rc == WS_EINPUT) {
+        fprintf(stderr, "wiresketch: warning: %s; the drawing is the curves alone\n", st->msg);
+        ws_status_clear(st);
+        rc = WS_OK;
+    }
+    if (!rc)
+        rc = ws_drawing_score_split(&scene->split[split], scene->width, scene->height, curves, lines_dir, NULL, NULL,
+                                    alone, st);
+    if (!rc)
+        rc = ws_drawing_score_split(&scene->split[split], scene->width, scene->height, curves, lines_dir,
+                                    have_hull ? ws_drawing_hull_render : NULL, &dh, drawing, st);
+    if (have_hull) ws_drawing_hull_free(&dh);
+    return rc;
+}
+
 /* lo NULL: no loss (the scene's cameras only are read). */
 static int evaluate_sketch(const char *scene_dir, const char *curves_path, const char *split_name,
                            const ws_scene_options *scene_opt, const char *loss_name,
@@ -80,26 +162,8 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     ws_drawing_score drawing, drawing_curves;
-    ws_drawing_hull dh;
-    int have_hull = 0;
-    if (!rc && have_lines && curves.n == 0)
-        rc = ws_fail(st, WS_EINPUT, "%s: no curves to score against the reference lines", curves_path);
-    if (!rc && have_lines) {
-        /* a scene whose silhouettes carve no hull is drawn by its curves alone */
-        rc = ws_drawing_hull_make(&dh, &scene, st);
-        have_hull = rc == WS_OK;
-        if (rc == WS_EINPUT) {
-            fprintf(stderr, "wiresketch: warning: %s; the drawing is the curves alone\n", st->msg);
-            rc = WS_OK;
-        }
-    }
     if (!rc && have_lines)
-        rc = ws_drawing_score_split(&scene.split[split], scene.width, scene.height, &curves, lines_dir, NULL, NULL,
-                                    &drawing_curves, st);
-    if (!rc && have_lines)
-        rc = ws_drawing_score_split(&scene.split[split], scene.width, scene.height, &curves, lines_dir,
-                                    have_hull ? ws_drawing_hull_render : NULL, &dh, &drawing, st);
-    if (have_hull) ws_drawing_hull_free(&dh);
+        rc = score_drawings(&scene, split, &curves, curves_path, lines_dir, &drawing, &drawing_curves, st);
     ws_surface_curve *per = NULL;
     if (!rc && per_curve) rc = surface_by_curve(gt_points, &g, curves.n, &per, st);
     /* The coverage needs the photos, which a measure of the cameras alone
@@ -119,47 +183,10 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && coverage) rc = ws_view_targets_create(&targets, seen, st);
     if (!rc && coverage) rc = ws_scene_gt_coverage(seen, targets, gt_points, gt_curves, &cov, st);
     if (!rc) {
-        printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
-               "\"loss_kind\": \"%s\"",
-               split_name, scene.split[split].n, curves.n, g.n, lo ? loss_name : "none");
-        if (lo) print_number("loss", mean);
-        if (q.have_surface) {
-            print_number("surface_mean", q.surface.mean);
-            print_number("surface_p90", q.surface.p90);
-            print_number("surface_precision", q.surface_strays.precision);
-            printf(", \"surface_stray_curves\": %d", q.surface_strays.stray_curves);
-            if (per) {
-                printf(", \"surface_curves\": [");
-                for (int ci = 0; ci < curves.n; ci++) {
-                    printf("%s{\"gaussians\": %d", ci ? ", " : "", per[ci].n);
-                    print_number("mean", per[ci].mean);
-                    print_number("adds", per[ci].adds);
-                    printf(", \"beyond_p90\": %d}", per[ci].beyond_p90);
-                }
-                printf("]");
-            }
-        }
-        if (q.have_curves) {
-            print_number("chamfer", q.curves.chamfer);
-            print_number("precision", q.curves.precision);
-            print_number("recall", q.curves.recall);
-            print_number("fscore", q.curves.fscore);
-            print_number("gaussian_precision", q.curve_strays.precision);
-            printf(", \"stray_curves\": %d", q.curve_strays.stray_curves);
-            printf(", ");
-            ws_line_metrics_json(stdout, &q.lines);
-        }
-        if (have_lines) {
-            printf(", ");
-            ws_drawing_score_json(stdout, "drawing", &drawing);
-            printf(", ");
-            ws_drawing_score_json(stdout, "drawing_curves", &drawing_curves);
-        }
-        if (coverage) {
-            printf(", ");
-            ws_gt_coverage_json(stdout, &cov);
-        }
-        printf("}\n");
+        const eval_result r = {split_name, scene.split[split].n, curves.n, g.n, lo ? loss_name : NULL, mean, &q, per,
+                               have_lines ? &drawing : NULL, have_lines ? &drawing_curves : NULL,
+                               coverage ? &cov : NULL};
+        print_result(&r);
         if (coverage && cov.flagged) fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
     }
     free(per);

@@ -160,6 +160,45 @@ static const ws_arg_group fit_groups[] = {
     {"schedule", schedule_options}, {"output", output_options}, {"performance", performance_options},
 };
 
+/* The words of a fit's command line that are no field of ws_fit_options:
+ * names turned into options once parsed (apply_words), and what the
+ * command does (--config, --overwrite). */
+typedef struct {
+    const char *loss, *background, *geometric, *hidden, *precision, *config;
+    double edges_weight;
+    int seed, overwrite;
+    ws_arg_list layers;
+} fit_words;
+
+/* A new fit's words into opt, checked, and the loss's own defaults where
+ * the command line left them unset (original: the options before any
+ * was); settings (or NULL) receives the report's table, made from the
+ * option table args once the words hold the values in effect. */
+static int apply_words(fit_words *w, const ws_fit_options *original, const ws_arg *args, int nargs,
+                       ws_fit_options *opt, fit_settings *settings, ws_status *st) {
+    opt->seed = (uint64_t)(unsigned)w->seed;
+    const char *loss_given = w->loss;
+    w->loss = ws_cli_auto_loss(w->loss, opt->loss.weights_path);
+    if (ws_cli_check_size(opt->size, st) ||
+        ws_cli_background(w->background, opt->background, &opt->background_auto, st) ||
+        ws_cli_choose_loss(w->loss, w->edges_weight, &w->layers, w->geometric, w->hidden, &opt->loss, st) ||
+        ws_cli_choose_precision(w->precision, &opt->loss.precision, st) ||
+        (loss_defaults(opt, original), ws_fit_options_check(opt, st)))
+        return st->code;
+    if (settings) {
+        /* the layer weights in effect, also when the defaults are */
+        w->layers.n = opt->loss.n_layer_weights;
+        w->hidden = ws_hidden_mode_names[opt->loss.hidden_lines];
+        memcpy(w->layers.v, opt->loss.layer_weights, sizeof(double) * w->layers.n);
+        settings->loss = w->loss;
+        settings->loss_given = loss_given;
+        fill_settings(args, nargs, settings);
+        opt->settings = settings->items;
+        opt->n_settings = settings->n;
+    }
+    return WS_OK;
+}
+
 /* Parses the fit's own arguments (those of a new run, or those a checkpoint
  * stored) into opt; settings (or NULL) receives the report's table. */
 static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **resume_dir, int *help,
@@ -169,23 +208,19 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     /* unset: loss_defaults */
     opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
     opt->epochs = opt->inner_steps = opt->eval_every = -1;
-    const char *loss_name = "auto", *background = "black", *geometric = "blocks", *hidden = NULL;
-    const char *precision = "auto";
-    double edges_weight = 1.0;
-    int seed = 0, overwrite = 0;
-    ws_arg_list layers = {0};
-    const char *config = NULL;
+    fit_words w = {.loss = "auto", .background = "black", .geometric = "blocks", .precision = "auto",
+                   .edges_weight = 1.0};
     *resume_dir = NULL;
     opt->out_dir = "out";
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &opt->out_dir, 0, "output directory [out]"},
         {"--resume", WS_ARG_STRING, resume_dir, 0, "continue the fit whose output directory is DIR"},
-        {"--overwrite", WS_ARG_FLAG, &overwrite, 0, "replace another run's outputs in --out (refused otherwise)"},
-        {"--config", WS_ARG_STRING, &config, 0,
+        {"--overwrite", WS_ARG_FLAG, &w.overwrite, 0, "replace another run's outputs in --out (refused otherwise)"},
+        {"--config", WS_ARG_STRING, &w.config, 0,
          "run the fit that FILE (a run's config.json) records again; options after it override"},
-        WS_ROW_LOSS(&loss_name),
+        WS_ROW_LOSS(&w.loss),
         WS_ROW_WEIGHTS(&opt->loss.weights_path),
-        WS_ROW_EDGES_WEIGHT(&edges_weight),
+        WS_ROW_EDGES_WEIGHT(&w.edges_weight),
         {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
          "weight of the silhouette term over the training views [0; 3 with --loss edges]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
@@ -200,21 +235,21 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--clip-weight", WS_ARG_DOUBLE, &opt->loss.global_weight, 0, "global term weight [1]"},
         WS_ROW_CONV_WEIGHT(&opt->loss.conv_weight),
         WS_ROW_FC_WEIGHT(&opt->loss.fc_weight),
-        WS_ROW_LAYER_WEIGHTS(&layers),
-        WS_ROW_GEOMETRIC(&geometric),
-        WS_ROW_HIDDEN(&hidden),
+        WS_ROW_LAYER_WEIGHTS(&w.layers),
+        WS_ROW_GEOMETRIC(&w.geometric),
+        WS_ROW_HIDDEN(&w.hidden),
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
-        WS_ROW_PRECISION(&precision),
+        WS_ROW_PRECISION(&w.precision),
         {"--clip-batch", WS_ARG_INT, &opt->loss.pass_items, 0,
          "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
         WS_ROW_SIZE(&opt->size),
-        WS_ROW_BACKGROUND(&background),
+        WS_ROW_BACKGROUND(&w.background),
         WS_ROW_EDGE_MAPS(&opt->edge_maps),
         WS_ROW_IMAGES(&opt->images),
         WS_ROW_CUTOFF(&opt->cutoff),
-        {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
+        {"--seed", WS_ARG_INT, &w.seed, 0, "random seed [0]"},
         WS_ROW_THREADS(&opt->threads),
         {"--eval-every", WS_ARG_INT, &opt->eval_every, 0, "validate every N batches, 0 = never [10; 60 with --loss edges]"},
         {"--max-steps", WS_ARG_INT, &opt->max_steps, 0, "stop after N steps in all, 0 = schedule [0]"},
@@ -236,33 +271,13 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     int npos;
     if (ws_args_parse(&spec, argc, argv, pos, &npos, help, st) || *help) return st->code;
     if (settings) {
-        settings->config = config;
-        settings->overwrite = overwrite;
+        settings->config = w.config;
+        settings->overwrite = w.overwrite;
     }
-    if (*resume_dir || config) return WS_OK;
+    if (*resume_dir || w.config) return WS_OK;
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
-    opt->seed = (uint64_t)(unsigned)seed;
-    const char *loss_given = loss_name;
-    loss_name = ws_cli_auto_loss(loss_name, opt->loss.weights_path);
-    if (ws_cli_check_size(opt->size, st) ||
-        ws_cli_background(background, opt->background, &opt->background_auto, st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &opt->loss, st) ||
-        ws_cli_choose_precision(precision, &opt->loss.precision, st) ||
-        (loss_defaults(opt, &original), ws_fit_options_check(opt, st)))
-        return st->code;
-    if (settings) {
-        /* the layer weights in effect, also when the defaults are */
-        layers.n = opt->loss.n_layer_weights;
-        hidden = ws_hidden_mode_names[opt->loss.hidden_lines];
-        memcpy(layers.v, opt->loss.layer_weights, sizeof(double) * layers.n);
-        settings->loss = loss_name;
-        settings->loss_given = loss_given;
-        fill_settings(args, (int)(sizeof args / sizeof args[0]), settings);
-        opt->settings = settings->items;
-        opt->n_settings = settings->n;
-    }
-    return WS_OK;
+    return apply_words(&w, &original, args, spec.nargs, opt, settings, st);
 }
 
 /* A checkpoint's stored arguments are input like the command line: they

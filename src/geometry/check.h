@@ -80,9 +80,10 @@
  * on its frame's edge, shows no object: the edge is where the background
  * colour is read (silhouette.h), and over a busy background the colour
  * threshold calls most of it object (the box room of `scene --background
- * room`: 46 of the cube's 48 train views, 90.8% of the frame on average),
- * while an object on one colour touches a few edge pixels at most. A split whose views are more than half such has no usable
- * silhouette, and nothing is measured. */
+ * room`, docs/RESULTS.md "Numbers behind the code's constants"), while an
+ * object on one colour touches a few edge pixels at most. A split whose
+ * views are more than half such has no usable silhouette, and nothing is
+ * measured. */
 #define WS_CHECK_SILHOUETTE_EDGE 0.5
 
 typedef enum {
