@@ -170,11 +170,10 @@ int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char
 }
 
 int ws_cli_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
-                 int *npositional) {
-    ws_status st;
-    ws_status_clear(&st);
+                 int *npositional, ws_status *st) {
+    ws_status_clear(st);
     int help;
-    if (ws_args_parse(spec, argc, argv, positional, npositional, &help, &st)) return ws_cli_fail(&st);
+    if (ws_args_parse(spec, argc, argv, positional, npositional, &help, st)) return ws_cli_fail(st);
     return help ? 0 : WS_CLI_GO_ON;
 }
 

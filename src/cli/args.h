@@ -59,13 +59,13 @@ int ws_arg_same_name(const char *a, const char *b);
 int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
                   int *npositional, int *help, ws_status *st);
 
-/* The start of every command: parses argv by spec (ws_args_parse) and
- * returns WS_CLI_GO_ON when the command goes on, else the exit code it
- * returns now: 0 after --help (the usage printed), that of a usage error
- * after its line on stderr (ws_cli_fail). */
+/* The start of every command: clears st, the command's status, parses
+ * argv by spec (ws_args_parse) and returns WS_CLI_GO_ON when the command
+ * goes on, else the exit code it returns now: 0 after --help (the usage
+ * printed), that of a usage error after its line on stderr (ws_cli_fail). */
 #define WS_CLI_GO_ON (-1)
 int ws_cli_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
-                 int *npositional);
+                 int *npositional, ws_status *st);
 
 /* The value an option holds now (after parsing, or its default) as text:
  * "yes"/"no" for a flag, "%g" numbers (17 digits when 6 do not give the

@@ -115,6 +115,27 @@ static void free_ctx(ws_cli_bench *ctx) {
     ws_curves_free(&ctx->sketch);
 }
 
+/* The results object with its "machine" entry, which the tables (unless
+ * json) begin with as a line; NULL (WS_ENOMEM) when it cannot be made. */
+static cJSON *results_start(int json, ws_status *st) {
+    cJSON *out = cJSON_CreateObject(), *m = machine();
+    /* the line below reads these two fields back: without them there is no result to fill */
+    if (!out || !cJSON_GetObjectItem(m, "cpu") || !cJSON_GetObjectItem(m, "load_average") ||
+        !cJSON_AddItemToObject(out, "machine", m)) {
+        cJSON_Delete(out);
+        cJSON_Delete(m);
+        ws_fail(st, WS_ENOMEM, "bench: out of memory building the results");
+        return NULL;
+    }
+    if (!json)
+        printf("machine: %s, %d cores, %d threads; %s; kernels %s (OpenBLAS chose %s: %s); load average "
+               "%.2f at the start\n",
+               cJSON_GetObjectItem(m, "cpu")->valuestring, omp_get_num_procs(), ws_runtime_threads(),
+               openblas_get_config(), openblas_get_corename(), ws_runtime_kernels()->before,
+               ws_runtime_kernels()->why, cJSON_GetObjectItem(m, "load_average")->valuedouble);
+    return out;
+}
+
 int cmd_bench(int argc, char **argv) {
     ws_cli_bench ctx;
     memset(&ctx, 0, sizeof ctx);
@@ -145,14 +166,13 @@ int cmd_bench(int argc, char **argv) {
         "--precision applies to the step part and clip's second row.",
         args, sizeof args / sizeof args[0], 0, 1, NULL, 0};
     const char *pos[1];
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    ws_status st;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
     if (done == 0) { /* --help: the usage was printed, the parts follow */
         printf("\nparts:\n");
         for (int i = 0; i < NPARTS; i++) printf("  %-8s %s\n", parts[i].name, parts[i].summary);
     }
     if (done != WS_CLI_GO_ON) return done;
-    ws_status st;
-    ws_status_clear(&st);
     int only = -1;
     for (int i = 0; npos && i < NPARTS; i++)
         if (!strcmp(pos[0], parts[i].name)) only = i;
@@ -167,21 +187,8 @@ int cmd_bench(int argc, char **argv) {
     }
     if (ws_cli_choose_precision(precision, &ctx.precision, &st) || ws_runtime_init(ctx.threads, &st))
         return ws_cli_fail(&st);
-    cJSON *out = cJSON_CreateObject(), *m = machine();
-    /* the header below reads these two fields back: without them there is no result to fill */
-    if (!out || !cJSON_GetObjectItem(m, "cpu") || !cJSON_GetObjectItem(m, "load_average") ||
-        !cJSON_AddItemToObject(out, "machine", m)) {
-        cJSON_Delete(out);
-        cJSON_Delete(m);
-        ws_fail(&st, WS_ENOMEM, "bench: out of memory building the results");
-        return ws_cli_fail(&st);
-    }
-    if (!ctx.json)
-        printf("machine: %s, %d cores, %d threads; %s; kernels %s (OpenBLAS chose %s: %s); load average "
-               "%.2f at the start\n",
-               cJSON_GetObjectItem(m, "cpu")->valuestring, omp_get_num_procs(), ws_runtime_threads(),
-               openblas_get_config(), openblas_get_corename(), ws_runtime_kernels()->before,
-               ws_runtime_kernels()->why, cJSON_GetObjectItem(m, "load_average")->valuedouble);
+    cJSON *out = results_start(ctx.json, &st);
+    if (!out) return ws_cli_fail(&st);
     int rc = WS_OK;
     for (int i = 0; i < NPARTS && !rc; i++)
         if (only < 0 || only == i) rc = parts[i].run(&ctx, out, &st);

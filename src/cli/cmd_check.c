@@ -46,6 +46,28 @@ static void print_table(const ws_scene *scene, const ws_check_report *r) {
     }
 }
 
+/* Where scene_dir has a ground-truth point cloud: the table of how much
+ * of each view's silhouette it covers, then its verdict (a warning on
+ * stderr where it misses a part; on stdout too unless both are one
+ * terminal). */
+static int print_coverage(const ws_scene *scene, ws_view_targets *targets, const char *scene_dir, int one_terminal,
+                          ws_status *st) {
+    char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
+    ws_scene_ground_truth(scene_dir, gt_points, gt_curves);
+    ws_gt_coverage cov;
+    if (!gt_points[0]) return WS_OK;
+    if (ws_scene_gt_coverage(scene, targets, gt_points, gt_curves, &cov, st)) return st->code;
+    printf("\n");
+    ws_cli_gt_coverage_table(stdout, scene, &cov);
+    if (cov.flagged) {
+        if (!one_terminal) printf("%s\n", cov.line);
+        fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
+    } else {
+        printf("%s: the ground truth covers the silhouettes\n", gt_points);
+    }
+    return WS_OK;
+}
+
 int cmd_check(int argc, char **argv) {
     const char *fixed_dir = NULL, *images = NULL;
     int size = 224, resolution = WS_CHECK_RESOLUTION;
@@ -62,10 +84,9 @@ int cmd_check(int argc, char **argv) {
         "the views of the other splits with the hull of the split with the most views (column \"vs train\").",
         args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
-    if (done != WS_CLI_GO_ON) return done;
     ws_status st;
-    ws_status_clear(&st);
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (ws_cli_check_size(size, &st)) return ws_cli_fail(&st);
     if (resolution < 8 || resolution > 512) {
         ws_fail(&st, WS_EUSAGE, "--resolution: %d is not in [8, 512]", resolution);
@@ -104,22 +125,8 @@ int cmd_check(int argc, char **argv) {
         if (!one_terminal) printf("%s\n", r.line);
         fprintf(stderr, "wiresketch: %s\n", r.line);
     }
-    char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
-    ws_scene_ground_truth(pos[0], gt_points, gt_curves);
-    ws_gt_coverage cov;
-    if (r.no_silhouette) gt_points[0] = 0; /* it measures silhouettes */
-    if (gt_points[0] && ws_scene_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
+    if (!r.no_silhouette && print_coverage(&scene, targets, pos[0], one_terminal, &st)) /* it measures silhouettes */
         code = ws_cli_fail(&st);
-    } else if (gt_points[0]) {
-        printf("\n");
-        ws_cli_gt_coverage_table(stdout, &scene, &cov);
-        if (cov.flagged) {
-            if (!one_terminal) printf("%s\n", cov.line);
-            fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
-        } else {
-            printf("%s: the ground truth covers the silhouettes\n", gt_points);
-        }
-    }
     if (!r.consistent && fixed_dir) {
         if (ws_check_write_fixed(&scene, &r, fixed_dir, &st))
             code = ws_cli_fail(&st);

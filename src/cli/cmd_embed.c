@@ -66,7 +66,7 @@ int cmd_embed(int argc, char **argv) {
         ws_fail(&st, WS_ENOMEM, "out of memory for the argument list");
         return ws_cli_fail(&st);
     }
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
     if (done != WS_CLI_GO_ON) {
         free(pos);
         return done;

@@ -200,8 +200,6 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
 }
 
 int cmd_eval(int argc, char **argv) {
-    ws_status st;
-    ws_status_clear(&st);
     const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
     const char *edge_maps = NULL, *geometric = "blocks", *hidden = NULL;
     const char *gt_points = NULL, *gt_curves = NULL;
@@ -235,7 +233,8 @@ int cmd_eval(int argc, char **argv) {
                             "test loss and distance to the ground truth of a sketch, as JSON", args,
                             (int)(sizeof args / sizeof args[0]), 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    ws_status st;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
     if (done != WS_CLI_GO_ON) return done;
     if (!curves_path) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");

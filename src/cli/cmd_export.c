@@ -55,10 +55,9 @@ int cmd_export(int argc, char **argv) {
         "Write a sketch as OBJ or PLY polylines, or as an SVG drawing of Bezier paths from one camera.",
         args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
-    if (done != WS_CLI_GO_ON) return done;
     ws_status st;
-    ws_status_clear(&st);
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (!obj && !ply && !svg) {
         ws_fail(&st, WS_EUSAGE, "nothing to do: give --obj, --ply or --svg (see --help)");
         return ws_cli_fail(&st);

@@ -83,10 +83,9 @@ int cmd_grad(int argc, char **argv) {
         "(item 0 only: no augmentation, so CLIP's global term is absent).",
         args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
-    if (done != WS_CLI_GO_ON) return done;
     ws_status st;
-    ws_status_clear(&st);
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     lo.global_weight = 0; /* it compares augmented items only */
     if (ws_cli_require(curves_path, "--curves", &st) ||
         ws_cli_choose_loss(ws_cli_auto_loss(loss_name, lo.weights_path), edges_weight, &layers, geometric, hidden, &lo, &st) ||

@@ -13,8 +13,6 @@
 #include "objective/ranking.h"
 
 int cmd_rank(int argc, char **argv) {
-    ws_status st;
-    ws_status_clear(&st);
     const char *split_name = "test", *loss_name = "auto", *gt_path = NULL, *edge_maps = NULL;
     const char *geometric = "blocks", *hidden_name = NULL;
     int size = 224, threads = 0;
@@ -38,7 +36,8 @@ int cmd_rank(int argc, char **argv) {
                             "half, shifted by 1% and 5%, plus 10 random strokes), one column per thickness",
                             args, (int)(sizeof args / sizeof args[0]), 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
+    ws_status st;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
     if (done != WS_CLI_GO_ON) return done;
     int split = ws_split_index(split_name);
     if (split < 0) ws_fail(&st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);

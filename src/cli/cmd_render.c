@@ -64,10 +64,9 @@ int cmd_render(int argc, char **argv) {
         "as the fit's test renders (--alpha: the alpha, white on black).",
         args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos);
-    if (done != WS_CLI_GO_ON) return done;
     ws_status st;
-    ws_status_clear(&st);
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (ws_cli_require(scene_dir, "--scene", &st) || ws_cli_require(out_dir, "--out", &st))
         return ws_cli_fail(&st);
     ws_curves curves = {0};

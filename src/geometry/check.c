@@ -275,6 +275,49 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
     return rc;
 }
 
+/* explain's line for a focal the images do not fit (split s, r its
+ * report): the corrected value in the file's own terms, and the agreement
+ * `tight` before and after. */
+static void explain_focal(const ws_scene *scene, const ws_check_split *r, int s, const char *tight,
+                          double tight_before, double tight_after, char *line, size_t size) {
+    const char *file = ws_scene_file(scene, s);
+    if (scene->layout == WS_LAYOUT_NERFSTUDIO) { /* focal lengths in pixels, one file */
+        snprintf(line, size,
+                 "%.300s/%s: fl_x and fl_y do not fit the %s images; about %.3g times "
+                 "them does (%s %.3f, corrected %.3f); multiply fl_x and fl_y "
+                 "by %.3g, or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
+                 scene->dir, file, ws_split_names[s], r->focal_scale, tight, tight_before, tight_after,
+                 r->focal_scale, scene->dir);
+        return;
+    }
+    double listed = 2 * atan(0.5 * scene->split[s].views[0].cam.width / scene->split[s].views[0].cam.focal);
+    double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
+    snprintf(line, size,
+             "%.300s/%s: camera_angle_x %.4g does not fit the images; about %.4g "
+             "does (focal x%.3g; %s %.3f, corrected %.3f); fix camera_angle_x, "
+             "or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
+             scene->dir, file, listed, fixed, r->focal_scale, tight, tight_before, tight_after, scene->dir);
+}
+
+/* explain's line for frames of split s that disagree with the others
+ * (views: "train " in a nerfstudio file, else ""). */
+static void explain_frames(const ws_scene *scene, const ws_check_split *r, int s, const char *views, char *line,
+                           size_t size) {
+    int at = snprintf(line, size, "%.300s/%s: frame%s", scene->dir, ws_scene_file(scene, s),
+                      r->ndisagree > 1 ? "s" : "");
+    for (int d = 0; d < r->ndisagree && at > 0 && (size_t)at < size; d++) {
+        const ws_view *v = &scene->split[s].views[r->disagree[d]];
+        at += snprintf(line + at, size - at, "%s %d (%s, agreement %.2f)", d ? "," : "", v->frame, v->name,
+                       r->agreement[r->disagree[d]]);
+    }
+    if (at > 0 && (size_t)at < size)
+        snprintf(line + at, size - at,
+                 " disagree%s with the other %sviews (mean %.2f): fix %s transform_matrix or "
+                 "image, or remove %s",
+                 r->ndisagree > 1 ? "" : "s", views, r->fixed_mean, r->ndisagree > 1 ? "their" : "its",
+                 r->ndisagree > 1 ? "them" : "it");
+}
+
 /* One line for the first inconsistent split. It names the split's file
  * (ws_scene_file) and its frames by their index there; where that file
  * holds every split (nerfstudio), it also names the split. A cause the
@@ -323,42 +366,12 @@ static void explain(const ws_scene *scene, const ws_check_report *rep, int s, ch
                  "`wiresketch check %.300s --write-fixed DIR`",
                  scene->dir, file, measure, digits, before, digits, after, scene->dir);
         break;
-    case WS_CAUSE_FOCAL: {
-        if (scene->layout == WS_LAYOUT_NERFSTUDIO) { /* focal lengths in pixels, one file */
-            snprintf(line, size,
-                     "%.300s/%s: fl_x and fl_y do not fit the %s images; about %.3g times "
-                     "them does (%s %.3f, corrected %.3f); multiply fl_x and fl_y "
-                     "by %.3g, or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                     scene->dir, file, split, r->focal_scale, tight, tight_before, tight_after,
-                     r->focal_scale, scene->dir);
-            break;
-        }
-        double listed = 2 * atan(0.5 * scene->split[s].views[0].cam.width /
-                                 scene->split[s].views[0].cam.focal);
-        double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
-        snprintf(line, size,
-                 "%.300s/%s: camera_angle_x %.4g does not fit the images; about %.4g "
-                 "does (focal x%.3g; %s %.3f, corrected %.3f); fix camera_angle_x, "
-                 "or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, file, listed, fixed, r->focal_scale, tight, tight_before, tight_after,
-                 scene->dir);
+    case WS_CAUSE_FOCAL:
+        explain_focal(scene, r, s, tight, tight_before, tight_after, line, size);
         break;
-    }
-    case WS_CAUSE_BAD_FRAMES: {
-        int at = snprintf(line, size, "%.300s/%s: frame%s", scene->dir, file, r->ndisagree > 1 ? "s" : "");
-        for (int d = 0; d < r->ndisagree && at > 0 && (size_t)at < size; d++) {
-            const ws_view *v = &scene->split[s].views[r->disagree[d]];
-            at += snprintf(line + at, size - at, "%s %d (%s, agreement %.2f)", d ? "," : "", v->frame,
-                           v->name, r->agreement[r->disagree[d]]);
-        }
-        if (at > 0 && (size_t)at < size)
-            snprintf(line + at, size - at,
-                     " disagree%s with the other %sviews (mean %.2f): fix %s transform_matrix or "
-                     "image, or remove %s",
-                     r->ndisagree > 1 ? "" : "s", views, r->fixed_mean, r->ndisagree > 1 ? "their" : "its",
-                     r->ndisagree > 1 ? "them" : "it");
+    case WS_CAUSE_BAD_FRAMES:
+        explain_frames(scene, r, s, views, line, size);
         break;
-    }
     case WS_CAUSE_UNKNOWN:
         if (r->by_cross)
             snprintf(line, size,
