@@ -74,6 +74,9 @@ static void check_man(const char *man) {
           ncommands, noptions, missing);
     /* roff's e-acute is \('e; an escaped backslash before it (\e) prints "B\('ezier" */
     CHECK(file_has(man, "B\\('ezier") && !file_has(man, "\\e("), "man page: Bezier not written as B\\('ezier");
+    /* fit's option groups are headings of its section */
+    CHECK(file_has(man, ".SS \"input options\"") && file_has(man, ".SS \"performance options\""),
+          "man page: fit's option groups are not headings");
 }
 
 int main(void) {

@@ -53,7 +53,7 @@ for c in $commands; do
     while IFS=$'\t' read -r kind a b; do
         case $kind in
             USAGE) printf '.PP\n.B %s\n' "$(printf '%s\n' "$a" | esc)" ;;
-            SECTION) printf '.PP\n.I %s\n' "$(printf '%s\n' "${a%:}" | esc)" ;;
+            SECTION) printf '.SS "%s"\n' "$(printf '%s\n' "${a%:}" | esc)" ;; # "input options", ...
             ITEM) printf '.TP\n.B %s\n%s\n' "$(printf '%s\n' "$a" | esc)" "$(printf '%s\n' "$b" | esc)" ;;
             TEXT) printf '%s\n.br\n' "$(printf '%s\n' "$a" | esc)" ;;
         esac

@@ -52,13 +52,14 @@ static void live_release(ws_outfile *f) {
     f->live = -1;
 }
 
-void ws_outfile_remove_live(void) {
+/* Removes every live temporary file; async-signal-safe. */
+static void remove_live(void) {
     for (int i = 0; i < LIVE_SLOTS; i++)
         if (atomic_load(&live_state[i]) == SLOT_LIVE) unlink(live_tmp[i]);
 }
 
 static void remove_live_and_die(int sig) {
-    ws_outfile_remove_live();
+    remove_live();
     raise(sig); /* SA_RESETHAND: the default action, once this handler returns */
 }
 
@@ -79,7 +80,7 @@ typedef struct {
     dev_t dev;
     ino_t ino;
     int is_dir;
-    char path[512]; /* as the user spelled it, for messages */
+    char path[WS_PATH_MAX]; /* as the user spelled it, for messages */
 } input_id;
 static input_id inputs[WS_OUTFILE_MAX_INPUTS];
 static int ninputs;

@@ -23,7 +23,7 @@
 
 typedef struct {
     FILE *fp;
-    char path[4096];
+    char path[WS_PATH_MAX];
     char tmp[WS_PATH_MAX]; /* "" when written through (streamed) */
     int live; /* its slot in the registry of live temporary files, or -1 */
 } ws_outfile;
@@ -58,8 +58,6 @@ void ws_outfile_abort(ws_outfile *f);
  * temporary file and then end the process by the same signal (as if
  * unhandled). A command may install its own (fit stops gracefully). */
 void ws_outfile_remove_on_signals(void);
-/* Removes every live temporary file; async-signal-safe. */
-void ws_outfile_remove_live(void);
 
 /* Creates directory `dir` (one level) unless it exists; a folder the user
  * named, so a symbolic link to a directory is used as one. Refused when it

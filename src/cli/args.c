@@ -76,6 +76,67 @@ static int parse_value(const ws_arg *a, char **argv, int argc, int *i, ws_status
     return WS_OK;
 }
 
+/* What a text option's value is, in its usage line: an option means the
+ * same in every command that has it. */
+static const char *text_metavar(const char *name) {
+    static const char *const names[][2] = {
+        {"--out", "DIR"},        {"--resume", "DIR"},      {"--scene", "DIR"},        {"--edge-maps", "DIR"},
+        {"--write-fixed", "DIR"}, {"--config", "FILE"},    {"--curves", "FILE"},      {"--gt", "FILE"},
+        {"--gt-curves", "FILE"}, {"--obj", "FILE"},        {"--ply", "FILE"},         {"--svg", "FILE"},
+        {"--weights", "FILE"},   {"--weights-f16", "FILE"}, {"--weights-f32", "FILE"}, {"--init", "HOW|FILE"},
+        {"--loss", "NAME"},      {"--split", "NAME"},      {"--layout", "NAME"},      {"--clip-geometric", "MODE"},
+        {"--hidden-lines", "MODE"}, {"--background", "COLOR"}, {"--images", "DIR"},      {"--precision", "MODE"},
+        {"--lens", "K1,K2,P1,P2"}, {"--size", "N|WxH"},   {"--principal", "DX,DY"},
+    };
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
+        if (!strcmp(names[k][0], name)) return names[k][1];
+    return "TEXT";
+}
+
+static void print_option(const ws_arg *a) {
+    const char *value = a->kind == WS_ARG_FLAG      ? ""
+                        : a->kind == WS_ARG_INT     ? "N"
+                        : a->kind == WS_ARG_STRING  ? text_metavar(a->name)
+                        : a->kind == WS_ARG_CUTOFF  ? "K|inf"
+                        : a->kind == WS_ARG_DOUBLES ? "X..."
+                                                    : "X";
+    char head[64];
+    snprintf(head, sizeof head, "%s%s%s", a->name, *value ? " " : "", value);
+    printf("  %-26s  %s\n", head, a->help); /* two spaces at least: tools/make_man.sh splits there */
+}
+
+/* The group of spec that lists option a, or -1. */
+static int group_of(const ws_command_spec *spec, const ws_arg *a) {
+    for (int g = 0; g < spec->ngroups; g++)
+        for (const char *const *n = spec->groups[g].names; *n; n++)
+            if (!strcmp(*n, a->name)) return g;
+    return -1;
+}
+
+/* Prints the options of group g (-1: those no group lists) under heading,
+ * when there are any. */
+static void print_group(const ws_command_spec *spec, int g, const char *heading) {
+    int listed = 0;
+    for (int k = 0; k < spec->nargs; k++) {
+        if (group_of(spec, &spec->args[k]) != g) continue;
+        if (!listed++) printf("\n%s:\n", heading);
+        print_option(&spec->args[k]);
+    }
+}
+
+/* The usage line, the summary and every option, under the headings of
+ * spec's groups; an option no group lists comes last, under "other
+ * options:", so that none is left out. */
+static void print_usage(const ws_command_spec *spec) {
+    printf("usage: wiresketch %s\n%s\n", spec->usage, spec->summary);
+    for (int g = 0; g < spec->ngroups; g++) {
+        char heading[64];
+        snprintf(heading, sizeof heading, "%s options", spec->groups[g].heading);
+        print_group(spec, g, heading);
+    }
+    print_group(spec, -1, spec->ngroups ? "other options" : "options");
+}
+
 int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
                   int *npositional, int *help, ws_status *st) {
     *npositional = 0;
@@ -83,7 +144,7 @@ int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char
     for (int i = 0; i < argc; i++) {
         const char *word = argv[i];
         if (!strcmp(word, "--help") || !strcmp(word, "-h")) {
-            ws_args_usage(spec);
+            print_usage(spec);
             *help = 1;
             return WS_OK;
         }
@@ -108,38 +169,12 @@ int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char
     return WS_OK;
 }
 
-/* What a text option's value is, in its usage line: an option means the
- * same in every command that has it. */
-static const char *text_metavar(const char *name) {
-    static const char *const names[][2] = {
-        {"--out", "DIR"},        {"--resume", "DIR"},      {"--scene", "DIR"},        {"--edge-maps", "DIR"},
-        {"--write-fixed", "DIR"}, {"--config", "FILE"},    {"--curves", "FILE"},      {"--gt", "FILE"},
-        {"--gt-curves", "FILE"}, {"--obj", "FILE"},        {"--ply", "FILE"},         {"--svg", "FILE"},
-        {"--weights", "FILE"},   {"--weights-f16", "FILE"}, {"--weights-f32", "FILE"}, {"--init", "HOW|FILE"},
-        {"--loss", "NAME"},      {"--split", "NAME"},      {"--layout", "NAME"},      {"--clip-geometric", "MODE"},
-        {"--hidden-lines", "MODE"}, {"--background", "COLOR"}, {"--images", "DIR"},      {"--precision", "MODE"},
-        {"--lens", "K1,K2,P1,P2"}, {"--size", "N|WxH"},   {"--principal", "DX,DY"},
-    };
-    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
-        if (!strcmp(names[k][0], name)) return names[k][1];
-    return "TEXT";
-}
-
-void ws_args_usage(const ws_command_spec *spec) {
-    printf("usage: wiresketch %s\n%s\n", spec->usage, spec->summary);
-    if (spec->nargs) printf("\noptions:\n");
-    for (int k = 0; k < spec->nargs; k++) {
-        const ws_arg *a = &spec->args[k];
-        const char *value = a->kind == WS_ARG_FLAG     ? ""
-                            : a->kind == WS_ARG_INT    ? "N"
-                            : a->kind == WS_ARG_STRING ? text_metavar(a->name)
-                            : a->kind == WS_ARG_CUTOFF ? "K|inf"
-                            : a->kind == WS_ARG_DOUBLES ? "X..."
-                                                        : "X";
-        char head[64];
-        snprintf(head, sizeof head, "%s%s%s", a->name, *value ? " " : "", value);
-        printf("  %-26s  %s\n", head, a->help); /* two spaces at least: tools/make_man.sh splits there */
-    }
+int ws_cli_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
+                 int *npositional, ws_status *st) {
+    ws_status_clear(st);
+    int help;
+    if (ws_args_parse(spec, argc, argv, positional, npositional, &help, st)) return ws_cli_fail(st);
+    return help ? 0 : WS_CLI_GO_ON;
 }
 
 int ws_cli_fail(const ws_status *st) {

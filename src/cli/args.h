@@ -33,28 +33,44 @@ typedef struct {
     const char *help;  /* one line; the default in brackets */
 } ws_arg;
 
+/* A heading of --help and the options listed under it, for a command with
+ * many: "input" over {"--config", "--resume", NULL} prints "input
+ * options:" and those two rows. The rows keep the order of the command's
+ * table, which the report's settings and a run's record follow. */
+typedef struct {
+    const char *heading;
+    const char *const *names; /* NULL-terminated */
+} ws_arg_group;
+
 typedef struct {
     const char *usage;    /* "render CURVES.json --scene DIR --out DIR [options]" */
     const char *summary;  /* one line saying what the command does */
     const ws_arg *args;
     int nargs;
     int min_positional, max_positional;
+    const ws_arg_group *groups; /* NULL: one list under "options:" */
+    int ngroups;
 } ws_command_spec;
 
-/* On success positional[0..*npositional) point into argv. */
 /* Option names compare with '_' and '-' treated alike. */
 int ws_arg_same_name(const char *a, const char *b);
 
+/* On success positional[0..*npositional) point into argv. */
 int ws_args_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
                   int *npositional, int *help, ws_status *st);
+
+/* The start of every command: clears st, the command's status, parses
+ * argv by spec (ws_args_parse) and returns WS_CLI_GO_ON when the command
+ * goes on, else the exit code it returns now: 0 after --help (the usage
+ * printed), that of a usage error after its line on stderr (ws_cli_fail). */
+#define WS_CLI_GO_ON (-1)
+int ws_cli_parse(const ws_command_spec *spec, int argc, char **argv, const char **positional,
+                 int *npositional, ws_status *st);
 
 /* The value an option holds now (after parsing, or its default) as text:
  * "yes"/"no" for a flag, "%g" numbers (17 digits when 6 do not give the
  * value back), "inf", the string or "" for none, a list as "1 0.5 2". */
 void ws_arg_value(const ws_arg *a, char *buf, size_t size);
-
-/* Prints the usage and every option of spec to stdout. */
-void ws_args_usage(const ws_command_spec *spec);
 
 /* Reports a failed command: "wiresketch: MSG" on stderr; returns the exit code. */
 int ws_cli_fail(const ws_status *st);

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_bench.h"
 #include "cli/cli_loss.h"
 #include "cli/commands.h"
@@ -115,6 +116,27 @@ static void free_ctx(ws_cli_bench *ctx) {
     ws_curves_free(&ctx->sketch);
 }
 
+/* The results object with its "machine" entry, which the tables (unless
+ * json) begin with as a line; NULL (WS_ENOMEM) when it cannot be made. */
+static cJSON *results_start(int json, ws_status *st) {
+    cJSON *out = cJSON_CreateObject(), *m = machine();
+    /* the line below reads these two fields back: without them there is no result to fill */
+    if (!out || !cJSON_GetObjectItem(m, "cpu") || !cJSON_GetObjectItem(m, "load_average") ||
+        !cJSON_AddItemToObject(out, "machine", m)) {
+        cJSON_Delete(out);
+        cJSON_Delete(m);
+        ws_fail(st, WS_ENOMEM, "bench: out of memory building the results");
+        return NULL;
+    }
+    if (!json)
+        printf("machine: %s, %d cores, %d threads; %s; kernels %s (OpenBLAS chose %s: %s); load average "
+               "%.2f at the start\n",
+               cJSON_GetObjectItem(m, "cpu")->valuestring, omp_get_num_procs(), ws_runtime_threads(),
+               openblas_get_config(), openblas_get_corename(), ws_runtime_kernels()->before,
+               ws_runtime_kernels()->why, cJSON_GetObjectItem(m, "load_average")->valuedouble);
+    return out;
+}
+
 int cmd_bench(int argc, char **argv) {
     ws_cli_bench ctx;
     memset(&ctx, 0, sizeof ctx);
@@ -128,7 +150,7 @@ int cmd_bench(int argc, char **argv) {
     const char *precision = "auto";
     const ws_arg args[] = {
         {"--json", WS_ARG_FLAG, &ctx.json, 0, "one JSON object instead of tables"},
-        {"--threads", WS_ARG_INT, &ctx.threads, 0, "threads, 0 = one per core [0]"},
+        WS_ROW_THREADS(&ctx.threads),
         {"--rounds", WS_ARG_INT, &ctx.rounds, 0, "timed rounds; the best counts [3]"},
         {"--batch", WS_ARG_INT, &ctx.batch, 0, "clip: images per pass [5, a default step's]"},
         {"--scene", WS_ARG_STRING, &ctx.scene_dir, 0, "scene of splat, step, approx, memory, bank [../shared/scenes/rose]"},
@@ -137,24 +159,21 @@ int cmd_bench(int argc, char **argv) {
          "random weights as f32 (tools/make_random_weights.py) [weights/random-f32.bin]"},
         {"--weights-f16", WS_ARG_STRING, &ctx.weights_f16, 0, "the same as f16 [weights/random-f16.bin]"},
         {"--aug-bank", WS_ARG_INT, &ctx.aug_bank, 0, "approx and bank: transforms per view of the bank [8]"},
-        {"--precision", WS_ARG_STRING, &precision, 0,
-         "CLIP's weight GEMMs in the step part and clip's second row: fp32, bf16 or auto (bf16 where the CPU "
-         "has AVX512_BF16) [auto]"},
+        WS_ROW_PRECISION(&precision),
     };
     const ws_command_spec spec = {
         "bench [clip|splat|step|approx|memory|bank] [options]",
-        "Speed against the hardware's floor and error against run time; every part without PART.",
-        args, sizeof args / sizeof args[0], 0, 1};
+        "Speed against the hardware's floor and error against run time; every part without PART.\n"
+        "--precision applies to the step part and clip's second row.",
+        args, sizeof args / sizeof args[0], 0, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
     ws_status st;
-    ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) {
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done == 0) { /* --help: the usage was printed, the parts follow */
         printf("\nparts:\n");
         for (int i = 0; i < NPARTS; i++) printf("  %-8s %s\n", parts[i].name, parts[i].summary);
-        return 0;
     }
+    if (done != WS_CLI_GO_ON) return done;
     int only = -1;
     for (int i = 0; npos && i < NPARTS; i++)
         if (!strcmp(pos[0], parts[i].name)) only = i;
@@ -169,21 +188,8 @@ int cmd_bench(int argc, char **argv) {
     }
     if (ws_cli_choose_precision(precision, &ctx.precision, &st) || ws_runtime_init(ctx.threads, &st))
         return ws_cli_fail(&st);
-    cJSON *out = cJSON_CreateObject(), *m = machine();
-    /* the header below reads these two fields back: without them there is no result to fill */
-    if (!out || !cJSON_GetObjectItem(m, "cpu") || !cJSON_GetObjectItem(m, "load_average") ||
-        !cJSON_AddItemToObject(out, "machine", m)) {
-        cJSON_Delete(out);
-        cJSON_Delete(m);
-        ws_fail(&st, WS_ENOMEM, "bench: out of memory building the results");
-        return ws_cli_fail(&st);
-    }
-    if (!ctx.json)
-        printf("machine: %s, %d cores, %d threads; %s; kernels %s (OpenBLAS chose %s: %s); load average "
-               "%.2f at the start\n",
-               cJSON_GetObjectItem(m, "cpu")->valuestring, omp_get_num_procs(), ws_runtime_threads(),
-               openblas_get_config(), openblas_get_corename(), ws_runtime_kernels()->before,
-               ws_runtime_kernels()->why, cJSON_GetObjectItem(m, "load_average")->valuedouble);
+    cJSON *out = results_start(ctx.json, &st);
+    if (!out) return ws_cli_fail(&st);
     int rc = WS_OK;
     for (int i = 0; i < NPARTS && !rc; i++)
         if (only < 0 || only == i) rc = parts[i].run(&ctx, out, &st);

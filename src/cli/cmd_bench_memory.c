@@ -9,12 +9,13 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "base/paths.h"
 #include "cli/cli_bench.h"
 
 /* Runs `exe fit scene --out dir/fit ...` with weights; *kb its peak RSS. */
 static int child_fit(const ws_cli_bench *ctx, const char *weights, const char *dir, long *kb,
                      ws_status *st) {
-    char out[300], log[300];
+    char out[WS_PATH_MAX], log[WS_PATH_MAX];
     snprintf(out, sizeof out, "%s/fit", dir);
     snprintf(log, sizeof log, "%s/stderr.txt", dir);
     char *argv[] = {(char *)ctx->exe, "fit", (char *)ctx->scene_dir, "--out", out, "--weights",

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_view.h"
 #include "base/outfile.h"
@@ -45,13 +46,35 @@ static void print_table(const ws_scene *scene, const ws_check_report *r) {
     }
 }
 
+/* Where scene_dir has a ground-truth point cloud: the table of how much
+ * of each view's silhouette it covers, then its verdict (a warning on
+ * stderr where it misses a part; on stdout too unless both are one
+ * terminal). */
+static int print_coverage(const ws_scene *scene, ws_view_targets *targets, const char *scene_dir, int one_terminal,
+                          ws_status *st) {
+    char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
+    ws_scene_ground_truth(scene_dir, gt_points, gt_curves);
+    ws_gt_coverage cov;
+    if (!gt_points[0]) return WS_OK;
+    if (ws_scene_gt_coverage(scene, targets, gt_points, gt_curves, &cov, st)) return st->code;
+    printf("\n");
+    ws_cli_gt_coverage_table(stdout, scene, &cov);
+    if (cov.flagged) {
+        if (!one_terminal) printf("%s\n", cov.line);
+        fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
+    } else {
+        printf("%s: the ground truth covers the silhouettes\n", gt_points);
+    }
+    return WS_OK;
+}
+
 int cmd_check(int argc, char **argv) {
     const char *fixed_dir = NULL, *images = NULL;
     int size = 224, resolution = WS_CHECK_RESOLUTION;
     const ws_arg args[] = {
-        {"--size", WS_ARG_INT, &size, 0, "working resolution in pixels, square [224]"},
+        WS_ROW_SIZE(&size),
         {"--resolution", WS_ARG_INT, &resolution, 0, "hull voxels along its longest side [64]"},
-        {"--images", WS_ARG_STRING, &images, 0, "a COLMAP scene's images folder [SCENE/images]"},
+        WS_ROW_IMAGES(&images),
         {"--write-fixed", WS_ARG_STRING, &fixed_dir, 0,
          "write a corrected copy of the scene here when the cause is found [none]"},
     };
@@ -59,13 +82,11 @@ int cmd_check(int argc, char **argv) {
         "check SCENE [options]",
         "Check that every view's silhouette agrees with the visual hull of the other views of its split, and\n"
         "the views of the other splits with the hull of the split with the most views (column \"vs train\").",
-        args, sizeof args / sizeof args[0], 1, 1};
+        args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
     ws_status st;
-    ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (ws_cli_check_size(size, &st)) return ws_cli_fail(&st);
     if (resolution < 8 || resolution > 512) {
         ws_fail(&st, WS_EUSAGE, "--resolution: %d is not in [8, 512]", resolution);
@@ -104,22 +125,8 @@ int cmd_check(int argc, char **argv) {
         if (!one_terminal) printf("%s\n", r.line);
         fprintf(stderr, "wiresketch: %s\n", r.line);
     }
-    char gt_points[WS_PATH_MAX], gt_curves[WS_PATH_MAX];
-    ws_scene_ground_truth(pos[0], gt_points, gt_curves);
-    ws_gt_coverage cov;
-    if (r.no_silhouette) gt_points[0] = 0; /* it measures silhouettes */
-    if (gt_points[0] && ws_scene_gt_coverage(&scene, targets, gt_points, gt_curves, &cov, &st)) {
+    if (!r.no_silhouette && print_coverage(&scene, targets, pos[0], one_terminal, &st)) /* it measures silhouettes */
         code = ws_cli_fail(&st);
-    } else if (gt_points[0]) {
-        printf("\n");
-        ws_cli_gt_coverage_table(stdout, &scene, &cov);
-        if (cov.flagged) {
-            if (!one_terminal) printf("%s\n", cov.line);
-            fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
-        } else {
-            printf("%s: the ground truth covers the silhouettes\n", gt_points);
-        }
-    }
     if (!r.consistent && fixed_dir) {
         if (ws_check_write_fixed(&scene, &r, fixed_dir, &st))
             code = ws_cli_fail(&st);

@@ -57,19 +57,22 @@ int cmd_embed(int argc, char **argv) {
     const ws_command_spec spec = {
         "embed --weights FILE IMAGE.png...",
         "Print the CLIP embedding of each image as a JSON array, one line per image.",
-        args, sizeof args / sizeof args[0], 1, 1 << 20};
+        args, sizeof args / sizeof args[0], 1, 1 << 20, NULL, 0};
     int argc_max = argc > 0 ? argc : 1;
     const char **pos = malloc((size_t)argc_max * sizeof *pos);
-    int npos, help;
     ws_status st;
     ws_status_clear(&st);
-    clip_model *m = NULL;
     if (!pos) {
         ws_fail(&st, WS_ENOMEM, "out of memory for the argument list");
-    } else if (!ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st) && !help &&
-               !ws_cli_require(weights, "--weights", &st) && !clip_model_load(&m, weights, &st)) {
-        embed_files(m, pos, npos, &st);
+        return ws_cli_fail(&st);
     }
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) {
+        free(pos);
+        return done;
+    }
+    clip_model *m = NULL;
+    if (!ws_cli_require(weights, "--weights", &st) && !clip_model_load(&m, weights, &st)) embed_files(m, pos, npos, &st);
     clip_model_free(m);
     free(pos);
     return st.code ? ws_cli_fail(&st) : 0;

@@ -20,6 +20,7 @@
 #include "cli/args.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_loss.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "io/pointcloud.h"
@@ -46,6 +47,88 @@ static int surface_by_curve(const char *gt_points, const ws_gaussians *g, int n_
     if (!rc) rc = ws_surface_distance_by_curve(&gt, g, n_curves, *per, st);
     ws_surface_gt_free(&gt);
     ws_pointcloud_free(&pc);
+    return rc;
+}
+
+/* What eval measured, its one JSON object; NULL for what it did not. */
+typedef struct {
+    const char *split_name;
+    int views, curves, gaussians;
+    const char *loss_kind; /* NULL: no loss */
+    double loss;
+    const ws_quality *q;
+    const ws_surface_curve *per; /* per curve (--per-curve) */
+    const ws_drawing_score *drawing, *drawing_curves;
+    const ws_gt_coverage *cov;
+} eval_result;
+
+static void print_result(const eval_result *r) {
+    const ws_quality *q = r->q;
+    printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
+           "\"loss_kind\": \"%s\"",
+           r->split_name, r->views, r->curves, r->gaussians, r->loss_kind ? r->loss_kind : "none");
+    if (r->loss_kind) print_number("loss", r->loss);
+    if (q->have_surface) {
+        print_number("surface_mean", q->surface.mean);
+        print_number("surface_p90", q->surface.p90);
+        print_number("surface_precision", q->surface_strays.precision);
+        printf(", \"surface_stray_curves\": %d", q->surface_strays.stray_curves);
+        if (r->per) {
+            printf(", \"surface_curves\": [");
+            for (int ci = 0; ci < r->curves; ci++) {
+                printf("%s{\"gaussians\": %d", ci ? ", " : "", r->per[ci].n);
+                print_number("mean", r->per[ci].mean);
+                print_number("adds", r->per[ci].adds);
+                printf(", \"beyond_p90\": %d}", r->per[ci].beyond_p90);
+            }
+            printf("]");
+        }
+    }
+    if (q->have_curves) {
+        print_number("chamfer", q->curves.chamfer);
+        print_number("precision", q->curves.precision);
+        print_number("recall", q->curves.recall);
+        print_number("fscore", q->curves.fscore);
+        print_number("gaussian_precision", q->curve_strays.precision);
+        printf(", \"stray_curves\": %d", q->curve_strays.stray_curves);
+        printf(", ");
+        ws_line_metrics_json(stdout, &q->lines);
+    }
+    if (r->drawing) {
+        printf(", ");
+        ws_drawing_score_json(stdout, "drawing", r->drawing);
+        printf(", ");
+        ws_drawing_score_json(stdout, "drawing_curves", r->drawing_curves);
+    }
+    if (r->cov) {
+        printf(", ");
+        ws_gt_coverage_json(stdout, r->cov);
+    }
+    printf("}\n");
+}
+
+/* The drawing scores of the curves against split `split`'s reference
+ * lines in lines_dir: *drawing that of the drawing a user gets, the curves
+ * beside the hull's outline (the curves alone, with a warning, where the
+ * silhouettes carve no hull), *alone that of the curves alone. */
+static int score_drawings(const ws_scene *scene, int split, const ws_curves *curves, const char *curves_path,
+                          const char *lines_dir, ws_drawing_score *drawing, ws_drawing_score *alone, ws_status *st) {
+    if (curves->n == 0)
+        return ws_fail(st, WS_EINPUT, "%s: no curves to score against the reference lines", curves_path);
+    ws_drawing_hull dh;
+    int rc = ws_drawing_hull_make(&dh, scene, st), have_hull = rc == WS_OK;
+    if (rc == WS_EINPUT) {
+        fprintf(stderr, "wiresketch: warning: %s; the drawing is the curves alone\n", st->msg);
+        ws_status_clear(st);
+        rc = WS_OK;
+    }
+    if (!rc)
+        rc = ws_drawing_score_split(&scene->split[split], scene->width, scene->height, curves, lines_dir, NULL, NULL,
+                                    alone, st);
+    if (!rc)
+        rc = ws_drawing_score_split(&scene->split[split], scene->width, scene->height, curves, lines_dir,
+                                    have_hull ? ws_drawing_hull_render : NULL, &dh, drawing, st);
+    if (have_hull) ws_drawing_hull_free(&dh);
     return rc;
 }
 
@@ -79,26 +162,8 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     ws_drawing_score drawing, drawing_curves;
-    ws_drawing_hull dh;
-    int have_hull = 0;
-    if (!rc && have_lines && curves.n == 0)
-        rc = ws_fail(st, WS_EINPUT, "%s: no curves to score against the reference lines", curves_path);
-    if (!rc && have_lines) {
-        /* a scene whose silhouettes carve no hull is drawn by its curves alone */
-        rc = ws_drawing_hull_make(&dh, &scene, st);
-        have_hull = rc == WS_OK;
-        if (rc == WS_EINPUT) {
-            fprintf(stderr, "wiresketch: warning: %s; the drawing is the curves alone\n", st->msg);
-            rc = WS_OK;
-        }
-    }
     if (!rc && have_lines)
-        rc = ws_drawing_score_split(&scene.split[split], scene.width, scene.height, &curves, lines_dir, NULL, NULL,
-                                    &drawing_curves, st);
-    if (!rc && have_lines)
-        rc = ws_drawing_score_split(&scene.split[split], scene.width, scene.height, &curves, lines_dir,
-                                    have_hull ? ws_drawing_hull_render : NULL, &dh, &drawing, st);
-    if (have_hull) ws_drawing_hull_free(&dh);
+        rc = score_drawings(&scene, split, &curves, curves_path, lines_dir, &drawing, &drawing_curves, st);
     ws_surface_curve *per = NULL;
     if (!rc && per_curve) rc = surface_by_curve(gt_points, &g, curves.n, &per, st);
     /* The coverage needs the photos, which a measure of the cameras alone
@@ -118,47 +183,10 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && coverage) rc = ws_view_targets_create(&targets, seen, st);
     if (!rc && coverage) rc = ws_scene_gt_coverage(seen, targets, gt_points, gt_curves, &cov, st);
     if (!rc) {
-        printf("{\"split\": \"%s\", \"views\": %d, \"curves\": %d, \"gaussians\": %d, "
-               "\"loss_kind\": \"%s\"",
-               split_name, scene.split[split].n, curves.n, g.n, lo ? loss_name : "none");
-        if (lo) print_number("loss", mean);
-        if (q.have_surface) {
-            print_number("surface_mean", q.surface.mean);
-            print_number("surface_p90", q.surface.p90);
-            print_number("surface_precision", q.surface_strays.precision);
-            printf(", \"surface_stray_curves\": %d", q.surface_strays.stray_curves);
-            if (per) {
-                printf(", \"surface_curves\": [");
-                for (int ci = 0; ci < curves.n; ci++) {
-                    printf("%s{\"gaussians\": %d", ci ? ", " : "", per[ci].n);
-                    print_number("mean", per[ci].mean);
-                    print_number("adds", per[ci].adds);
-                    printf(", \"beyond_p90\": %d}", per[ci].beyond_p90);
-                }
-                printf("]");
-            }
-        }
-        if (q.have_curves) {
-            print_number("chamfer", q.curves.chamfer);
-            print_number("precision", q.curves.precision);
-            print_number("recall", q.curves.recall);
-            print_number("fscore", q.curves.fscore);
-            print_number("gaussian_precision", q.curve_strays.precision);
-            printf(", \"stray_curves\": %d", q.curve_strays.stray_curves);
-            printf(", ");
-            ws_line_metrics_json(stdout, &q.lines);
-        }
-        if (have_lines) {
-            printf(", ");
-            ws_drawing_score_json(stdout, "drawing", &drawing);
-            printf(", ");
-            ws_drawing_score_json(stdout, "drawing_curves", &drawing_curves);
-        }
-        if (coverage) {
-            printf(", ");
-            ws_gt_coverage_json(stdout, &cov);
-        }
-        printf("}\n");
+        const eval_result r = {split_name, scene.split[split].n, curves.n, g.n, lo ? loss_name : NULL, mean, &q, per,
+                               have_lines ? &drawing : NULL, have_lines ? &drawing_curves : NULL,
+                               coverage ? &cov : NULL};
+        print_result(&r);
         if (coverage && cov.flagged) fprintf(stderr, "wiresketch: warning: %s\n", cov.line);
     }
     free(per);
@@ -172,8 +200,6 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
 }
 
 int cmd_eval(int argc, char **argv) {
-    ws_status st;
-    ws_status_clear(&st);
     const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
     const char *edge_maps = NULL, *geometric = "blocks", *hidden = NULL;
     const char *gt_points = NULL, *gt_curves = NULL;
@@ -185,34 +211,31 @@ int cmd_eval(int argc, char **argv) {
     ws_splat_options so;
     ws_splat_options_default(&so);
     const ws_arg args[] = {
-        {"--curves", WS_ARG_STRING, &curves_path, 0, "the sketch (curve file) [required]"},
+        WS_ROW_CURVES(&curves_path),
         {"--gt", WS_ARG_STRING, &gt_points, 0, "ground-truth point cloud (PLY) [SCENE/gt_points.ply if present]"},
-        {"--gt-curves", WS_ARG_STRING, &gt_curves, 0, "ground-truth curves [SCENE/gt_curves.json if present]"},
-        {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
-        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
-        {"--edge-maps", WS_ARG_STRING, &edge_maps, 0,
-         "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0,
-         WS_CLI_LOSS_HELP("none, clip, edges, clip+edges or l2")},
-        {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
-        {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
-         "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
-        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
-        {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
-        {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
-        {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
-        {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = all cores [0]"},
+        WS_ROW_GT_CURVES(&gt_curves),
+        WS_ROW_SPLIT(&split_name),
+        WS_ROW_BACKGROUND(&background),
+        WS_ROW_EDGE_MAPS(&edge_maps),
+        WS_ROW_LOSS_OR_NONE(&loss_name),
+        WS_ROW_WEIGHTS(&lo.weights_path),
+        WS_ROW_LAYER_WEIGHTS(&layers),
+        WS_ROW_GEOMETRIC(&geometric),
+        WS_ROW_HIDDEN(&hidden),
+        WS_ROW_EDGES_WEIGHT(&edges_weight),
+        WS_ROW_SIZE(&size),
+        WS_ROW_CUTOFF(&so.cutoff),
+        WS_ROW_THREADS(&threads),
         {"--per-curve", WS_ARG_FLAG, &per_curve, 0,
          "also surface_curves: per curve, its Gaussians, their mean distance, what they add to surface_mean and how many lie beyond surface_p90"},
     };
     ws_command_spec spec = {"eval SCENE --curves C.json [--gt POINTS.ply] [--gt-curves C.json] [options]",
                             "test loss and distance to the ground truth of a sketch, as JSON", args,
-                            (int)(sizeof args / sizeof args[0]), 1, 1};
+                            (int)(sizeof args / sizeof args[0]), 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    ws_status st;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (!curves_path) {
         ws_fail(&st, WS_EUSAGE, "--curves: required");
         return ws_cli_fail(&st);

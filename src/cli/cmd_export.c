@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "render/curves.h"
@@ -41,24 +42,22 @@ int cmd_export(int argc, char **argv) {
         {"--ply", WS_ARG_STRING, &ply, 0, "write the curves as a PLY of vertices and edges"},
         {"--svg", WS_ARG_STRING, &svg, 0, "write the sketch seen from a view as SVG, a path of cubic Beziers per curve"},
         {"--scene", WS_ARG_STRING, &scene_dir, 0, "scene directory, for --svg's camera"},
-        {"--split", WS_ARG_STRING, &split_name, 0, "split of --svg's view [test]"},
-        {"--view", WS_ARG_INT, &view, 0, "index of --svg's view in the split [0]"},
-        {"--size", WS_ARG_INT, &size, 0, "--svg's image size in pixels, square [224]"},
+        WS_ROW_SPLIT(&split_name),
+        WS_ROW_VIEW(&view),
+        WS_ROW_SIZE(&size),
         {"--hidden-lines", WS_ARG_STRING, &hidden, 0,
-         "--svg: hull (leave out what the training views' visual hull hides, as a fit with hidden lines "
-         "draws) or none [none]"},
-        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP " (--hidden-lines hull)"},
+         "--svg: hull (leave out what the training views' visual hull, made on --background, hides, as a fit "
+         "with hidden lines draws) or none [none]"},
+        WS_ROW_BACKGROUND(&background),
     };
     const ws_command_spec spec = {
         "export CURVES.json [--obj FILE] [--ply FILE] [--svg FILE --scene DIR [--split S --view K]]",
         "Write a sketch as OBJ or PLY polylines, or as an SVG drawing of Bezier paths from one camera.",
-        args, sizeof args / sizeof args[0], 1, 1};
+        args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
     ws_status st;
-    ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (!obj && !ply && !svg) {
         ws_fail(&st, WS_EUSAGE, "nothing to do: give --obj, --ply or --svg (see --help)");
         return ws_cli_fail(&st);

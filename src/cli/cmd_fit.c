@@ -10,6 +10,7 @@
 #include "cli/args.h"
 #include "fit/checkpoint.h"
 #include "cli/cli_loss.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "cli/run_record.h"
@@ -115,17 +116,17 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
 /* The defaults of the options a loss wants otherwise, where the command
  * line left them unset (NAN, -1): the original's for CLIP (no silhouette
  * term); for the line loss alone (`--loss edges`) those measured on the
- * solid scenes (docs/RESULTS.md, "Where it stands now"): thin strokes, long
- * initial strokes (0.15: at 0.3 a hull-start stroke spans two turns of a
- * coil, docs/RESULTS.md "Where it stands now"), a small step, and 5 steps per batch
- * over 24 epochs (the 4 x 30 of before in as many steps: 30 steps on one
- * view fit each view's own errors, such as the one line its line target
- * draws where two wires of the flat clip merge, and moved whole wires off
- * their place; docs/RESULTS.md "Where it stands now"), validated every 60 batches
- * (every 300 steps, as before: every 10 of 5 steps cost 15% more time); and
- * the silhouette term at
- * weight 3, measured on the shared rose and duck and the synthetic scenes
- * (docs/RESULTS.md, "Hull against random initialisation, and the silhouette term"). */
+ * solid scenes (docs/RESULTS.md, "Where it stands now"): thin strokes,
+ * initial strokes long enough to span an edge but not two turns of a coil
+ * (docs/RESULTS.md, "Initial strokes 0.15 long, not 0.3"), a small step,
+ * and few steps per batch over more epochs (many steps in a row on one
+ * view fit that view's own errors, such as the one line its line target
+ * draws where two wires of the flat clip merge, and move whole wires off
+ * their place), validated every 60 batches of 5 steps (validation is
+ * costly; docs/USAGE.md, `fit`); and the silhouette term at weight 3,
+ * measured on the shared rose and duck and the synthetic scenes
+ * (docs/RESULTS.md, "Hull against random initialisation, and the
+ * silhouette term"). */
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
     if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;
@@ -138,6 +139,66 @@ static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     if (opt->eval_every == -1) opt->eval_every = lines ? 60 : original->eval_every;
 }
 
+/* The headings of `fit --help`; the table in parse_fit keeps its order,
+ * which the report's settings and config.json follow. */
+static const char *const input_options[] = {"--resume", "--config", "--size", "--background", "--edge-maps",
+                                            "--images", "--no-check", NULL};
+static const char *const loss_options[] = {
+    "--loss",           "--weights",           "--edges-weight",  "--silhouette-weight", "--clip-weight",
+    "--clip-conv-loss", "--clip-fc-loss-weight", "--clip-conv-layer-weights", "--clip-geometric",
+    "--hidden-lines",   "--num-aug",           "--aug-bank",      NULL};
+static const char *const curve_options[] = {"--n-curves", "--init", "--thickness", "--radius",
+                                            "--length",   "--overlap", "--cutoff", NULL};
+static const char *const schedule_options[] = {"--batch-size", "--epochs",    "--inner-steps",   "--learning-rate",
+                                               "--seed",       "--eval-every", "--max-steps",    "--respawn-every",
+                                               NULL};
+static const char *const output_options[] = {"--out", "--overwrite", "--checkpoint-minutes", "--snapshot-every",
+                                             "--quiet", NULL};
+static const char *const performance_options[] = {"--threads", "--precision", "--clip-batch", NULL};
+static const ws_arg_group fit_groups[] = {
+    {"input", input_options},       {"loss", loss_options},     {"curve", curve_options},
+    {"schedule", schedule_options}, {"output", output_options}, {"performance", performance_options},
+};
+
+/* The words of a fit's command line that are no field of ws_fit_options:
+ * names turned into options once parsed (apply_words), and what the
+ * command does (--config, --overwrite). */
+typedef struct {
+    const char *loss, *background, *geometric, *hidden, *precision, *config;
+    double edges_weight;
+    int seed, overwrite;
+    ws_arg_list layers;
+} fit_words;
+
+/* A new fit's words into opt, checked, and the loss's own defaults where
+ * the command line left them unset (original: the options before any
+ * was); settings (or NULL) receives the report's table, made from the
+ * option table args once the words hold the values in effect. */
+static int apply_words(fit_words *w, const ws_fit_options *original, const ws_arg *args, int nargs,
+                       ws_fit_options *opt, fit_settings *settings, ws_status *st) {
+    opt->seed = (uint64_t)(unsigned)w->seed;
+    const char *loss_given = w->loss;
+    w->loss = ws_cli_auto_loss(w->loss, opt->loss.weights_path);
+    if (ws_cli_check_size(opt->size, st) ||
+        ws_cli_background(w->background, opt->background, &opt->background_auto, st) ||
+        ws_cli_choose_loss(w->loss, w->edges_weight, &w->layers, w->geometric, w->hidden, &opt->loss, st) ||
+        ws_cli_choose_precision(w->precision, &opt->loss.precision, st) ||
+        (loss_defaults(opt, original), ws_fit_options_check(opt, st)))
+        return st->code;
+    if (settings) {
+        /* the layer weights in effect, also when the defaults are */
+        w->layers.n = opt->loss.n_layer_weights;
+        w->hidden = ws_hidden_mode_names[opt->loss.hidden_lines];
+        memcpy(w->layers.v, opt->loss.layer_weights, sizeof(double) * w->layers.n);
+        settings->loss = w->loss;
+        settings->loss_given = loss_given;
+        fill_settings(args, nargs, settings);
+        opt->settings = settings->items;
+        opt->n_settings = settings->n;
+    }
+    return WS_OK;
+}
+
 /* Parses the fit's own arguments (those of a new run, or those a checkpoint
  * stored) into opt; settings (or NULL) receives the report's table. */
 static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **resume_dir, int *help,
@@ -147,23 +208,19 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     /* unset: loss_defaults */
     opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
     opt->epochs = opt->inner_steps = opt->eval_every = -1;
-    const char *loss_name = "auto", *background = "black", *geometric = "blocks", *hidden = NULL;
-    const char *precision = "auto";
-    double edges_weight = 1.0;
-    int seed = 0, overwrite = 0;
-    ws_arg_list layers = {0};
-    const char *config = NULL;
+    fit_words w = {.loss = "auto", .background = "black", .geometric = "blocks", .precision = "auto",
+                   .edges_weight = 1.0};
     *resume_dir = NULL;
     opt->out_dir = "out";
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &opt->out_dir, 0, "output directory [out]"},
         {"--resume", WS_ARG_STRING, resume_dir, 0, "continue the fit whose output directory is DIR"},
-        {"--overwrite", WS_ARG_FLAG, &overwrite, 0, "replace another run's outputs in --out (refused otherwise)"},
-        {"--config", WS_ARG_STRING, &config, 0,
+        {"--overwrite", WS_ARG_FLAG, &w.overwrite, 0, "replace another run's outputs in --out (refused otherwise)"},
+        {"--config", WS_ARG_STRING, &w.config, 0,
          "run the fit that FILE (a run's config.json) records again; options after it override"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, WS_CLI_LOSS_HELP("clip, edges, clip+edges, sobel or l2")},
-        {"--weights", WS_ARG_STRING, &opt->loss.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
-        {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
+        WS_ROW_LOSS(&w.loss),
+        WS_ROW_WEIGHTS(&opt->loss.weights_path),
+        WS_ROW_EDGES_WEIGHT(&w.edges_weight),
         {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
          "weight of the silhouette term over the training views [0; 3 with --loss edges]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
@@ -176,27 +233,24 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02; 0.15 with --loss edges]"},
         {"--overlap", WS_ARG_DOUBLE, &opt->overlap, 0, "Gaussian overlap [0.6]"},
         {"--clip-weight", WS_ARG_DOUBLE, &opt->loss.global_weight, 0, "global term weight [1]"},
-        {"--clip-conv-loss", WS_ARG_DOUBLE, &opt->loss.conv_weight, 0, "geometric term weight, 0 = off [1]"},
-        {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &opt->loss.fc_weight, 0, "fc term weight [0.1]"},
-        {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
-         "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
-        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
+        WS_ROW_CONV_WEIGHT(&opt->loss.conv_weight),
+        WS_ROW_FC_WEIGHT(&opt->loss.fc_weight),
+        WS_ROW_LAYER_WEIGHTS(&w.layers),
+        WS_ROW_GEOMETRIC(&w.geometric),
+        WS_ROW_HIDDEN(&w.hidden),
         {"--num-aug", WS_ARG_INT, &opt->loss.num_aug, 0, "augmentations per view and step [4]"},
         {"--aug-bank", WS_ARG_INT, &opt->loss.aug_bank, 0,
          "N fixed transforms per view, photo features cached; 0 = fresh every step [0]"},
-        {"--precision", WS_ARG_STRING, &precision, 0, WS_CLI_PRECISION_HELP},
+        WS_ROW_PRECISION(&w.precision),
         {"--clip-batch", WS_ARG_INT, &opt->loss.pass_items, 0,
          "stroke images per CLIP pass, the unit of work of an MPI rank; 0 = 1 + num-aug [0]"},
-        {"--size", WS_ARG_INT, &opt->size, 0, "working resolution; the model's with CLIP [224]"},
-        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
-        {"--edge-maps", WS_ARG_STRING, &opt->edge_maps, 0,
-         "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"},
-        {"--images", WS_ARG_STRING, &opt->images, 0,
-         "a COLMAP scene's images folder [SCENE/images]"},
-        {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
-        {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
-        {"--threads", WS_ARG_INT, &opt->threads, 0, "threads, 0 = all cores [0]"},
+        WS_ROW_SIZE(&opt->size),
+        WS_ROW_BACKGROUND(&w.background),
+        WS_ROW_EDGE_MAPS(&opt->edge_maps),
+        WS_ROW_IMAGES(&opt->images),
+        WS_ROW_CUTOFF(&opt->cutoff),
+        {"--seed", WS_ARG_INT, &w.seed, 0, "random seed [0]"},
+        WS_ROW_THREADS(&opt->threads),
         {"--eval-every", WS_ARG_INT, &opt->eval_every, 0, "validate every N batches, 0 = never [10; 60 with --loss edges]"},
         {"--max-steps", WS_ARG_INT, &opt->max_steps, 0, "stop after N steps in all, 0 = schedule [0]"},
         {"--checkpoint-minutes", WS_ARG_DOUBLE, &opt->checkpoint_minutes, 0, "checkpoint interval [5]"},
@@ -212,38 +266,18 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const ws_command_spec spec = {
         "fit SCENE [--out DIR] [options] | fit --resume DIR [options that override]",
         "fit 3D curves to a multi-view scene (docs/METHOD.md sections 5-7)", args,
-        (int)(sizeof args / sizeof args[0]), 0, 1};
+        (int)(sizeof args / sizeof args[0]), 0, 1, fit_groups, (int)(sizeof fit_groups / sizeof fit_groups[0])};
     const char *pos[1];
     int npos;
     if (ws_args_parse(&spec, argc, argv, pos, &npos, help, st) || *help) return st->code;
     if (settings) {
-        settings->config = config;
-        settings->overwrite = overwrite;
+        settings->config = w.config;
+        settings->overwrite = w.overwrite;
     }
-    if (*resume_dir || config) return WS_OK;
+    if (*resume_dir || w.config) return WS_OK;
     if (npos != 1) return ws_fail(st, WS_EUSAGE, "fit: missing SCENE (usage: wiresketch %s)", spec.usage);
     opt->scene_dir = pos[0];
-    opt->seed = (uint64_t)(unsigned)seed;
-    const char *loss_given = loss_name;
-    loss_name = ws_cli_auto_loss(loss_name, opt->loss.weights_path);
-    if (ws_cli_check_size(opt->size, st) ||
-        ws_cli_background(background, opt->background, &opt->background_auto, st) ||
-        ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &opt->loss, st) ||
-        ws_cli_choose_precision(precision, &opt->loss.precision, st) ||
-        (loss_defaults(opt, &original), ws_fit_options_check(opt, st)))
-        return st->code;
-    if (settings) {
-        /* the layer weights in effect, also when the defaults are */
-        layers.n = opt->loss.n_layer_weights;
-        hidden = ws_hidden_mode_names[opt->loss.hidden_lines];
-        memcpy(layers.v, opt->loss.layer_weights, sizeof(double) * layers.n);
-        settings->loss = loss_name;
-        settings->loss_given = loss_given;
-        fill_settings(args, (int)(sizeof args / sizeof args[0]), settings);
-        opt->settings = settings->items;
-        opt->n_settings = settings->n;
-    }
-    return WS_OK;
+    return apply_words(&w, &original, args, spec.nargs, opt, settings, st);
 }
 
 /* A checkpoint's stored arguments are input like the command line: they

@@ -9,6 +9,7 @@
 #include <string.h>
 #include "base/json_number.h"
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
@@ -60,34 +61,31 @@ int cmd_grad(int argc, char **argv) {
     ws_loss_options lo;
     ws_loss_options_default(&lo);
     const ws_arg args[] = {
-        {"--curves", WS_ARG_STRING, &curves_path, 0, "curve file [required]"},
-        {"--split", WS_ARG_STRING, &split_name, 0, "train, val or test [test]"},
-        {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP},
-        {"--view", WS_ARG_INT, &view, 0, "view index within the split [0]"},
-        {"--loss", WS_ARG_STRING, &loss_name, 0, WS_CLI_LOSS_HELP("l2, edges, clip or clip+edges")},
-        {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
-        {"--clip-conv-loss", WS_ARG_DOUBLE, &lo.conv_weight, 0, "geometric term weight [1]"},
-        {"--clip-conv-layer-weights", WS_ARG_DOUBLES, &layers, WS_LOSS_MAX_LAYERS,
-         "weight of block 0, 1, ... [0 0 1 1 0]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
-        {"--hidden-lines", WS_ARG_STRING, &hidden, 0, WS_CLI_HIDDEN_HELP},
-        {"--clip-fc-loss-weight", WS_ARG_DOUBLE, &lo.fc_weight, 0, "fc term weight [0.1]"},
-        {"--edges-weight", WS_ARG_DOUBLE, &edges_weight, 0, "weight of the edge loss [1]"},
-        {"--cutoff", WS_ARG_CUTOFF, &so.cutoff, 0, "Gaussian cut-off radius in sigmas [4]"},
-        {"--size", WS_ARG_INT, &size, 0, "working resolution in pixels, square; the model's with CLIP [224]"},
-        {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = one per core [0]"},
+        WS_ROW_CURVES(&curves_path),
+        WS_ROW_SPLIT(&split_name),
+        WS_ROW_BACKGROUND(&background),
+        WS_ROW_VIEW(&view),
+        WS_ROW_LOSS(&loss_name),
+        WS_ROW_WEIGHTS(&lo.weights_path),
+        WS_ROW_CONV_WEIGHT(&lo.conv_weight),
+        WS_ROW_LAYER_WEIGHTS(&layers),
+        WS_ROW_GEOMETRIC(&geometric),
+        WS_ROW_HIDDEN(&hidden),
+        WS_ROW_FC_WEIGHT(&lo.fc_weight),
+        WS_ROW_EDGES_WEIGHT(&edges_weight),
+        WS_ROW_CUTOFF(&so.cutoff),
+        WS_ROW_SIZE(&size),
+        WS_ROW_THREADS(&threads),
     };
     const ws_command_spec spec = {
         "grad SCENE --curves C.json [options]",
         "Print the loss of one view and its gradient for every control point as JSON\n"
         "(item 0 only: no augmentation, so CLIP's global term is absent).",
-        args, sizeof args / sizeof args[0], 1, 1};
+        args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
     ws_status st;
-    ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     lo.global_weight = 0; /* it compares augmented items only */
     if (ws_cli_require(curves_path, "--curves", &st) ||
         ws_cli_choose_loss(ws_cli_auto_loss(loss_name, lo.weights_path), edges_weight, &layers, geometric, hidden, &lo, &st) ||

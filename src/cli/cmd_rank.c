@@ -6,14 +6,13 @@
 #include "base/paths.h"
 #include "base/runtime.h"
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "cli/cli_loss.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "objective/ranking.h"
 
 int cmd_rank(int argc, char **argv) {
-    ws_status st;
-    ws_status_clear(&st);
     const char *split_name = "test", *loss_name = "auto", *gt_path = NULL, *edge_maps = NULL;
     const char *geometric = "blocks", *hidden_name = NULL;
     int size = 224, threads = 0;
@@ -21,25 +20,25 @@ int cmd_rank(int argc, char **argv) {
     ws_loss_options lo;
     ws_loss_options_default(&lo);
     const ws_arg args[] = {
-        {"--loss", WS_ARG_STRING, &loss_name, 0, WS_CLI_LOSS_HELP("clip, edges, clip+edges, sobel or l2")},
-        {"--weights", WS_ARG_STRING, &lo.weights_path, 0, "CLIP weight file [weights/clip-vit-b32.bin]"},
-        {"--clip-geometric", WS_ARG_STRING, &geometric, 0, WS_CLI_GEOMETRIC_HELP},
-        {"--hidden-lines", WS_ARG_STRING, &hidden_name, 0, WS_CLI_HIDDEN_HELP},
-        {"--gt-curves", WS_ARG_STRING, &gt_path, 0, "ground-truth curves [SCENE/gt_curves.json]"},
+        WS_ROW_LOSS(&loss_name),
+        WS_ROW_WEIGHTS(&lo.weights_path),
+        WS_ROW_GEOMETRIC(&geometric),
+        WS_ROW_HIDDEN(&hidden_name),
+        WS_ROW_GT_CURVES(&gt_path),
         {"--thickness", WS_ARG_DOUBLES, &thick, 16, "thicknesses, one column each [0.005 0.01 0.02 0.04]"},
-        {"--split", WS_ARG_STRING, &split_name, 0, "views to take the loss on [test]"},
-        {"--edge-maps", WS_ARG_STRING, &edge_maps, 0, "directory of the views' edge maps [none]"},
-        {"--size", WS_ARG_INT, &size, 0, "working resolution [224]"},
-        {"--threads", WS_ARG_INT, &threads, 0, "threads, 0 = all cores [0]"},
+        WS_ROW_SPLIT(&split_name),
+        WS_ROW_EDGE_MAPS(&edge_maps),
+        WS_ROW_SIZE(&size),
+        WS_ROW_THREADS(&threads),
     };
     ws_command_spec spec = {"rank SCENE [options]",
                             "the losses of the ground truth and of worse sketches (empty, a dot, dots,\n"
                             "half, shifted by 1% and 5%, plus 10 random strokes), one column per thickness",
-                            args, (int)(sizeof args / sizeof args[0]), 1, 1};
+                            args, (int)(sizeof args / sizeof args[0]), 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    ws_status st;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     int split = ws_split_index(split_name);
     if (split < 0) ws_fail(&st, WS_EUSAGE, "--split: '%s' is not train, val or test", split_name);
     for (int k = 0; k < thick.n && !st.code; k++)

@@ -5,9 +5,11 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include "base/paths.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "cli/args.h"
+#include "cli/cli_rows.h"
 #include "render/curves.h"
 #include "io/image.h"
 #include "base/outfile.h"
@@ -27,7 +29,7 @@ static int render_split(const ws_curves *curves, const ws_split *split, const ch
         goto done;
     for (int k = 0; k < split->n; k++) {
         const ws_view *v = &split->views[k];
-        char path[8192];
+        char path[WS_PATH_MAX];
         snprintf(path, sizeof path, "%s/%s.png", out_dir, v->name);
         if (ws_splat_forward(splat, &v->cam, g.mu, g.n, curves->thickness, opt, alpha, st))
             goto done;
@@ -49,10 +51,10 @@ int cmd_render(int argc, char **argv) {
     ws_splat_options_default(&opt);
     const ws_arg args[] = {
         {"--scene", WS_ARG_STRING, &scene_dir, 0, "scene directory (its cameras) [required]"},
-        {"--split", WS_ARG_STRING, &split_name, 0, "train, val or test [test]"},
+        WS_ROW_SPLIT(&split_name),
         {"--out", WS_ARG_STRING, &out_dir, 0, "output directory, created if missing [required]"},
-        {"--cutoff", WS_ARG_CUTOFF, &opt.cutoff, 0, "Gaussian cut-off radius in sigmas [4]"},
-        {"--size", WS_ARG_INT, &size, 0, "working resolution in pixels, square [224]"},
+        WS_ROW_CUTOFF(&opt.cutoff),
+        WS_ROW_SIZE(&size),
         {"--alpha", WS_ARG_FLAG, &raw_alpha, 0,
          "write the stroke alpha itself (white strokes on black) instead of black strokes on white"},
     };
@@ -60,13 +62,11 @@ int cmd_render(int argc, char **argv) {
         "render CURVES.json --scene DIR --out DIR [options]",
         "Splat a sketch into every view of a split: OUT/<view>.png, 8-bit gray, black strokes on white\n"
         "as the fit's test renders (--alpha: the alpha, white on black).",
-        args, sizeof args / sizeof args[0], 1, 1};
+        args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
     ws_status st;
-    ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (ws_cli_require(scene_dir, "--scene", &st) || ws_cli_require(out_dir, "--out", &st))
         return ws_cli_fail(&st);
     ws_curves curves = {0};

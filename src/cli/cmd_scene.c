@@ -8,6 +8,37 @@
 #include "synth/smooth.h"
 #include "synth/synth.h"
 
+/* scene's text options into opt: --background, --size N or WxH,
+ * --principal DX,DY, --layout and --lens k1,k2,p1,p2 (NULL: none). */
+static int read_words(const char *background, const char *size, const char *principal, const char *layout,
+                      const char *lens, ws_synth_options *opt, ws_status *st) {
+    if (strcmp(background, "black") && strcmp(background, "white") && strcmp(background, "room"))
+        return ws_fail(st, WS_EUSAGE, "--background: '%s' is not black, white or room", background);
+    opt->white_background = !strcmp(background, "white");
+    opt->room = !strcmp(background, "room");
+    int w, h, used = 0;
+    if (sscanf(size, "%dx%d%n", &w, &h, &used) == 2 && !size[used]) {
+        opt->width = w;
+        opt->height = h;
+    } else if (sscanf(size, "%d%n", &opt->size, &used) != 1 || size[used]) {
+        return ws_fail(st, WS_EUSAGE, "--size: '%s' is not N or WxH", size);
+    }
+    if (sscanf(principal, "%lf,%lf%n", &opt->principal[0], &opt->principal[1], &used) != 2 || principal[used] ||
+        !isfinite(opt->principal[0]) || !isfinite(opt->principal[1]))
+        return ws_fail(st, WS_EUSAGE, "--principal: '%s' is not DX,DY", principal);
+    if (strcmp(layout, "nerf") && strcmp(layout, "nerfstudio") && strcmp(layout, "colmap") &&
+        strcmp(layout, "colmap-text"))
+        return ws_fail(st, WS_EUSAGE, "--layout: '%s' is not nerf, nerfstudio, colmap or colmap-text", layout);
+    opt->nerfstudio = !strcmp(layout, "nerfstudio");
+    opt->colmap = !strcmp(layout, "colmap") ? 1 : !strcmp(layout, "colmap-text") ? 2 : 0;
+    used = 0;
+    if (lens && (sscanf(lens, "%lf,%lf,%lf,%lf%n", &opt->lens[0], &opt->lens[1], &opt->lens[2],
+                        &opt->lens[3], &used) != 4 ||
+                 lens[used] != '\0' || !isfinite(opt->lens[0] + opt->lens[1] + opt->lens[2] + opt->lens[3])))
+        return ws_fail(st, WS_EUSAGE, "--lens: '%s' is not k1,k2,p1,p2 (four numbers)", lens);
+    return WS_OK;
+}
+
 int cmd_scene(int argc, char **argv) {
     ws_synth_options opt;
     ws_synth_options_default(&opt);
@@ -50,13 +81,11 @@ int cmd_scene(int argc, char **argv) {
         "solids also DIR/gt_points.ply); smooth objects instead each test view's\n"
         "reference lines DIR/lines/test/r_K.png and r_K_parts.png (silhouette, inner\n"
         "contours, creases), which `eval` scores a sketch against.",
-        args, sizeof args / sizeof args[0], 1, 1};
+        args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
-    int npos, help;
     ws_status st;
-    ws_status_clear(&st);
-    if (ws_args_parse(&spec, argc, argv, pos, &npos, &help, &st)) return ws_cli_fail(&st);
-    if (help) return 0;
+    int npos, done = ws_cli_parse(&spec, argc, argv, pos, &npos, &st);
+    if (done != WS_CLI_GO_ON) return done;
     if (!out) {
         ws_fail(&st, WS_EUSAGE, "--out: required (see --help)");
         return ws_cli_fail(&st);
@@ -65,40 +94,7 @@ int cmd_scene(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--seed: %d is negative", seed);
         return ws_cli_fail(&st);
     }
-    if (strcmp(background, "black") && strcmp(background, "white") && strcmp(background, "room")) {
-        ws_fail(&st, WS_EUSAGE, "--background: '%s' is not black, white or room", background);
-        return ws_cli_fail(&st);
-    }
-    opt.white_background = !strcmp(background, "white");
-    opt.room = !strcmp(background, "room");
-    int w, h, used = 0;
-    if (sscanf(size, "%dx%d%n", &w, &h, &used) == 2 && !size[used]) {
-        opt.width = w;
-        opt.height = h;
-    } else if (sscanf(size, "%d%n", &opt.size, &used) != 1 || size[used]) {
-        ws_fail(&st, WS_EUSAGE, "--size: '%s' is not N or WxH", size);
-        return ws_cli_fail(&st);
-    }
-    if (sscanf(principal, "%lf,%lf%n", &opt.principal[0], &opt.principal[1], &used) != 2 || principal[used] ||
-        !isfinite(opt.principal[0]) || !isfinite(opt.principal[1])) {
-        ws_fail(&st, WS_EUSAGE, "--principal: '%s' is not DX,DY", principal);
-        return ws_cli_fail(&st);
-    }
-    if (strcmp(layout, "nerf") && strcmp(layout, "nerfstudio") && strcmp(layout, "colmap") &&
-        strcmp(layout, "colmap-text")) {
-        ws_fail(&st, WS_EUSAGE, "--layout: '%s' is not nerf, nerfstudio, colmap or colmap-text",
-                layout);
-        return ws_cli_fail(&st);
-    }
-    opt.nerfstudio = !strcmp(layout, "nerfstudio");
-    opt.colmap = !strcmp(layout, "colmap") ? 1 : !strcmp(layout, "colmap-text") ? 2 : 0;
-    used = 0;
-    if (lens && (sscanf(lens, "%lf,%lf,%lf,%lf%n", &opt.lens[0], &opt.lens[1], &opt.lens[2],
-                        &opt.lens[3], &used) != 4 ||
-                 lens[used] != '\0' || !isfinite(opt.lens[0] + opt.lens[1] + opt.lens[2] + opt.lens[3]))) {
-        ws_fail(&st, WS_EUSAGE, "--lens: '%s' is not k1,k2,p1,p2 (four numbers)", lens);
-        return ws_cli_fail(&st);
-    }
+    if (read_words(background, size, principal, layout, lens, &opt, &st)) return ws_cli_fail(&st);
     opt.seed = (uint64_t)seed;
     if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);
     printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, %s %s/%s\n", out, pos[0],

@@ -150,10 +150,20 @@ double ws_fit_time_left(const ws_fit_time *t, long from) {
     return work;
 }
 
+/* "about 40 s", "about 12 min", "about 11 h". */
+static void time_text(double seconds, char *text, size_t size) {
+    if (seconds < 90)
+        snprintf(text, size, "about %.0f s", fmax(1, seconds));
+    else if (seconds < 90 * 60)
+        snprintf(text, size, "about %.0f min", seconds / 60);
+    else
+        snprintf(text, size, "about %.0f h", seconds / 3600);
+}
+
 void ws_fit_time_announce(const ws_fit_time *t, long from, const ws_fit_options *opt, FILE *out) {
     double left = ws_fit_time_left(t, from);
     char text[64];
-    ws_fit_time_text(left, text, sizeof text);
+    time_text(left, text, sizeof text);
     fprintf(out, "fit: %ld steps, %s (%d phase%s of the schedule timed before the first step)\n",
             t->total - from, text, t->n, t->n > 1 ? "s" : "");
     if (left <= 3600) return;
@@ -167,15 +177,6 @@ void ws_fit_time_announce(const ws_fit_time *t, long from, const ws_fit_options 
             "wiresketch: warning: %s on this machine; faster: --epochs (now %d), --inner-steps (now %d) or "
             "--max-steps N for fewer steps%s\n",
             text, opt->epochs, opt->inner_steps, more);
-}
-
-void ws_fit_time_text(double seconds, char *text, size_t size) {
-    if (seconds < 90)
-        snprintf(text, size, "about %.0f s", fmax(1, seconds));
-    else if (seconds < 90 * 60)
-        snprintf(text, size, "about %.0f min", seconds / 60);
-    else
-        snprintf(text, size, "about %.0f h", seconds / 3600);
 }
 
 void ws_fit_time_print(const ws_fit_time *t, FILE *out) {

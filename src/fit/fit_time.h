@@ -85,9 +85,6 @@ double ws_fit_time_left(const ws_fit_time *t, long from);
  * hour a warning that names the settings that make the fit faster. */
 void ws_fit_time_announce(const ws_fit_time *t, long from, const ws_fit_options *opt, FILE *out);
 
-/* "about 40 s", "about 12 min", "about 11 h". */
-void ws_fit_time_text(double seconds, char *text, size_t size);
-
 /* One line per phase, for the fit's last words: "fit: phase K: steps A-B,
  * modelled X ms, measured Y ms CPU per step in the batch (median M) + Z ms
  * besides (W ms wall in all)". */

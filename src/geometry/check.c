@@ -12,16 +12,15 @@
  * resolution, then, on one FOCAL_REFINE times finer, the listed focal and
  * around the coarse best by halving the step down to FOCAL_FINE; on every
  * k-th image so that at most FOCAL_VIEWS take part (its cost grows with
- * the views; 24 gave the same verdicts as all views on the copies
- * compared: the rose, the nut, the chair with its focal x1.1, the cube
- * with x0.8). The finer hull is what makes the estimate right: at 64
- * voxels a voxel spans 2.3 pixels of a 224-pixel view, and a tight hull
- * that coarse covers more of every view the shorter the focal, so the
- * peak leans to short focals (the cube with its focal x1.25: 0.738 at 64
- * voxels, 0.805 at 128, the truth 0.8; the correct spring 0.841 at 64,
- * 0.917 at 128). The coarse pass at 64 still lands within a coarse step
- * of the peak, which the refinement searches; where the listed focal wins
- * the coarse pass there is nothing to refine. */
+ * the views, and that many give the verdicts of all: docs/RESULTS.md,
+ * "Numbers behind the code's constants"). The finer hull is what makes the
+ * estimate right: at the check's resolution a voxel spans pixels, and a
+ * tight hull that coarse covers more of every view the shorter the focal,
+ * so the peak leans to short focals (docs/RESULTS.md, "check: false
+ * alarms, principal points, crops and busy backgrounds"). The coarse pass
+ * still lands within a coarse step of the peak, which the refinement
+ * searches; where the listed focal wins the coarse pass there is nothing
+ * to refine. */
 #define FOCAL_RANGE 1.0
 #define FOCAL_COARSE 0.25
 #define FOCAL_FINE (FOCAL_COARSE / 4)
@@ -276,6 +275,49 @@ static int check_split(const ws_scene *scene, int s, const ws_silhouette *sil, i
     return rc;
 }
 
+/* explain's line for a focal the images do not fit (split s, r its
+ * report): the corrected value in the file's own terms, and the agreement
+ * `tight` before and after. */
+static void explain_focal(const ws_scene *scene, const ws_check_split *r, int s, const char *tight,
+                          double tight_before, double tight_after, char *line, size_t size) {
+    const char *file = ws_scene_file(scene, s);
+    if (scene->layout == WS_LAYOUT_NERFSTUDIO) { /* focal lengths in pixels, one file */
+        snprintf(line, size,
+                 "%.300s/%s: fl_x and fl_y do not fit the %s images; about %.3g times "
+                 "them does (%s %.3f, corrected %.3f); multiply fl_x and fl_y "
+                 "by %.3g, or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
+                 scene->dir, file, ws_split_names[s], r->focal_scale, tight, tight_before, tight_after,
+                 r->focal_scale, scene->dir);
+        return;
+    }
+    double listed = 2 * atan(0.5 * scene->split[s].views[0].cam.width / scene->split[s].views[0].cam.focal);
+    double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
+    snprintf(line, size,
+             "%.300s/%s: camera_angle_x %.4g does not fit the images; about %.4g "
+             "does (focal x%.3g; %s %.3f, corrected %.3f); fix camera_angle_x, "
+             "or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
+             scene->dir, file, listed, fixed, r->focal_scale, tight, tight_before, tight_after, scene->dir);
+}
+
+/* explain's line for frames of split s that disagree with the others
+ * (views: "train " in a nerfstudio file, else ""). */
+static void explain_frames(const ws_scene *scene, const ws_check_split *r, int s, const char *views, char *line,
+                           size_t size) {
+    int at = snprintf(line, size, "%.300s/%s: frame%s", scene->dir, ws_scene_file(scene, s),
+                      r->ndisagree > 1 ? "s" : "");
+    for (int d = 0; d < r->ndisagree && at > 0 && (size_t)at < size; d++) {
+        const ws_view *v = &scene->split[s].views[r->disagree[d]];
+        at += snprintf(line + at, size - at, "%s %d (%s, agreement %.2f)", d ? "," : "", v->frame, v->name,
+                       r->agreement[r->disagree[d]]);
+    }
+    if (at > 0 && (size_t)at < size)
+        snprintf(line + at, size - at,
+                 " disagree%s with the other %sviews (mean %.2f): fix %s transform_matrix or "
+                 "image, or remove %s",
+                 r->ndisagree > 1 ? "" : "s", views, r->fixed_mean, r->ndisagree > 1 ? "their" : "its",
+                 r->ndisagree > 1 ? "them" : "it");
+}
+
 /* One line for the first inconsistent split. It names the split's file
  * (ws_scene_file) and its frames by their index there; where that file
  * holds every split (nerfstudio), it also names the split. A cause the
@@ -324,42 +366,12 @@ static void explain(const ws_scene *scene, const ws_check_report *rep, int s, ch
                  "`wiresketch check %.300s --write-fixed DIR`",
                  scene->dir, file, measure, digits, before, digits, after, scene->dir);
         break;
-    case WS_CAUSE_FOCAL: {
-        if (scene->layout == WS_LAYOUT_NERFSTUDIO) { /* focal lengths in pixels, one file */
-            snprintf(line, size,
-                     "%.300s/%s: fl_x and fl_y do not fit the %s images; about %.3g times "
-                     "them does (%s %.3f, corrected %.3f); multiply fl_x and fl_y "
-                     "by %.3g, or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                     scene->dir, file, split, r->focal_scale, tight, tight_before, tight_after,
-                     r->focal_scale, scene->dir);
-            break;
-        }
-        double listed = 2 * atan(0.5 * scene->split[s].views[0].cam.width /
-                                 scene->split[s].views[0].cam.focal);
-        double fixed = 2 * atan(tan(0.5 * listed) / r->focal_scale);
-        snprintf(line, size,
-                 "%.300s/%s: camera_angle_x %.4g does not fit the images; about %.4g "
-                 "does (focal x%.3g; %s %.3f, corrected %.3f); fix camera_angle_x, "
-                 "or write a corrected copy with `wiresketch check %.300s --write-fixed DIR`",
-                 scene->dir, file, listed, fixed, r->focal_scale, tight, tight_before, tight_after,
-                 scene->dir);
+    case WS_CAUSE_FOCAL:
+        explain_focal(scene, r, s, tight, tight_before, tight_after, line, size);
         break;
-    }
-    case WS_CAUSE_BAD_FRAMES: {
-        int at = snprintf(line, size, "%.300s/%s: frame%s", scene->dir, file, r->ndisagree > 1 ? "s" : "");
-        for (int d = 0; d < r->ndisagree && at > 0 && (size_t)at < size; d++) {
-            const ws_view *v = &scene->split[s].views[r->disagree[d]];
-            at += snprintf(line + at, size - at, "%s %d (%s, agreement %.2f)", d ? "," : "", v->frame,
-                           v->name, r->agreement[r->disagree[d]]);
-        }
-        if (at > 0 && (size_t)at < size)
-            snprintf(line + at, size - at,
-                     " disagree%s with the other %sviews (mean %.2f): fix %s transform_matrix or "
-                     "image, or remove %s",
-                     r->ndisagree > 1 ? "" : "s", views, r->fixed_mean, r->ndisagree > 1 ? "their" : "its",
-                     r->ndisagree > 1 ? "them" : "it");
+    case WS_CAUSE_BAD_FRAMES:
+        explain_frames(scene, r, s, views, line, size);
         break;
-    }
     case WS_CAUSE_UNKNOWN:
         if (r->by_cross)
             snprintf(line, size,
@@ -488,9 +500,9 @@ typedef struct {
 } assignment;
 
 /* Fewer splits left disagreeing, then fewer changes, then the higher
- * pooled agreement (a frame shift either way along an orbit can agree
- * nearly as well: the synthetic cube's train views shifted by one give
- * 1.0000 re-paired the right way and 0.9961 the wrong one). */
+ * pooled agreement, with no margin: a frame shift either way along an
+ * orbit can agree nearly as well (docs/METHOD.md section 12, "Across
+ * splits"). */
 static int better(const assignment *a, const assignment *b) {
     if (a->unexplained != b->unexplained) return a->unexplained < b->unexplained;
     if (a->changes != b->changes) return a->changes < b->changes;
@@ -567,9 +579,8 @@ static int weigh(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLIT
  * hull tries the hypotheses of its own file. A hypothesis of R's file
  * counts only where every other split then agrees (a focal that differs
  * between the files, which the test cannot weigh, lifts the agreement a
- * little under some shift: the spring's copy with its train focal x0.841,
- * 0.984 -> 0.995, with the val views still 0.007 below the train views'
- * own); the assignment that leaves the fewest splits disagreeing, then
+ * little under some shift, docs/RESULTS.md "Numbers behind the code's
+ * constants"); the assignment that leaves the fewest splits disagreeing, then
  * changes the fewest fixes, then agrees best wins, and a split it leaves
  * disagreeing has an unknown cause. */
 static int cross_check(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], int resolution,

@@ -33,9 +33,10 @@
  * reference split (the one with the most views), each split with the fix
  * found for it (its shift or flip; the focal as listed), and where one
  * disagrees (mean below WS_CHECK_MEAN_OK, a view below WS_CHECK_VIEW_OK, or
- * a mean below the reference's own by more than WS_CHECK_CROSS_GAP: correct
- * scenes measured 0.001 above it, the near-symmetric nut and dodecahedron
- * on train cameras shifted by a frame 0.005 - 0.016 below) the hypotheses of each file are weighed across the splits (check.c:
+ * a mean below the reference's own by more than WS_CHECK_CROSS_GAP, which
+ * lies between correct scenes and the near-symmetric solids on shifted
+ * cameras: docs/RESULTS.md, "Numbers behind the code's constants") the
+ * hypotheses of each file are weighed across the splits (check.c:
  * cross_check): a fault of the reference's file, under which the reference
  * still agrees with itself and the other splits agree with its hull, or of
  * a disagreeing split's own file. Its diagnosis names the file and the
@@ -79,9 +80,10 @@
  * on its frame's edge, shows no object: the edge is where the background
  * colour is read (silhouette.h), and over a busy background the colour
  * threshold calls most of it object (the box room of `scene --background
- * room`: 46 of the cube's 48 train views, 90.8% of the frame on average),
- * while an object on one colour touches a few edge pixels at most. A split whose views are more than half such has no usable
- * silhouette, and nothing is measured. */
+ * room`, docs/RESULTS.md "Numbers behind the code's constants"), while an
+ * object on one colour touches a few edge pixels at most. A split whose
+ * views are more than half such has no usable silhouette, and nothing is
+ * measured. */
 #define WS_CHECK_SILHOUETTE_EDGE 0.5
 
 typedef enum {

@@ -49,7 +49,8 @@ static int median_spacing(const ws_pointcloud *gt, double *spacing, ws_status *s
  * pixels the points fall in are marked, and a pixel is covered when its
  * distance to a marked one (distance, H x W, scratch) is at most the disc
  * radius of the view's nearest point. One distance transform instead of a
- * disc per point: 0.3 s instead of 2.7 s for the rose (one thread, loaded). */
+ * disc per point: its cost does not grow with the points (docs/RESULTS.md,
+ * "Numbers behind the code's constants"). */
 static int draw_points(const ws_camera *cam, const ws_pointcloud *gt, double ball, uint8_t *covered, float *distance,
                        ws_status *st) {
     const int W = cam->width, H = cam->height;
