@@ -53,9 +53,8 @@
 #include "render/camera.h"
 #include "render/lens.h"
 #include "io/image.h"
+#include "io/transforms.h"
 #include "nn/base/status.h"
-
-enum { WS_TRAIN = 0, WS_VAL = 1, WS_TEST = 2, WS_NSPLITS = 3 };
 
 typedef struct {
     char name[256];       /* image file name without extension: "r_0" */
@@ -133,6 +132,5 @@ const double *ws_scene_points(const ws_scene *scene, int *n);
 
 /* "train" -> WS_TRAIN etc.; -1 for anything else. */
 int ws_split_index(const char *name);
-extern const char *const ws_split_names[WS_NSPLITS];
 
 #endif
