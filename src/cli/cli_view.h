@@ -17,6 +17,8 @@ int ws_cli_require(const char *value, const char *option, ws_status *st);
  * median: *is_auto = 1) or "R,G,B" with each in [0, 1]; WS_EUSAGE
  * "--background: 'TEXT' is not black, white, auto or R,G,B in [0, 1]". */
 int ws_cli_background(const char *text, float rgb[3], int *is_auto, ws_status *st);
+#define WS_CLI_MASKS_HELP \
+    "folder of the views' masks (DIR/<image name> as .png; white = object) [SCENE/masks, nerfstudio and COLMAP]"
 #define WS_CLI_BACKGROUND_HELP \
     "photo background: black, white, auto (the image border's median) or R,G,B in [0, 1] [black]"
 

@@ -47,6 +47,7 @@ void ws_scene_options_default(ws_scene_options *opt) {
     opt->load_images = 1;
     opt->edge_maps_dir = NULL;
     opt->images_dir = NULL;
+    opt->masks_dir = NULL;
 }
 
 void ws_scene_free(ws_scene *scene) {
@@ -149,6 +150,19 @@ static int view_name(const char *file_path, const char *what, char *name, size_t
     return WS_OK;
 }
 
+/* The view's image name (scene.h): file_path without "./", and without
+ * its first folder where `in_folder` (a nerfstudio file names its images
+ * "images/NAME"). */
+static int set_image_name(ws_view *v, const char *file_path, int in_folder, const char *what, ws_status *st) {
+    while (!strncmp(file_path, "./", 2)) file_path += 2;
+    const char *slash = in_folder ? strchr(file_path, '/') : NULL;
+    if (slash) file_path = slash + 1;
+    if (strlen(file_path) >= sizeof v->image_name)
+        return ws_fail(st, WS_EINPUT, "%s: file_path name too long", what);
+    strcpy(v->image_name, file_path);
+    return WS_OK;
+}
+
 /* ---------------------------------------------------------------- unique names
  *
  * A view's name names its outputs (a fit's test/NAME.png, render's
@@ -224,7 +238,8 @@ static int parse_frame(const ws_transforms *t, int index, const char *what, cons
                        const ws_scene_options *opt, ws_view *v, double c2w[4][4], ws_status *st) {
     ws_transforms_frame f;
     if (ws_transforms_frame_read(t, index, what, &f, st) || check_scene_path(f.file_path, "file_path", what, st) ||
-        view_name(f.file_path, what, v->name, sizeof v->name, st))
+        view_name(f.file_path, what, v->name, sizeof v->name, st) ||
+        set_image_name(v, f.file_path, ws_transforms_kind(t) == WS_TRANSFORMS_NERFSTUDIO, what, st))
         return st->code;
     memcpy(c2w, f.c2w, sizeof f.c2w);
     if (!opt->load_images) return WS_OK;
@@ -412,7 +427,8 @@ static int parse_colmap(ws_scene *scene, const char *dir, const char *folder,
         snprintf(what, sizeof what, "%s: image %d", images_file, im->id);
         v->frame = k;
         if ((rc = check_scene_path(im->name, "name", what, st)) ||
-            (rc = view_name(im->name, what, v->name, sizeof v->name, st)))
+            (rc = view_name(im->name, what, v->name, sizeof v->name, st)) ||
+            (rc = set_image_name(v, im->name, 0, what, st)))
             break;
         int len = opt->images_dir ? snprintf(v->image_path, sizeof v->image_path, "%s/%s", opt->images_dir, im->name)
                                   : snprintf(v->image_path, sizeof v->image_path, "%s/images/%s", dir, im->name);
@@ -508,7 +524,12 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     if (!rc && from_file) {
         ws_image_free(&alpha);
         ws_image rgb;
-        rc = ws_image_read(v->mask_path, full.width, full.height, black, &rgb, st);
+        rc = ws_image_read(v->mask_path, 0, 0, black, &rgb, st);
+        if (!rc && (rgb.width != full.width || rgb.height != full.height)) {
+            rc = ws_fail(st, WS_EINPUT, "%s: mask is %d x %d but its image %s is %d x %d", v->mask_path, rgb.width,
+                         rgb.height, v->image_path, full.width, full.height);
+            ws_image_free(&rgb);
+        }
         if (!rc) { /* the first plane is the mask */
             alpha = first_plane(rgb);
             for (size_t p = 0; p < plane; p++)
@@ -552,6 +573,80 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     ws_image_free(&alpha);
     if (!rc && v->mask.data) threshold_mask(&v->mask);
     return rc;
+}
+
+/* ---------------------------------------------------------------- masks folder */
+
+static int is_folder(const char *path) {
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
+
+/* The mask of image `name` in folder `dir`: DIR/NAME with its image
+ * extension replaced by .png, or with .png added; tried[2] get both. */
+static int find_mask(const char *dir, const char *name, char tried[2][WS_PATH_MAX], char *found, size_t size) {
+    const size_t stem = strlen(name) - image_extension(name);
+    snprintf(tried[0], WS_PATH_MAX, "%s/%.*s.png", dir, (int)stem, name);
+    snprintf(tried[1], WS_PATH_MAX, "%s/%s.png", dir, name);
+    for (int k = 0; k < 2; k++)
+        if (file_exists(tried[k]) && strlen(tried[k]) < size) {
+            strcpy(found, tried[k]);
+            return 1;
+        }
+    return 0;
+}
+
+/* Every view without a mask_path takes its mask from the masks folder
+ * (scene.h): opt->masks_dir, which must exist, or SCENE/masks of a
+ * nerfstudio or COLMAP scene. A folder that has masks for some views must
+ * have every one's: a view left without is refused, not fitted on its
+ * background. */
+static int find_masks(ws_scene *scene, const ws_scene_options *opt, ws_status *st) {
+    char dir[WS_PATH_MAX], tried[2][WS_PATH_MAX], first_tried[2][WS_PATH_MAX];
+    snprintf(dir, sizeof dir, "%s/masks", scene->dir);
+    if (opt->masks_dir && !is_folder(opt->masks_dir))
+        return ws_fail(st, WS_EUSAGE, "--masks %s: no such folder", opt->masks_dir);
+    if (opt->masks_dir)
+        snprintf(dir, sizeof dir, "%s", opt->masks_dir);
+    else if (scene->layout == WS_LAYOUT_NERF_SYNTHETIC || !is_folder(dir))
+        dir[0] = '\0';
+    const ws_view *missing = NULL;
+    int nmissing = 0;
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (int k = 0; k < scene->split[s].n; k++) {
+            ws_view *v = &scene->split[s].views[k];
+            if (v->mask_path[0]) {
+                scene->masks_from_paths++;
+            } else if (dir[0] && find_mask(dir, v->image_name, tried, v->mask_path, sizeof v->mask_path)) {
+                scene->masks_from_dir++;
+            } else if (dir[0] && nmissing++ == 0) {
+                missing = v;
+                memcpy(first_tried, tried, sizeof tried);
+            }
+        }
+    if (!nmissing) {
+        if (scene->masks_from_dir) snprintf(scene->masks_dir, sizeof scene->masks_dir, "%s", dir);
+        return WS_OK;
+    }
+    if (!scene->masks_from_dir)
+        return ws_fail(st, WS_EINPUT, "%s: no mask for any image (tried %s and %s for %s)", dir,
+                       first_tried[0], first_tried[1], missing->image_name);
+    return ws_fail(st, WS_EINPUT, "%s: no mask for %s (tried %s and %s), though the folder has the masks "
+                   "of %d other views", dir, missing->image_name, first_tried[0], first_tried[1], scene->masks_from_dir);
+}
+
+void ws_scene_mask_line(const ws_scene *scene, char *line, size_t size) {
+    int n = 0;
+    for (int s = 0; s < WS_NSPLITS; s++) n += scene->split[s].n;
+    line[0] = '\0';
+    if (scene->masks_from_paths && scene->masks_from_dir)
+        snprintf(line, size, "%.300s: masks for %d of %d views, %d from the frames' mask_path, %d from %.300s",
+                 scene->dir, scene->masks_from_paths + scene->masks_from_dir, n, scene->masks_from_paths,
+                 scene->masks_from_dir, scene->masks_dir);
+    else if (scene->masks_from_paths || scene->masks_from_dir)
+        snprintf(line, size, "%.300s: masks for %d of %d views from %.300s", scene->dir,
+                 scene->masks_from_paths + scene->masks_from_dir, n,
+                 scene->masks_from_dir ? scene->masks_dir : "the frames' mask_path");
 }
 
 /* Decodes every view's PNG, in parallel; the failure of the lowest view (in
@@ -708,7 +803,7 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
         }
         if (s == WS_TRAIN) scene->camera_angle_x = angle;
     }
-    if (opt->load_images && load_photos(scene, opt, st)) {
+    if (opt->load_images && (find_masks(scene, opt, st) || load_photos(scene, opt, st))) {
         ws_scene_free(scene);
         return st->code;
     }

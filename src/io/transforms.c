@@ -116,6 +116,8 @@ void ws_transforms_close(ws_transforms *t) {
 
 int ws_transforms_count(const ws_transforms *t) { return t->n; }
 
+int ws_transforms_kind(const ws_transforms *t) { return t->kind; }
+
 double ws_transforms_angle(const ws_transforms *t) {
     return cJSON_GetObjectItemCaseSensitive(t->root, "camera_angle_x")->valuedouble;
 }

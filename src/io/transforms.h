@@ -54,6 +54,7 @@ int ws_transforms_open(ws_transforms **t, const char *path, int kind, ws_status 
 void ws_transforms_close(ws_transforms *t);
 
 int ws_transforms_count(const ws_transforms *t);       /* frames */
+int ws_transforms_kind(const ws_transforms *t);        /* WS_TRANSFORMS_... */
 double ws_transforms_angle(const ws_transforms *t);    /* a split file's camera_angle_x */
 /* frame k's file_path, "" when it has none or it is not a string */
 const char *ws_transforms_file_path(const ws_transforms *t, int k);

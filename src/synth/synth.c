@@ -113,6 +113,17 @@ static void view_file(const ws_synth_options *opt, int s, int k, char *out, size
         snprintf(out, size, "rgb/%s/r_%d.%s", ws_split_names[s], k, ext);
 }
 
+/* View k's mask, relative to the scene: the scene loader's masks folder
+ * (scene.h), masks/ with the image's name under its images folder and .png
+ * for its extension ("masks/train/r_00003.png" for COLMAP's
+ * "images/train/r_00003.jpg"). */
+static void mask_file(const ws_synth_options *opt, int s, int k, char *out, size_t size) {
+    char image[64];
+    view_file(opt, s, k, image, sizeof image);
+    const char *name = strchr(image, '/') + 1; /* below rgb/ or images/ */
+    snprintf(out, size, "masks/%.*s.png", (int)(strrchr(name, '.') - name), name);
+}
+
 /* ---------------------------------------------------------------- objects */
 
 static void set_curve(ws_curves *c, int ci, const double P[4][3]) {
@@ -607,7 +618,7 @@ static void view_frames(const ws_synth_options *opt, int first, int last, double
                 view_file(opt, s, k, paths[v][0], sizeof paths[v][0]);
             else
                 snprintf(paths[v][0], sizeof paths[v][0], "%s/r_%d", ws_split_names[s], k);
-            snprintf(paths[v][1], sizeof paths[v][1], "masks/%s/r_%d.png", ws_split_names[s], k);
+            mask_file(opt, s, k, paths[v][1], sizeof paths[v][1]);
             frames[v] = (ws_transforms_frame){paths[v][0], opt->masks ? paths[v][1] : NULL, NULL, {{0}}, s};
             memcpy(frames[v].c2w, c2w[v], sizeof frames[v].c2w);
         }
@@ -864,7 +875,8 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
                           : render_view(obj, &cam, center, opt, &img, &mask, vs)) &&
             !(opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs)) &&
             opt->masks) {
-            snprintf(path, sizeof path, "%s/masks/%s/r_%d.png", dir, ws_split_names[split], k);
+            mask_file(opt, split, k, file, sizeof file);
+            snprintf(path, sizeof path, "%s/%s", dir, file);
             ws_png_write(path, &mask, vs);
         }
         ws_image_free(&img);
@@ -977,15 +989,15 @@ static int clear_old_scene(const char *dir, ws_status *st) {
                                               "choose a new or empty folder", dir);
     }
     int rc = remove_scene_files(dup(fd), dir, is_top_file, st);
-    /* the views of either layout (rgb/ or COLMAP's images/), and the model */
-    static const char *const folders[2] = {"rgb", "images"};
-    for (int f = 0; f < 2 && !rc; f++)
+    /* the views of either layout (rgb/ or COLMAP's images/), their masks, and the model */
+    static const char *const folders[3] = {"rgb", "images", "masks"};
+    for (int f = 0; f < 3 && !rc; f++)
         for (int s = 0; s < WS_NSPLITS && !rc; s++)
             rc = clear_subfolder(fd, dir, folders[f], ws_split_names[s], is_view_file, st);
     if (!rc) rc = clear_subfolder(fd, dir, "sparse", "0", is_model_file, st);
     if (!rc) rc = clear_subfolder(fd, dir, "lines", "test", is_lines_file, st);
-    static const char *const parents[4] = {"rgb", "images", "sparse", "lines"};
-    for (int f = 0; f < 4 && !rc; f++) unlinkat(fd, parents[f], AT_REMOVEDIR); /* unless something else is there */
+    static const char *const parents[5] = {"rgb", "images", "masks", "sparse", "lines"};
+    for (int f = 0; f < 5 && !rc; f++) unlinkat(fd, parents[f], AT_REMOVEDIR); /* unless something else is there */
     close(fd);
     return rc;
 }
