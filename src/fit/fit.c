@@ -517,7 +517,8 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     if (!rc && speaks()) rc = retired_curves(&r, &retire, st);
     if (!rc && speaks()) {
         r.s.elapsed = ws_fit_state_elapsed(&r.s, r.start);
-        rc = ws_fit_write_outputs(opt, &r.scene, &r.s, retire, test_losses, test_loss, st);
+        rc = ws_fit_write_outputs(opt, &r.scene, *interrupted ? NULL : r.targets, &r.s, retire, test_losses,
+                                  test_loss, st);
     }
     free(retire);
     free(test_losses);
