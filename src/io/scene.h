@@ -57,6 +57,7 @@
  * values in [0, 1]). */
 #ifndef WS_SCENE_H
 #define WS_SCENE_H
+#include <limits.h>
 #include "render/camera.h"
 #include "render/lens.h"
 #include "base/paths.h"
@@ -68,13 +69,13 @@ typedef struct {
     char name[256];       /* image file name without extension: "r_0" */
     int frame;            /* its index in its transforms file's frames[] (ws_scene_file);
                              a split's views are in this order */
-    char image_path[4096];/* the PNG that was found */
+    char image_path[WS_PATH_MAX];/* the PNG that was found */
     ws_camera cam;
     ws_image photo;       /* 3 x height x width, composited on the background */
     char image_name[256]; /* the image's name in its images folder, which its mask in a
                              masks folder repeats: COLMAP's image name; file_path without
                              "./" (nerfstudio: and without its first folder, "images/") */
-    char mask_path[4096]; /* the mask file: the frame's mask_path, resolved, else the one
+    char mask_path[WS_PATH_MAX]; /* the mask file: the frame's mask_path, resolved, else the one
                              of a masks folder; "" when it has none */
     ws_image mask;        /* 1 x height x width: 1 = object, 0 = background; from the
                              mask_path image (value >= 1/2 of white) or else the photo's
@@ -83,7 +84,7 @@ typedef struct {
     int crop[4];          /* x0, y0, width, height: the file's pixels that make the
                              working view; width 0: the whole file (NeRF-synthetic) */
     int file_width, file_height; /* the image size the scene file states; 0: any */
-    char edge_path[4096]; /* the frame's edge_path or --edge-maps file; "" when none */
+    char edge_path[WS_PATH_MAX]; /* the frame's edge_path or --edge-maps file; "" when none */
     ws_image edges;       /* 1 x height x width from edge_path; data NULL when none */
     ws_lens lens;         /* the image file's lens (pinhole: all distortion 0); the
                              photo, mask and edge map are undistorted to the
@@ -111,13 +112,13 @@ typedef struct {
 enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1, WS_LAYOUT_COLMAP = 2 };
 
 typedef struct {
-    char dir[4096];
+    char dir[PATH_MAX];    /* the directory as given (a user's path: paths made from it are WS_PATH_MAX) */
     int layout;            /* WS_LAYOUT_... */
     double camera_angle_x; /* of the train split (its first view's, at the working size) */
     int width, height;
     ws_split split[WS_NSPLITS];
     double center[3];      /* least-squares intersection of the optical axes */
-    char model_file[4200]; /* COLMAP: the images file, relative to dir
+    char model_file[WS_PATH_MAX]; /* COLMAP: the images file, relative to dir
                               ("sparse/0/images.txt") */
     int masks_from_paths;  /* views whose mask is their frame's mask_path */
     int masks_from_dir;    /* views whose mask is in masks_dir */
