@@ -27,11 +27,9 @@
 #define WHAT_MAX (WS_PATH_MAX + 64)
 
 const char *ws_scene_file(const ws_scene *scene, int s) {
-    static const char *const files[WS_NSPLITS] = {"transforms_train.json", "transforms_val.json",
-                                                  "transforms_test.json"};
-    return scene->layout == WS_LAYOUT_NERFSTUDIO ? "transforms.json"
+    return scene->layout == WS_LAYOUT_NERFSTUDIO ? WS_TRANSFORMS_FILE
            : scene->layout == WS_LAYOUT_COLMAP   ? scene->model_file
-                                                 : files[s];
+                                                 : ws_transforms_split_files[s];
 }
 
 int ws_split_index(const char *name) {
@@ -267,7 +265,7 @@ static int parse_frame(const ws_transforms *t, int index, const char *what, cons
 static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_split *split,
                        double *angle_out, ws_status *st) {
     char path[WS_PATH_MAX];
-    snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[s]);
+    snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
     split->n = 0;
     split->views = NULL;
     struct stat sb;
@@ -344,7 +342,7 @@ static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_s
 static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_options *opt,
                             ws_status *st) {
     char path[WS_PATH_MAX];
-    snprintf(path, sizeof path, "%s/transforms.json", dir);
+    snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
     ws_transforms *t;
     if (ws_transforms_open(&t, path, WS_TRANSFORMS_NERFSTUDIO, st)) return st->code;
     const int n = ws_transforms_count(t);
@@ -779,12 +777,12 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
     scene->width = opt->width;
     scene->height = opt->height;
     char path[WS_PATH_MAX];
-    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[WS_TRAIN]);
     int nerfstudio = access(path, F_OK) != 0;
-    snprintf(path, sizeof path, "%s/transforms.json", dir);
+    snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
     nerfstudio &= access(path, F_OK) == 0;
     char folder[WS_PATH_MAX]; /* a COLMAP model's, when there is no transforms file */
-    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[WS_TRAIN]);
     const int colmap = !nerfstudio && access(path, F_OK) != 0 &&
                        ws_colmap_find(dir, folder, sizeof folder) == 0;
     if (nerfstudio || colmap) {

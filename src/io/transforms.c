@@ -17,6 +17,9 @@
 
 const char *const ws_split_names[WS_NSPLITS] = {"train", "val", "test"};
 
+const char *const ws_transforms_split_files[WS_NSPLITS] = {"transforms_train.json", "transforms_val.json",
+                                                          "transforms_test.json"};
+
 static const char *const list_keys[WS_NSPLITS] = {"train_filenames", "val_filenames", "test_filenames"};
 
 struct ws_transforms {
@@ -483,5 +486,5 @@ int ws_transforms_rewrite(const ws_transforms *t, const ws_transforms_edit *e, c
 }
 
 int ws_transforms_is_file(const char *name, int nerfstudio) {
-    return !strncmp(name, "transforms_", 11) || (nerfstudio && !strcmp(name, "transforms.json"));
+    return !strncmp(name, "transforms_", 11) || (nerfstudio && !strcmp(name, WS_TRANSFORMS_FILE));
 }

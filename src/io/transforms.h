@@ -25,6 +25,11 @@ extern const char *const ws_split_names[WS_NSPLITS]; /* "train", "val", "test" *
 
 enum { WS_TRANSFORMS_SPLIT = 0, WS_TRANSFORMS_NERFSTUDIO = 1 };
 
+/* The files' names in a scene folder: split s's file of a NeRF-synthetic
+ * scene ("transforms_train.json"...), a nerfstudio scene's one file. */
+extern const char *const ws_transforms_split_files[WS_NSPLITS];
+#define WS_TRANSFORMS_FILE "transforms.json"
+
 typedef struct ws_transforms ws_transforms;
 
 /* One frame: its paths as the file writes them (relative to the scene)

@@ -636,7 +636,7 @@ static int write_transforms(const char *dir, const ws_synth_options *opt, const 
     ws_camera cam;
     ws_lens lens;
     if (!rc && opt->nerfstudio) {
-        snprintf(path, sizeof path, "%s/transforms.json", dir);
+        snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
         view_frames(opt, WS_TRAIN, WS_TEST, c2w, frames, paths);
         if (!(rc = synth_camera(opt, c2w[0], path, &cam, st)) && !(rc = synth_lens(opt, &cam, &lens, st))) {
             const ws_transforms_camera intrinsics = {cam.focal, cam.focal, cam.cx, cam.cy, cam.width, cam.height, lens};
@@ -645,7 +645,7 @@ static int write_transforms(const char *dir, const ws_synth_options *opt, const 
     }
     for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++]) {
         if (!opt->views[s]) continue;
-        snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[s]);
+        snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
         view_frames(opt, s, s, c2w + first, frames, paths);
         rc = ws_transforms_write_split(path, CAMERA_ANGLE_X, center, frames, opt->views[s], st);
     }
@@ -917,12 +917,13 @@ static int remove_scene_files(int fd, const char *where, int (*is_scene_file)(co
 }
 
 static int is_top_file(const char *name) {
-    static const char *const files[] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
-                                        "transforms.json",       "gt_curves.json",      "gt_points.ply",
-                                        "train_list.txt",        "val_list.txt",        "test_list.txt"};
+    static const char *const files[] = {"gt_curves.json", "gt_points.ply", "train_list.txt", "val_list.txt",
+                                        "test_list.txt"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
         if (!strcmp(name, files[k])) return 1;
-    return 0;
+    for (int s = 0; s < WS_NSPLITS; s++)
+        if (!strcmp(name, ws_transforms_split_files[s])) return 1;
+    return !strcmp(name, WS_TRANSFORMS_FILE);
 }
 
 /* r_K.png or r_K.jpg, as view_file names a view */
