@@ -24,15 +24,13 @@
 static int label_scale(int cell) { return cell >= 96 ? 2 : 1; }
 static int label_height(int cell) { return WS_LABEL_HEIGHT * label_scale(cell) + 4; }
 
-static int exists(const char *path) { return access(path, F_OK) == 0; }
-
 /* The test views' names of a finished run (from its metrics-free test/
  * folder: r_K.png beside r_K_photo.png), in order K = 0, 1, ... */
 static int test_view_name(const char *dir, int k, char *name, size_t size) {
     snprintf(name, size, "r_%d", k);
     char path[WS_PATH_MAX + 128];
     snprintf(path, sizeof path, "%s/test/%s.png", dir, name);
-    return exists(path);
+    return access(path, F_OK) == 0;
 }
 
 static double metric(const cJSON *m, const char *key) {
@@ -53,7 +51,7 @@ static void paste(ws_image *sheet, const char *path, int row, int col, int cell)
     static const float white[3] = {1, 1, 1};
     ws_image img;
     ws_status st;
-    int ok = exists(path) && ws_image_read(path, cell, cell, white, &img, &st) == WS_OK;
+    int ok = access(path, F_OK) == 0 && ws_image_read(path, cell, cell, white, &img, &st) == WS_OK;
     const size_t plane = (size_t)sheet->width * sheet->height;
     for (int i = 0; i < cell; i++)
         for (int j = 0; j < cell; j++)
