@@ -12,7 +12,7 @@
 #define WS_COLMAP_H
 #include <stddef.h>
 #include "render/lens.h"
-#include "io/transforms.h"
+#include "io/splits.h"
 #include "nn/base/status.h"
 
 typedef struct {

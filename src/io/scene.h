@@ -62,7 +62,7 @@
 #include "render/lens.h"
 #include "base/paths.h"
 #include "io/image.h"
-#include "io/transforms.h"
+#include "io/splits.h"
 #include "nn/base/status.h"
 
 typedef struct {

@@ -15,8 +15,6 @@
  * cJSON needs several times the text's size in memory. */
 #define TRANSFORMS_MAX_BYTES ((size_t)64 << 20)
 
-const char *const ws_split_names[WS_NSPLITS] = {"train", "val", "test"};
-
 const char *const ws_transforms_split_files[WS_NSPLITS] = {"transforms_train.json", "transforms_val.json",
                                                           "transforms_test.json"};
 

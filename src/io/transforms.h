@@ -16,12 +16,10 @@
  * a frame is found by its index in frames[] at once. */
 #ifndef WS_TRANSFORMS_H
 #define WS_TRANSFORMS_H
+#include "io/splits.h"
 #include "render/lens.h"
 #include "nn/base/status.h"
 
-/* A scene's splits, in the order of the nerfstudio lists. */
-enum { WS_TRAIN = 0, WS_VAL = 1, WS_TEST = 2, WS_NSPLITS = 3 };
-extern const char *const ws_split_names[WS_NSPLITS]; /* "train", "val", "test" */
 
 enum { WS_TRANSFORMS_SPLIT = 0, WS_TRANSFORMS_NERFSTUDIO = 1 };
 
