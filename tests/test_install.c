@@ -23,7 +23,7 @@
 /* Under include/wiresketch/, in C-locale order. */
 #define PUBLIC_HEADERS                                                                                       \
     "base/paths.h base/runtime.h base/timing.h fit/fit.h fit/fit_options.h io/export.h io/image.h "          \
-    "io/pointcloud.h io/scene.h metrics/line_metrics.h metrics/metrics.h metrics/nearest.h "                 \
+    "io/pointcloud.h io/scene.h io/splits.h metrics/line_metrics.h metrics/metrics.h metrics/nearest.h "                 \
     "metrics/quality.h metrics/strays.h nn/base/rng.h nn/base/status.h objective/clip_model.h "              \
     "objective/hidden_mode.h objective/loss.h objective/objective.h render/camera.h render/curves.h "        \
     "render/lens.h " /* a view keeps its lens (scene.h) */                                               \

@@ -22,6 +22,9 @@
     {"--gt-curves", WS_ARG_STRING, (dest), 0, "ground-truth curves [SCENE/gt_curves.json]"}
 #define WS_ROW_IMAGES(dest) \
     {"--images", WS_ARG_STRING, (dest), 0, "a COLMAP scene's images folder [SCENE/images]"}
+#define WS_ROW_MASKS(dest)                                                                     \
+    {"--masks", WS_ARG_STRING, (dest), 0,                                                      \
+     "folder of the views' masks (DIR/<image name> as .png; white = object) [SCENE/masks, nerfstudio and COLMAP]"}
 #define WS_ROW_EDGE_MAPS(dest)                                                                       \
     {"--edge-maps", WS_ARG_STRING, (dest), 0,                                                        \
      "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"}

@@ -69,12 +69,13 @@ static int print_coverage(const ws_scene *scene, ws_view_targets *targets, const
 }
 
 int cmd_check(int argc, char **argv) {
-    const char *fixed_dir = NULL, *images = NULL;
+    const char *fixed_dir = NULL, *images = NULL, *masks = NULL;
     int size = 224, resolution = WS_CHECK_RESOLUTION;
     const ws_arg args[] = {
         WS_ROW_SIZE(&size),
         {"--resolution", WS_ARG_INT, &resolution, 0, "hull voxels along its longest side [64]"},
         WS_ROW_IMAGES(&images),
+        WS_ROW_MASKS(&masks),
         {"--write-fixed", WS_ARG_STRING, &fixed_dir, 0,
          "write a corrected copy of the scene here when the cause is found [none]"},
     };
@@ -99,6 +100,7 @@ int cmd_check(int argc, char **argv) {
     ws_scene_options_default(&opt);
     opt.width = opt.height = size;
     opt.images_dir = images;
+    opt.masks_dir = masks;
     ws_view_targets *targets = NULL;
     const ws_silhouette *sil[WS_NSPLITS];
     int rc = ws_scene_load(&scene, pos[0], &opt, &st) || ws_view_targets_create(&targets, &scene, &st);
@@ -116,6 +118,8 @@ int cmd_check(int argc, char **argv) {
                        out_st.st_rdev == err_st.st_rdev;
     char crops[1024];
     ws_scene_crop_line(&scene, crops, sizeof crops);
+    if (crops[0]) printf("%s\n", crops);
+    ws_scene_mask_line(&scene, crops, sizeof crops);
     if (crops[0]) printf("%s\n", crops);
     if (!r.no_silhouette) print_table(&scene, &r);
     int code = r.consistent ? 0 : 1;

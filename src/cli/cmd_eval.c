@@ -157,6 +157,9 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && curves.n == 0 && ((gt_points && *gt_points) || (gt_curves && *gt_curves)))
         rc = ws_fail(st, WS_EINPUT, "%s: no curves to measure against the ground truth", curves_path);
     if (!rc) rc = ws_scene_load(&scene, scene_dir, &sopt, st);
+    char masks_line[1024]; /* stdout is the JSON */
+    if (!rc) ws_scene_mask_line(&scene, masks_line, sizeof masks_line);
+    if (!rc && masks_line[0]) fprintf(stderr, "%s\n", masks_line);
     if (!rc) rc = ws_curves_sample(&curves, &g, st);
     if (!rc && lo) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
@@ -201,7 +204,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
 
 int cmd_eval(int argc, char **argv) {
     const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
-    const char *edge_maps = NULL, *geometric = "blocks", *hidden = NULL;
+    const char *edge_maps = NULL, *geometric = "blocks", *hidden = NULL, *masks = NULL;
     const char *gt_points = NULL, *gt_curves = NULL;
     double edges_weight = 1.0;
     int size = 224, threads = 0, per_curve = 0;
@@ -216,6 +219,7 @@ int cmd_eval(int argc, char **argv) {
         WS_ROW_GT_CURVES(&gt_curves),
         WS_ROW_SPLIT(&split_name),
         WS_ROW_BACKGROUND(&background),
+        WS_ROW_MASKS(&masks),
         WS_ROW_EDGE_MAPS(&edge_maps),
         WS_ROW_LOSS_OR_NONE(&loss_name),
         WS_ROW_WEIGHTS(&lo.weights_path),
@@ -247,6 +251,7 @@ int cmd_eval(int argc, char **argv) {
     ws_scene_options_default(&sopt);
     sopt.width = sopt.height = size;
     sopt.edge_maps_dir = edge_maps;
+    sopt.masks_dir = masks;
     if (ws_cli_background(background, sopt.background, &sopt.background_auto, &st) ||
         ws_cli_check_size(size, &st) ||
         (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &lo, &st)))

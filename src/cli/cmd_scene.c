@@ -54,7 +54,7 @@ int cmd_scene(int argc, char **argv) {
         {"--seed", WS_ARG_INT, &seed, 0, "seed of the camera placement [0]"},
         {"--background", WS_ARG_STRING, &background, 0,
          "black, white, or room (a box room of patterned walls and floor far around the object) [black]"},
-        {"--masks", WS_ARG_FLAG, &opt.masks, 0, "also write masks/SPLIT/r_K.png (white = object) and each frame's mask_path"},
+        {"--masks", WS_ARG_FLAG, &opt.masks, 0, "also write masks/SPLIT/<image>.png (white = object) and, nerf and nerfstudio layouts, each frame's mask_path"},
         {"--principal", WS_ARG_STRING, &principal, 0,
          "the principal point DX, DY pixels right of and below the image centre, nerfstudio and colmap layouts [0,0]"},
         {"--layout", WS_ARG_STRING, &layout, 0,

@@ -366,12 +366,15 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     so.background_auto = o->background_auto;
     so.edge_maps_dir = o->edge_maps;
     so.images_dir = o->images;
+    so.masks_dir = o->masks;
     if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || check_checkpoint_size(r, argv, argc, st) ||
         ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
     char crops[1024];
     ws_scene_crop_line(&r->scene, crops, sizeof crops);
+    if (crops[0] && speaks() && !o->quiet) printf("%s\n", crops);
+    ws_scene_mask_line(&r->scene, crops, sizeof crops);
     if (crops[0] && speaks() && !o->quiet) printf("%s\n", crops);
     if (resume) {
         char path[WS_PATH_MAX];
@@ -514,7 +517,8 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     if (!rc && speaks()) rc = retired_curves(&r, &retire, st);
     if (!rc && speaks()) {
         r.s.elapsed = ws_fit_state_elapsed(&r.s, r.start);
-        rc = ws_fit_write_outputs(opt, &r.scene, &r.s, retire, test_losses, test_loss, st);
+        rc = ws_fit_write_outputs(opt, &r.scene, *interrupted ? NULL : r.targets, &r.s, retire, test_losses,
+                                  test_loss, st);
     }
     free(retire);
     free(test_losses);

@@ -57,6 +57,12 @@ void ws_fit_metrics_fill(ws_fit_metrics *m, const ws_fit_state *s, int retired, 
     }
 }
 
+void ws_fit_metrics_add_explained(ws_fit_metrics *m, double share) {
+    if (isfinite(share))
+        row(m, "training views' lines within 1% of the diagonal of a stroke", NULL, share,
+            "higher is better; below 20% the curves explain little of the photos", "%.1f%%", 100 * share);
+}
+
 void ws_fit_metrics_add_drawing(ws_fit_metrics *m, const ws_drawing_score *d) {
     row(m, "drawing: precision / recall / F at 1% of the image diagonal", "drawing_precision_1", d->precision[0], NULL,
         "%.3f / %.3f / %.3f", d->precision[0], d->recall[0], d->fscore[0]);

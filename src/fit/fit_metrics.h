@@ -23,6 +23,10 @@ typedef struct {
 void ws_fit_metrics_fill(ws_fit_metrics *m, const ws_fit_state *s, int retired, double test_loss, int lines_loss,
                          const ws_quality *q);
 
+/* The share of the training views' lines the curves explain
+ * (fit_explained.h); none when it is NaN. */
+void ws_fit_metrics_add_explained(ws_fit_metrics *m, double share);
+
 /* The drawing's rows (metrics/drawing_score.h): precision, recall and F at
  * 1% and 0.5% of the image diagonal, contour recall, interior scribble and
  * overdraw. */

@@ -9,6 +9,7 @@
 #include "objective/line_evidence.h"
 #include "metrics/quality.h"
 #include "io/export.h"
+#include "fit/fit_explained.h"
 #include "fit/fit_metrics.h"
 #include "fit/fit_outputs.h"
 #include "fit/fit_time.h"
@@ -137,7 +138,7 @@ static int write_evolution(const char *path, const ws_scene *scene, const ws_fit
 }
 
 /* metrics.json: the numbers of the report, for scripts. */
-static int write_metrics(const char *path, const ws_fit_state *s, int retired, double test_loss,
+static int write_metrics(const char *path, const ws_fit_state *s, int retired, double test_loss, double explained,
                          const ws_quality *q, const ws_fit_metrics *m, const ws_gt_coverage *cov,
                          const ws_drawing_score *drawing, ws_status *st) {
     /* drawing: NULL, or the drawing's score and the curves' alone */
@@ -146,6 +147,7 @@ static int write_metrics(const char *path, const ws_fit_state *s, int retired, d
     fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
             "\"seconds\": %.3f", s->global_step, s->skipped_steps, s->respawned, retired, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
+    if (isfinite(explained)) fprintf(f.fp, ", \"explained\": %.4f", explained);
     const char *const surface_keys[3] = {"surface_mean", "surface_p90", "surface_precision"};
     const double surface[3] = {q->surface.mean, q->surface.p90, q->surface_strays.precision};
     for (int k = 0; k < 3 && q->have_surface; k++) {
@@ -285,8 +287,9 @@ int ws_fit_outputs_check(const char *out_dir, ws_status *st) {
     return WS_OK;
 }
 
-int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const ws_fit_state *s,
-                         const int *retire, const double *test_losses, double test_loss, ws_status *st) {
+int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, ws_view_targets *fit_targets,
+                         const ws_fit_state *s, const int *retire, const double *test_losses, double test_loss,
+                         ws_status *st) {
     const char *out = opt->out_dir;
     char path[PATH_BYTES];
     ws_sketch_renderer r;
@@ -335,17 +338,25 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     if (coverage) rc = ws_view_targets_create(&targets, scene, st);
     if (coverage && !rc) rc = ws_scene_gt_coverage(scene, targets, gt_points, gt_curves, &cov, st);
     ws_view_targets_free(targets);
-    char warning[WS_GT_LINE + 160];
+    double explained = NAN;
+    char explained_line[600], warning[WS_GT_LINE + 160 + sizeof explained_line];
+    if (!rc && fit_targets) rc = ws_fit_explained(scene, fit_targets, &c, &r, &explained, st);
+    ws_fit_explained_line(explained, scene->width, scene->height, explained_line, sizeof explained_line);
+    int n = 0; /* the report puts "Warning: " before the first */
+    warning[0] = '\0';
     if (coverage && !rc && cov.flagged)
-        snprintf(warning, sizeof warning, "%s. The distances to the ground truth do not see that part: a sketch "
-                 "that left it out scores as well as one that drew it.", cov.line);
+        n = snprintf(warning, sizeof warning, "%s. The distances to the ground truth do not see that part: a sketch "
+                     "that left it out scores as well as one that drew it.", cov.line);
+    if (explained_line[0])
+        snprintf(warning + n, sizeof warning - n, "%s%s.", n ? " Warning: " : "", explained_line);
     ws_fit_metrics m;
     int lines_loss = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss) && opt->loss.l2_weight == 0 &&
                      opt->loss.edges_weight == 0;
     if (!rc) ws_fit_metrics_fill(&m, s, retired, test_loss, lines_loss, &q);
+    if (!rc) ws_fit_metrics_add_explained(&m, explained);
     if (!rc && scored) ws_fit_metrics_add_drawing(&m, scored);
     if (!rc)
-        rc = write_metrics(join(path, out, output_files[OUT_METRICS]), s, retired, test_loss, &q, &m,
+        rc = write_metrics(join(path, out, output_files[OUT_METRICS]), s, retired, test_loss, explained, &q, &m,
                            coverage ? &cov : NULL, scored, st);
     if (!rc) rc = ws_curves_save(join(path, out, output_files[OUT_CURVES]), &c, st);
     if (!rc) rc = ws_export_obj(join(path, out, output_files[OUT_OBJ]), &c, st);
@@ -358,7 +369,8 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
                               scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
     if (!rc)
         rc = write_report(join(path, out, output_files[OUT_REPORT]), opt, scene, s, &c, ntest ? views : NULL, &m,
-                          coverage && cov.flagged ? warning : NULL, st);
+                          warning[0] ? warning : NULL, st);
+    if (!rc && explained_line[0]) fprintf(stderr, "wiresketch: warning: %s\n", explained_line);
     if (have_hull) ws_drawing_hull_free(&dh);
     free(views);
     free(paths);

@@ -12,6 +12,7 @@
 #include <unistd.h>
 #include "io/colmap.h"
 #include "base/outfile.h"
+#include "base/paths.h"
 #include "nn/base/bytes.h"
 
 /* The largest model files read: a million-point cloud with its tracks is
@@ -21,6 +22,8 @@
  * size: a camera (id, model, width, height, 3 parameters), an image (id,
  * pose, camera, 1-byte name and its NUL, no 2D points), a point (id, xyz,
  * rgb, error, empty track). */
+/* The largest split list read (SCENE/SPLIT_list.txt) */
+#define MAX_LIST_BYTES ((size_t)64 << 20)
 #define MIN_CAMERA_BYTES (4 + 4 + 8 + 8 + 3 * 8)
 #define MIN_IMAGE_BYTES (4 + 7 * 8 + 4 + 2 + 8)
 #define MIN_POINT_BYTES (8 + 3 * 8 + 3 + 8 + 8)
@@ -33,7 +36,7 @@ static const char *const other_models[] = {"FOV", "SIMPLE_RADIAL_FISHEYE", "RADI
 int ws_colmap_find(const char *dir, char *found, size_t size) {
     static const char *const folders[] = {"%s/sparse/0", "%s/sparse", "%s"};
     for (int k = 0; k < 3; k++) {
-        char path[4400];
+        char path[WS_PATH_MAX];
         int n = snprintf(found, size, folders[k], dir);
         if (n < 0 || (size_t)n >= size) return -1;
         snprintf(path, sizeof path, "%s/cameras.txt", found);
@@ -188,7 +191,7 @@ static int check_image(const ws_colmap_model *m, const ws_colmap_image *im, cons
 }
 
 static int read_text(ws_colmap_model *m, const char *folder, ws_status *st) {
-    char path[3][4400];
+    char path[3][WS_PATH_MAX];
     const char *const names[3] = {"cameras.txt", "images.txt", "points3D.txt"};
     for (int f = 0; f < 3; f++) snprintf(path[f], sizeof path[f], "%s/%s", folder, names[f]);
     int rc = WS_OK, cap[3] = {0, 0, 0};
@@ -270,7 +273,7 @@ static void skip(ws_bytes_reader *r, uint64_t n) {
 }
 
 static int read_binary(ws_colmap_model *m, const char *folder, ws_status *st) {
-    char path[3][4400];
+    char path[3][WS_PATH_MAX];
     const char *const names[3] = {"cameras.bin", "images.bin", "points3D.bin"};
     const char *const items[3] = {"camera", "image", "point"};
     const size_t min_bytes[3] = {MIN_CAMERA_BYTES, MIN_IMAGE_BYTES, MIN_POINT_BYTES};
@@ -361,7 +364,7 @@ static int read_binary(ws_colmap_model *m, const char *folder, ws_status *st) {
 
 int ws_colmap_read(ws_colmap_model *m, const char *folder, ws_status *st) {
     memset(m, 0, sizeof *m);
-    char path[4400];
+    char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/cameras.txt", folder);
     int rc = access(path, F_OK) == 0 ? read_text(m, folder, st) : read_binary(m, folder, st);
     if (!rc && m->nimages == 0)
@@ -389,7 +392,7 @@ static int camera_params(const ws_colmap_camera *c, double *params, const char *
 }
 
 static int write_text(const ws_colmap_model *m, const char *folder, ws_status *st) {
-    char path[4400];
+    char path[WS_PATH_MAX];
     ws_outfile f;
     snprintf(path, sizeof path, "%s/cameras.txt", folder);
     if (ws_outfile_open(&f, path, st)) return st->code;
@@ -430,7 +433,7 @@ static int write_text(const ws_colmap_model *m, const char *folder, ws_status *s
 }
 
 static int write_binary(const ws_colmap_model *m, const char *folder, ws_status *st) {
-    char path[4400];
+    char path[WS_PATH_MAX];
     ws_bytes_writer w = {0};
     snprintf(path, sizeof path, "%s/cameras.bin", folder);
     ws_put_u64(&w, (uint64_t)m->ncameras);
@@ -481,4 +484,52 @@ static int write_binary(const ws_colmap_model *m, const char *folder, ws_status 
 
 int ws_colmap_write(const ws_colmap_model *m, const char *folder, int binary, ws_status *st) {
     return binary ? write_binary(m, folder, st) : write_text(m, folder, st);
+}
+
+/* ---------------------------------------------------------------- split lists */
+
+int ws_colmap_lists_read(const char *dir, ws_colmap_lists *l, ws_status *st) {
+    memset(l, 0, sizeof *l);
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        char path[WS_PATH_MAX];
+        size_t length;
+        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
+        if (access(path, F_OK) != 0) continue;
+        l->any = 1;
+        if (ws_read_file(path, MAX_LIST_BYTES, (unsigned char **)&l->text[s], &length, st)) {
+            ws_colmap_lists_free(l);
+            return st->code;
+        }
+    }
+    return WS_OK;
+}
+
+void ws_colmap_lists_free(ws_colmap_lists *l) {
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        free(l->text[s]);
+        l->text[s] = NULL;
+    }
+}
+
+int ws_colmap_lists_split(const ws_colmap_lists *l, const char *name) {
+    const size_t n = strlen(name);
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (const char *line = l->text[s]; line && *line; line += strcspn(line, "\n"), line += *line == '\n') {
+            size_t len = strcspn(line, "\r\n");
+            if (len == n && !strncmp(line, name, n)) return s;
+        }
+    return -1;
+}
+
+int ws_colmap_lists_write(const char *dir, const char *const *names, const int *split_of, int n, ws_status *st) {
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        char path[WS_PATH_MAX];
+        ws_outfile list;
+        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
+        if (ws_outfile_open(&list, path, st)) return st->code;
+        for (int k = 0; k < n; k++)
+            if (split_of[k] == s) fprintf(list.fp, "%s\n", names[k]);
+        if (ws_outfile_commit(&list, st)) return st->code;
+    }
+    return WS_OK;
 }

@@ -12,6 +12,7 @@
 #define WS_COLMAP_H
 #include <stddef.h>
 #include "render/lens.h"
+#include "io/splits.h"
 #include "nn/base/status.h"
 
 typedef struct {
@@ -56,6 +57,24 @@ void ws_colmap_to_c2w(const double q[4], const double t[3], double c2w[4][4]);
 
 /* The inverse: q (qw >= 0, unit) and t of a camera-to-world matrix. */
 void ws_colmap_from_c2w(const double c2w[4][4], double q[4], double t[3]);
+
+/* A COLMAP scene's split lists, SCENE/{train,val,test}_list.txt: one image
+ * name a line, as nerfstudio's COLMAP loader reads them. text[s] is split
+ * s's file (WS_TRAIN...), NULL when absent; any: one of them exists. */
+typedef struct {
+    char *text[WS_NSPLITS];
+    int any;
+} ws_colmap_lists;
+
+int ws_colmap_lists_read(const char *dir, ws_colmap_lists *l, ws_status *st);
+void ws_colmap_lists_free(ws_colmap_lists *l);
+
+/* The split whose list names image `name`, -1 when none does. */
+int ws_colmap_lists_split(const ws_colmap_lists *l, const char *name);
+
+/* Writes the three list files into dir: image k (names[k]) in the list
+ * of split split_of[k]. */
+int ws_colmap_lists_write(const char *dir, const char *const *names, const int *split_of, int n, ws_status *st);
 
 /* Writes the model into `folder` (which must exist) as text (binary = 0)
  * or binary, each file through a temporary name (outfile.h). */

@@ -1,11 +1,11 @@
-/* scene.c: loading scenes, NeRF-synthetic and nerfstudio (see scene.h, METHOD.md section 1).
+/* scene.c: loading scenes in their three layouts (see scene.h, METHOD.md section 1); the camera
+ * files are read by their owners, io/transforms.h and io/colmap.h.
  *
  * Loading runs in two passes: first every transforms file is parsed and
  * every image path resolved (cheap, serial, so the first malformed frame is
  * the one reported), then the PNGs are decoded in parallel, each frame into
  * its own status, and the failure of the lowest frame wins. Frames are
  * numbered from 0 in messages, as they are indexed in frames[]. */
-#include <cJSON.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -17,23 +17,19 @@
 #include "base/paths.h"
 #include "io/colmap.h"
 #include "io/scene.h"
+#include "io/transforms.h"
 #include "io/undistort.h"
 #include "base/limits.h"
 #include "io/view_crop.h"
 #include "nn/base/bytes.h"
 
-/* The largest transforms file read: 64 MiB holds some 100 000 frames, and
- * cJSON needs several times the text's size in memory. */
-#define TRANSFORMS_MAX_BYTES ((size_t)64 << 20)
-
-const char *const ws_split_names[WS_NSPLITS] = {"train", "val", "test"};
+/* A message's prefix: a path and the item in it ("PATH: frame 12"). */
+#define WHAT_MAX (WS_PATH_MAX + 64)
 
 const char *ws_scene_file(const ws_scene *scene, int s) {
-    static const char *const files[WS_NSPLITS] = {"transforms_train.json", "transforms_val.json",
-                                                  "transforms_test.json"};
-    return scene->layout == WS_LAYOUT_NERFSTUDIO ? "transforms.json"
+    return scene->layout == WS_LAYOUT_NERFSTUDIO ? WS_TRANSFORMS_FILE
            : scene->layout == WS_LAYOUT_COLMAP   ? scene->model_file
-                                                 : files[s];
+                                                 : ws_transforms_split_files[s];
 }
 
 int ws_split_index(const char *name) {
@@ -49,6 +45,7 @@ void ws_scene_options_default(ws_scene_options *opt) {
     opt->load_images = 1;
     opt->edge_maps_dir = NULL;
     opt->images_dir = NULL;
+    opt->masks_dir = NULL;
 }
 
 void ws_scene_free(ws_scene *scene) {
@@ -93,7 +90,7 @@ static size_t image_extension(const char *name) {
 static int resolve_image(const char *dir, const char *file_path, const char *what, char *found,
                          size_t size, ws_status *st) {
     const char *const patterns[4] = {"%s/%s", "%s/rgb/%s", "%s/%s.png", "%s/rgb/%s.png"};
-    char tried[2][4096];
+    char tried[2][WS_PATH_MAX];
     int ntried = 0;
     const int first = image_extension(file_path) ? 0 : 2;
     for (int k = first; k < first + 2; k++) {
@@ -106,7 +103,7 @@ static int resolve_image(const char *dir, const char *file_path, const char *wha
         }
         ntried++;
     }
-    char list[2 * 4096 + 16] = "";
+    char list[2 * WS_PATH_MAX + 16] = "";
     for (int k = 0; k < ntried; k++) {
         if (k) strcat(list, ", ");
         strcat(list, tried[k]);
@@ -151,6 +148,19 @@ static int view_name(const char *file_path, const char *what, char *name, size_t
     return WS_OK;
 }
 
+/* The view's image name (scene.h): file_path without "./", and without
+ * its first folder where `in_folder` (a nerfstudio file names its images
+ * "images/NAME"). */
+static int set_image_name(ws_view *v, const char *file_path, int in_folder, const char *what, ws_status *st) {
+    while (!strncmp(file_path, "./", 2)) file_path += 2;
+    const char *slash = in_folder ? strchr(file_path, '/') : NULL;
+    if (slash) file_path = slash + 1;
+    if (strlen(file_path) >= sizeof v->image_name)
+        return ws_fail(st, WS_EINPUT, "%s: file_path name too long", what);
+    strcpy(v->image_name, file_path);
+    return WS_OK;
+}
+
 /* ---------------------------------------------------------------- unique names
  *
  * A view's name names its outputs (a fit's test/NAME.png, render's
@@ -183,22 +193,15 @@ static int mark_shared(const ws_split *split, named_view *order, char *shared) {
     return any;
 }
 
-static int unique_view_names(ws_split *split, const cJSON *frames, const char *path, ws_status *st) {
+static int unique_view_names(ws_split *split, const ws_transforms *t, const char *path, ws_status *st) {
     if (split->n < 2) return WS_OK;
-    const int nframes = cJSON_GetArraySize(frames);
     named_view *order = ws_malloc(sizeof *order * split->n, path, st);
     char *shared = order ? ws_malloc(split->n, path, st) : NULL;
-    const char **file_path = shared ? ws_calloc(nframes, sizeof *file_path, path, st) : NULL;
-    int rc = file_path ? WS_OK : st->code;
+    int rc = shared ? WS_OK : st->code;
     if (!rc && mark_shared(split, order, shared)) {
-        int index = 0;
-        for (const cJSON *frame = frames->child; frame; frame = frame->next, index++) {
-            const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
-            file_path[index] = cJSON_IsString(fp) ? fp->valuestring : "";
-        }
         for (int k = 0; k < split->n && !rc; k++) {
             ws_view *v = &split->views[k];
-            const char *p = file_path[v->frame];
+            const char *p = ws_transforms_file_path(t, v->frame);
             while (!strncmp(p, "./", 2)) p += 2;
             size_t n = strlen(p) - image_extension(p);
             if (!shared[k]) continue;
@@ -222,116 +225,38 @@ static int unique_view_names(ws_split *split, const cJSON *frames, const char *p
     }
     free(order);
     free(shared);
-    free(file_path);
     return rc;
-}
-
-static int read_matrix(const cJSON *m, const char *what, double c2w[4][4], ws_status *st) {
-    if (!cJSON_IsArray(m) || cJSON_GetArraySize(m) != 4)
-        return ws_fail(st, WS_EINPUT, "%s: transform_matrix is not 4x4", what);
-    for (int i = 0; i < 4; i++) {
-        const cJSON *row = cJSON_GetArrayItem(m, i);
-        if (!cJSON_IsArray(row) || cJSON_GetArraySize(row) != 4)
-            return ws_fail(st, WS_EINPUT, "%s: transform_matrix is not 4x4", what);
-        for (int j = 0; j < 4; j++) {
-            const cJSON *x = cJSON_GetArrayItem(row, j);
-            if (!cJSON_IsNumber(x))
-                return ws_fail(st, WS_EINPUT, "%s: transform_matrix[%d][%d] is not a number", what,
-                               i, j);
-            c2w[i][j] = x->valuedouble;
-        }
-    }
-    return WS_OK;
 }
 
 /* One frame, all but its camera: file_path (the view's name and, when
- * images are wanted, its PNG), mask_path, and transform_matrix into c2w.
- * Messages start with `what` ("SCENE/transforms_train.json: frame 3"). */
-static int parse_frame(const cJSON *frame, const char *what, const char *dir,
+ * images are wanted, its image), mask_path, edge_path, and
+ * transform_matrix into c2w. Messages start with `what`
+ * ("SCENE/transforms_train.json: frame 3"). */
+static int parse_frame(const ws_transforms *t, int index, const char *what, const char *dir,
                        const ws_scene_options *opt, ws_view *v, double c2w[4][4], ws_status *st) {
-    if (!cJSON_IsObject(frame)) return ws_fail(st, WS_EINPUT, "%s: not a JSON object", what);
-    const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
-    if (!fp) return ws_fail(st, WS_EINPUT, "%s: missing file_path", what);
-    if (!cJSON_IsString(fp)) return ws_fail(st, WS_EINPUT, "%s: file_path is not a string", what);
-    if (check_scene_path(fp->valuestring, "file_path", what, st)) return st->code;
-    const cJSON *m = cJSON_GetObjectItemCaseSensitive(frame, "transform_matrix");
-    if (!m) return ws_fail(st, WS_EINPUT, "%s: missing transform_matrix", what);
-    if (read_matrix(m, what, c2w, st)) return st->code;
-    if (view_name(fp->valuestring, what, v->name, sizeof v->name, st)) return st->code;
-    if (opt->load_images &&
-        resolve_image(dir, fp->valuestring, what, v->image_path, sizeof v->image_path, st))
+    ws_transforms_frame f;
+    if (ws_transforms_frame_read(t, index, what, &f, st) || check_scene_path(f.file_path, "file_path", what, st) ||
+        view_name(f.file_path, what, v->name, sizeof v->name, st) ||
+        set_image_name(v, f.file_path, ws_transforms_kind(t) == WS_TRANSFORMS_NERFSTUDIO, what, st))
         return st->code;
-    const cJSON *mp = cJSON_GetObjectItemCaseSensitive(frame, "mask_path");
-    if (mp && !cJSON_IsString(mp))
-        return ws_fail(st, WS_EINPUT, "%s: mask_path is not a string", what);
-    if (mp && opt->load_images) {
-        if (check_scene_path(mp->valuestring, "mask_path", what, st)) return st->code;
-        char mask_what[4400];
-        snprintf(mask_what, sizeof mask_what, "%s: mask_path", what);
-        if (resolve_image(dir, mp->valuestring, mask_what, v->mask_path, sizeof v->mask_path, st))
-            return st->code;
+    memcpy(c2w, f.c2w, sizeof f.c2w);
+    if (!opt->load_images) return WS_OK;
+    char field_what[WHAT_MAX + 16];
+    if (resolve_image(dir, f.file_path, what, v->image_path, sizeof v->image_path, st)) return st->code;
+    if (f.mask_path) {
+        if (check_scene_path(f.mask_path, "mask_path", what, st)) return st->code;
+        snprintf(field_what, sizeof field_what, "%s: mask_path", what);
+        if (resolve_image(dir, f.mask_path, field_what, v->mask_path, sizeof v->mask_path, st)) return st->code;
     }
-    const cJSON *ep = cJSON_GetObjectItemCaseSensitive(frame, "edge_path");
-    if (ep && !cJSON_IsString(ep))
-        return ws_fail(st, WS_EINPUT, "%s: edge_path is not a string", what);
-    if (opt->load_images && opt->edge_maps_dir) {
-        char edge_what[4400];
-        snprintf(edge_what, sizeof edge_what, "%s: --edge-maps", what);
-        if (resolve_image(opt->edge_maps_dir, fp->valuestring, edge_what, v->edge_path, sizeof v->edge_path, st))
+    if (opt->edge_maps_dir) {
+        snprintf(field_what, sizeof field_what, "%s: --edge-maps", what);
+        if (resolve_image(opt->edge_maps_dir, f.file_path, field_what, v->edge_path, sizeof v->edge_path, st))
             return st->code;
-    } else if (ep && opt->load_images) {
-        if (check_scene_path(ep->valuestring, "edge_path", what, st)) return st->code;
-        char edge_what[4400];
-        snprintf(edge_what, sizeof edge_what, "%s: edge_path", what);
-        if (resolve_image(dir, ep->valuestring, edge_what, v->edge_path, sizeof v->edge_path, st))
-            return st->code;
+    } else if (f.edge_path) {
+        if (check_scene_path(f.edge_path, "edge_path", what, st)) return st->code;
+        snprintf(field_what, sizeof field_what, "%s: edge_path", what);
+        if (resolve_image(dir, f.edge_path, field_what, v->edge_path, sizeof v->edge_path, st)) return st->code;
     }
-    return WS_OK;
-}
-
-/* 1-based line of a position in a text. */
-static int line_of(const char *text, const char *at) {
-    int line = 1;
-    for (const char *c = text; c < at && *c; c++) line += *c == '\n';
-    return line;
-}
-
-/* Reads a transforms file (bounded size) and parses it; its top level must
- * be an object. */
-static int read_json(const char *path, cJSON **root_out, ws_status *st) {
-    *root_out = NULL;
-    unsigned char *bytes = NULL;
-    size_t length = 0;
-    if (ws_read_file(path, TRANSFORMS_MAX_BYTES, &bytes, &length, st)) return st->code;
-    const char *text = (const char *)bytes;
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, length, &end, 0);
-    /* where parsing stopped: at the error, or after the value, where only
-     * white space may follow (cJSON stops quietly after the first value) */
-    const char *stop = end ? end : text + length;
-    while (root && stop < text + length && *stop && strchr(" \t\r\n", *stop)) stop++;
-    int rc = WS_OK;
-    if (!root || stop < text + length)
-        rc = ws_fail(st, WS_EINPUT, "%s: JSON syntax error near line %d", path, line_of(text, stop));
-    else if (!cJSON_IsObject(root))
-        rc = ws_fail(st, WS_EINPUT, "%s: not a JSON object", path);
-    free(bytes);
-    if (rc)
-        cJSON_Delete(root);
-    else
-        *root_out = root;
-    return rc;
-}
-
-/* root's "frames": a non-empty array. */
-static int get_frames(const cJSON *root, const char *path, const cJSON **frames, ws_status *st) {
-    *frames = cJSON_GetObjectItemCaseSensitive(root, "frames");
-    if (!*frames) return ws_fail(st, WS_EINPUT, "%s: missing frames", path);
-    if (!cJSON_IsArray(*frames)) return ws_fail(st, WS_EINPUT, "%s: frames is not an array", path);
-    if (cJSON_GetArraySize(*frames) == 0) return ws_fail(st, WS_EINPUT, "%s: no frames", path);
-    if (cJSON_GetArraySize(*frames) > WS_MAX_VIEWS) /* each view holds its paths: 14.5 KB before pixels */
-        return ws_fail(st, WS_EINPUT, "%s: %d frames, more than the %d a scene file may have", path,
-                       cJSON_GetArraySize(*frames), WS_MAX_VIEWS);
     return WS_OK;
 }
 
@@ -340,7 +265,7 @@ static int get_frames(const cJSON *root, const char *path, const cJSON **frames,
 static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_split *split,
                        double *angle_out, ws_status *st) {
     char path[WS_PATH_MAX];
-    snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[s]);
+    snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
     split->n = 0;
     split->views = NULL;
     struct stat sb;
@@ -352,220 +277,45 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
                            path);
         return WS_OK;
     }
-    cJSON *root = NULL;
-    int rc = read_json(path, &root, st);
-    if (rc) return rc;
-    const cJSON *angle = cJSON_GetObjectItemCaseSensitive(root, "camera_angle_x");
-    const cJSON *frames = cJSON_GetObjectItemCaseSensitive(root, "frames");
-    if (!angle)
-        rc = ws_fail(st, WS_EINPUT, "%s: missing camera_angle_x", path);
-    else if (!cJSON_IsNumber(angle))
-        rc = ws_fail(st, WS_EINPUT, "%s: camera_angle_x is not a number", path);
-    else if (ws_camera_check_angle(angle->valuedouble, path, st))
-        rc = st->code;
-    else
-        rc = get_frames(root, path, &frames, st);
-    if (rc) goto done;
-    *angle_out = angle->valuedouble;
-    int n = cJSON_GetArraySize(frames);
+    ws_transforms *t;
+    if (ws_transforms_open(&t, path, WS_TRANSFORMS_SPLIT, st)) return st->code;
+    const double angle = ws_transforms_angle(t);
+    const int n = ws_transforms_count(t);
+    *angle_out = angle;
     split->views = ws_calloc(n, sizeof *split->views, path, st);
-    if (!split->views) {
-        rc = st->code;
-        goto done;
-    }
-    split->n = n;
-    int index = 0;
-    for (const cJSON *frame = frames->child; frame; frame = frame->next, index++) {
-        char what[4300];
+    int rc = split->views ? WS_OK : st->code;
+    if (!rc) split->n = n;
+    for (int index = 0; index < n && !rc; index++) {
+        char what[WHAT_MAX];
         double c2w[4][4];
         ws_view *v = &split->views[index];
         v->frame = index;
         snprintf(what, sizeof what, "%s: frame %d", path, index);
-        if ((rc = parse_frame(frame, what, dir, opt, v, c2w, st)) ||
-            (rc = ws_camera_init(&v->cam, c2w, angle->valuedouble, opt->width, opt->height, what, st)))
-            break;
+        if (!(rc = parse_frame(t, index, what, dir, opt, v, c2w, st)))
+            rc = ws_camera_init(&v->cam, c2w, angle, opt->width, opt->height, what, st);
     }
-    if (!rc) rc = unique_view_names(split, frames, path, st);
-done:
-    cJSON_Delete(root);
+    if (!rc) rc = unique_view_names(split, t, path, st);
+    ws_transforms_close(t);
     return rc;
 }
 
 /* ---------------------------------------------------------------- nerfstudio
  *
  * Scenes in the nerfstudio / instant-ngp layout, one SCENE/transforms.json
- * with pinhole intrinsics (see scene.h).
- *
- * Every frame's intrinsics are its own value or the file's global one. The
- * working view is a crop around the object (io/view_crop.h). */
-
-/* Frame k of a file without split lists: test when k % 8 == 0, val when
- * k % 8 == 4, train else (7 / 8 of the frames for fitting, one in 8 each
- * held out for validation and testing, spread over the capture). */
-#define SPLIT_PERIOD 8
-#define VAL_PHASE 4
-
-static int split_by_rule(int k) {
-    return k % SPLIT_PERIOD == 0 ? WS_TEST : k % SPLIT_PERIOD == VAL_PHASE ? WS_VAL : WS_TRAIN;
-}
-
-/* The names of the *_filenames lists ("./" prefixes aside), each with its
- * split, sorted by name and then split, so that a frame finds its split by
- * binary search: a search of the lists per frame took 60 s for 100,000
- * frames. */
-typedef struct {
-    const char *name;
-    int split;
-} listed_name;
-
-static int compare_listed(const void *a, const void *b) {
-    const listed_name *x = a, *y = b;
-    int c = strcmp(x->name, y->name);
-    return c ? c : x->split - y->split;
-}
-
-static int listed_names(const cJSON *root, const char *path, listed_name **out, int *n, ws_status *st) {
-    static const char *const keys[WS_NSPLITS] = {"train_filenames", "val_filenames",
-                                                 "test_filenames"};
-    size_t total = 0;
-    for (int s = 0; s < WS_NSPLITS; s++)
-        total += (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(root, keys[s]));
-    *n = 0;
-    if (!(*out = ws_malloc((total ? total : 1) * sizeof **out, path, st))) return st->code;
-    for (int s = 0; s < WS_NSPLITS; s++) {
-        const cJSON *item;
-        cJSON_ArrayForEach(item, cJSON_GetObjectItemCaseSensitive(root, keys[s])) {
-            const char *name = cJSON_IsString(item) ? item->valuestring : "";
-            (*out)[(*n)++] = (listed_name){strncmp(name, "./", 2) ? name : name + 2, s};
-        }
-    }
-    qsort(*out, (size_t)*n, sizeof **out, compare_listed);
-    return WS_OK;
-}
-
-/* The first split (train, val, test) whose list holds file_path, or -1. */
-static int split_by_list(const listed_name *names, int n, const char *file_path) {
-    if (!strncmp(file_path, "./", 2)) file_path += 2;
-    int lo = 0, hi = n; /* the first entry not below file_path */
-    while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        if (strcmp(names[mid].name, file_path) < 0)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo < n && !strcmp(names[lo].name, file_path) ? names[lo].split : -1;
-}
-
-static int has_split_lists(const cJSON *root) {
-    return cJSON_HasObjectItem(root, "train_filenames") ||
-           cJSON_HasObjectItem(root, "val_filenames") || cJSON_HasObjectItem(root, "test_filenames");
-}
-
-/* Intrinsic `key` of a frame: its own value, else the file's; *found = 0
- * when neither has one. */
-static int intrinsic(const cJSON *frame, const cJSON *root, const char *key, const char *what,
-                     double *value, int *found, ws_status *st) {
-    const cJSON *x = cJSON_GetObjectItemCaseSensitive(frame, key);
-    if (!x) x = cJSON_GetObjectItemCaseSensitive(root, key);
-    *found = x != NULL;
-    if (!x) return WS_OK;
-    if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble))
-        return ws_fail(st, WS_EINPUT, "%s: %s is not a finite number", what, key);
-    *value = x->valuedouble;
-    return WS_OK;
-}
-
-/* The intrinsics of one frame: fl_x (or camera_angle_x), fl_y, cx, cy,
- * w, h, and its lens (camera_model, is_fisheye, k1..k4, p1, p2). */
-typedef struct {
-    double fx, fy, cx, cy;
-    int w, h;
-    ws_lens lens;
-} intrinsics;
-
-/* The lens of a frame, nerfstudio / instant-ngp keys: camera_model
- * PINHOLE, SIMPLE_PINHOLE, OPENCV or OPENCV_FISHEYE (none: OPENCV, or
- * instant-ngp's is_fisheye), k1..k4 (a fisheye lens' angle terms, else the
- * radial polynomial), p1, p2 (perspective only). */
-static int frame_lens(const cJSON *frame, const cJSON *root, const char *what, intrinsics *in,
-                      ws_status *st) {
-    static const char *const keys[6] = {"k1", "k2", "k3", "k4", "p1", "p2"};
-    double v[6] = {0};
-    int found;
-    for (int k = 0; k < 6; k++)
-        if (intrinsic(frame, root, keys[k], what, &v[k], &found, st)) return st->code;
-    const cJSON *model = cJSON_GetObjectItemCaseSensitive(frame, "camera_model");
-    if (!model) model = cJSON_GetObjectItemCaseSensitive(root, "camera_model");
-    const cJSON *fisheye = cJSON_GetObjectItemCaseSensitive(frame, "is_fisheye");
-    if (!fisheye) fisheye = cJSON_GetObjectItemCaseSensitive(root, "is_fisheye");
-    const char *name = cJSON_IsString(model) ? model->valuestring : model ? "" : "OPENCV";
-    const int pinhole = !strcmp(name, "PINHOLE") || !strcmp(name, "SIMPLE_PINHOLE");
-    if (!pinhole && strcmp(name, "OPENCV") && strcmp(name, "OPENCV_FISHEYE"))
-        return ws_fail(st, WS_EINPUT,
-                       "%s: camera_model is not PINHOLE, SIMPLE_PINHOLE, OPENCV or OPENCV_FISHEYE",
-                       what);
-    ws_lens *l = &in->lens;
-    memset(l, 0, sizeof *l);
-    l->fisheye = !strcmp(name, "OPENCV_FISHEYE") || cJSON_IsTrue(fisheye);
-    for (int k = 0; k < 6; k++) {
-        if (v[k] != 0 && pinhole)
-            return ws_fail(st, WS_EINPUT, "%s: distortion %s = %g with camera_model %s (a lens "
-                           "with distortion is OPENCV or OPENCV_FISHEYE)", what, keys[k], v[k], name);
-        if (v[k] != 0 && k >= 4 && l->fisheye)
-            return ws_fail(st, WS_EINPUT, "%s: distortion %s = %g with a fisheye lens (it has "
-                           "k1..k4 only)", what, keys[k], v[k]);
-    }
-    memcpy(l->k, v, sizeof l->k);
-    memcpy(l->p, v + 4, sizeof l->p);
-    l->fx = in->fx, l->fy = in->fy, l->cx = in->cx, l->cy = in->cy;
-    l->width = in->w, l->height = in->h;
-    return ws_lens_check(l, what, st);
-}
-
-static int frame_intrinsics(const cJSON *frame, const cJSON *root, const char *what,
-                            intrinsics *in, ws_status *st) {
-    double w = 0, h = 0;
-    int has_w, has_h, has_fx, has_fy, has_cx, has_cy;
-    if (intrinsic(frame, root, "w", what, &w, &has_w, st) ||
-        intrinsic(frame, root, "h", what, &h, &has_h, st))
-        return st->code;
-    if (!has_w || !has_h) return ws_fail(st, WS_EINPUT, "%s: missing %s", what, has_w ? "h" : "w");
-    if (!(w >= 1 && w <= 65536 && h >= 1 && h <= 65536 && w == floor(w) && h == floor(h)))
-        return ws_fail(st, WS_EINPUT, "%s: w x h = %g x %g is not a size in pixels", what, w, h);
-    in->w = (int)w;
-    in->h = (int)h;
-    if (intrinsic(frame, root, "fl_x", what, &in->fx, &has_fx, st)) return st->code;
-    if (!has_fx) {
-        double angle = 0;
-        if (intrinsic(frame, root, "camera_angle_x", what, &angle, &has_fx, st)) return st->code;
-        if (!has_fx) return ws_fail(st, WS_EINPUT, "%s: missing fl_x (or camera_angle_x)", what);
-        if (ws_camera_check_angle(angle, what, st)) return st->code;
-        in->fx = 0.5 * w / tan(0.5 * angle);
-    }
-    if (intrinsic(frame, root, "fl_y", what, &in->fy, &has_fy, st) ||
-        intrinsic(frame, root, "cx", what, &in->cx, &has_cx, st) ||
-        intrinsic(frame, root, "cy", what, &in->cy, &has_cy, st))
-        return st->code;
-    if (!has_fy) in->fy = in->fx;
-    if (!has_cx) in->cx = 0.5 * w;
-    if (!has_cy) in->cy = 0.5 * h;
-    if (!(in->fx > 0) || !(in->fy > 0))
-        return ws_fail(st, WS_EINPUT, "%s: fl_x %g and fl_y %g must be positive", what, in->fx, in->fy);
-    return frame_lens(frame, root, what, in, st);
-}
+ * with pinhole intrinsics (see scene.h). The working view is a crop
+ * around the object (io/view_crop.h). */
 
 static void axes_center(const ws_scene *scene, double center[3]);
 
 /* The working view's crop and camera (io/view_crop.h), first around the
  * frame's centre: crop_around_object moves it once every camera is known. */
-static int frame_camera(const intrinsics *in, const double c2w[4][4], const ws_scene_options *opt,
+static int frame_camera(const ws_lens *lens, const double c2w[4][4], const ws_scene_options *opt,
                         const char *what, ws_view *v, ws_status *st) {
-    v->file_width = in->w;
-    v->file_height = in->h;
-    v->lens = in->lens;
-    return ws_view_crop(in->fx, in->fy, in->cx, in->cy, in->w, in->h, c2w, NULL, opt->width, opt->height, what,
-                        v->crop, &v->cam, st);
+    v->file_width = lens->width;
+    v->file_height = lens->height;
+    v->lens = *lens;
+    return ws_view_crop(lens->fx, lens->fy, lens->cx, lens->cy, lens->width, lens->height, c2w, NULL, opt->width,
+                        opt->height, what, v->crop, &v->cam, st);
 }
 
 /* Each cropped view's crop moved around the object's projection: the
@@ -578,7 +328,7 @@ static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_s
         for (int k = 0; k < scene->split[s].n; k++) {
             ws_view *v = &scene->split[s].views[k];
             const ws_lens *l = &v->lens;
-            char what[4400];
+            char what[WHAT_MAX];
             double c2w[4][4];
             memcpy(c2w, v->cam.c2w, sizeof c2w);
             snprintf(what, sizeof what, "%s/%s: frame %d", scene->dir, ws_scene_file(scene, s), v->frame);
@@ -591,54 +341,42 @@ static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_s
 
 static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_options *opt,
                             ws_status *st) {
-    char path[4200];
-    snprintf(path, sizeof path, "%s/transforms.json", dir);
-    cJSON *root = NULL;
-    const cJSON *frames = NULL;
-    if (read_json(path, &root, st) || get_frames(root, path, &frames, st)) {
-        cJSON_Delete(root);
-        return st->code;
-    }
-    const int lists = has_split_lists(root), n = cJSON_GetArraySize(frames);
+    char path[WS_PATH_MAX];
+    snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
+    ws_transforms *t;
+    if (ws_transforms_open(&t, path, WS_TRANSFORMS_NERFSTUDIO, st)) return st->code;
+    const int n = ws_transforms_count(t);
     int *split_of = ws_malloc(sizeof *split_of * n, path, st), rc = split_of ? WS_OK : st->code;
-    int count[WS_NSPLITS] = {0}, index = 0, nlisted = 0;
-    listed_name *listed = NULL;
-    if (!rc && lists) rc = listed_names(root, path, &listed, &nlisted, st);
-    for (const cJSON *frame = frames->child; frame && !rc; frame = frame->next, index++) {
-        const cJSON *fp = cJSON_GetObjectItemCaseSensitive(frame, "file_path");
-        split_of[index] = !lists ? split_by_rule(index)
-                          : cJSON_IsString(fp) ? split_by_list(listed, nlisted, fp->valuestring)
-                                               : WS_TRAIN; /* reported as it is parsed */
+    int count[WS_NSPLITS] = {0};
+    if (!rc) rc = ws_transforms_splits(t, split_of, st);
+    for (int index = 0; index < n && !rc; index++)
         if (split_of[index] >= 0) count[split_of[index]]++;
-    }
     if (!rc && count[WS_TRAIN] == 0)
         rc = ws_fail(st, WS_EINPUT, "%s: no train frames (of %d frames)", path, n);
     for (int s = 0; s < WS_NSPLITS && !rc; s++) {
         scene->split[s].views = count[s] ? ws_calloc(count[s], sizeof(ws_view), path, st) : NULL;
         if (count[s] && !scene->split[s].views) rc = st->code;
     }
-    index = 0;
-    for (const cJSON *frame = frames->child; frame && !rc; frame = frame->next, index++) {
+    for (int index = 0; index < n && !rc; index++) {
         int s = split_of[index];
         if (s < 0) continue;
-        char what[4300];
+        char what[WHAT_MAX];
         double c2w[4][4];
-        intrinsics in;
+        ws_transforms_camera in;
         ws_view *v = &scene->split[s].views[scene->split[s].n++];
         v->frame = index;
         snprintf(what, sizeof what, "%s: frame %d", path, index);
-        if (!(rc = parse_frame(frame, what, dir, opt, v, c2w, st)) &&
-            !(rc = frame_intrinsics(frame, root, what, &in, st)))
-            rc = frame_camera(&in, c2w, opt, what, v, st);
+        if (!(rc = parse_frame(t, index, what, dir, opt, v, c2w, st)) &&
+            !(rc = ws_transforms_camera_read(t, index, what, &in, st)))
+            rc = frame_camera(&in.lens, c2w, opt, what, v, st);
     }
-    for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = unique_view_names(&scene->split[s], frames, path, st);
+    for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = unique_view_names(&scene->split[s], t, path, st);
     if (!rc) {
         const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
         scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);
     }
-    free(listed);
     free(split_of);
-    cJSON_Delete(root);
+    ws_transforms_close(t);
     return rc;
 }
 
@@ -648,48 +386,27 @@ static int compare_image_names(const void *a, const void *b) {
     return strcmp((*(const ws_colmap_image *const *)a)->name, (*(const ws_colmap_image *const *)b)->name);
 }
 
-/* The split of image `name` by the list files SCENE/{train,val,test}_list.txt
- * (one image name a line, as nerfstudio's COLMAP loader reads them); -1
- * when it is in none. lists[s] is the file's text, NULL when absent. */
-static int split_by_list_file(char *const lists[WS_NSPLITS], const char *name) {
-    const size_t n = strlen(name);
-    for (int s = 0; s < WS_NSPLITS; s++)
-        for (const char *line = lists[s]; line && *line; line += strcspn(line, "\n"), line += *line == '\n') {
-            size_t len = strcspn(line, "\r\n");
-            if (len == n && !strncmp(line, name, n)) return s;
-        }
-    return -1;
-}
-
 /* The COLMAP model in `folder` (ws_colmap_find) of scene `dir`. */
 static int parse_colmap(ws_scene *scene, const char *dir, const char *folder,
                         const ws_scene_options *opt, ws_status *st) {
     ws_colmap_model model;
     if (ws_colmap_read(&model, folder, st)) return st->code;
-    char images_file[4300], path[4400];
+    char images_file[WS_PATH_MAX + 16];
     snprintf(images_file, sizeof images_file, "%s/images.txt", folder);
     if (access(images_file, F_OK) != 0) snprintf(images_file, sizeof images_file, "%s/images.bin", folder);
     snprintf(scene->model_file, sizeof scene->model_file, "%s", images_file + strlen(dir) + 1);
     const int n = model.nimages;
     const ws_colmap_image **order = ws_malloc(sizeof *order * n, images_file, st);
     int rc = order ? WS_OK : st->code;
-    char *lists[WS_NSPLITS] = {NULL, NULL, NULL};
-    int has_lists = 0;
-    for (int s = 0; s < WS_NSPLITS && !rc; s++) {
-        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
-        size_t length;
-        if (access(path, F_OK) == 0) {
-            rc = ws_read_file(path, TRANSFORMS_MAX_BYTES, (unsigned char **)&lists[s], &length, st);
-            has_lists = 1;
-        }
-    }
+    ws_colmap_lists lists;
+    if (!rc) rc = ws_colmap_lists_read(dir, &lists, st);
     int count[WS_NSPLITS] = {0}, *split_of = rc ? NULL : ws_malloc(sizeof *split_of * n, images_file, st);
     if (!rc && !split_of) rc = st->code;
     if (!rc) { /* frames in name order, as nerfstudio numbers them */
         for (int k = 0; k < n; k++) order[k] = &model.images[k];
         qsort(order, n, sizeof *order, compare_image_names);
         for (int k = 0; k < n; k++) {
-            split_of[k] = has_lists ? split_by_list_file(lists, order[k]->name) : split_by_rule(k);
+            split_of[k] = lists.any ? ws_colmap_lists_split(&lists, order[k]->name) : ws_transforms_split_rule(k);
             if (split_of[k] >= 0) count[split_of[k]]++;
         }
         if (count[WS_TRAIN] == 0)
@@ -704,11 +421,12 @@ static int parse_colmap(ws_scene *scene, const char *dir, const char *folder,
         const ws_colmap_image *im = order[k];
         const ws_lens *lens = &ws_colmap_camera_of(&model, im)->lens;
         ws_view *v = &scene->split[split_of[k]].views[scene->split[split_of[k]].n++];
-        char what[4400];
+        char what[WHAT_MAX];
         snprintf(what, sizeof what, "%s: image %d", images_file, im->id);
         v->frame = k;
         if ((rc = check_scene_path(im->name, "name", what, st)) ||
-            (rc = view_name(im->name, what, v->name, sizeof v->name, st)))
+            (rc = view_name(im->name, what, v->name, sizeof v->name, st)) ||
+            (rc = set_image_name(v, im->name, 0, what, st)))
             break;
         int len = opt->images_dir ? snprintf(v->image_path, sizeof v->image_path, "%s/%s", opt->images_dir, im->name)
                                   : snprintf(v->image_path, sizeof v->image_path, "%s/images/%s", dir, im->name);
@@ -720,10 +438,9 @@ static int parse_colmap(ws_scene *scene, const char *dir, const char *folder,
             rc = ws_fail(st, WS_EINPUT, "%s: no file %s", what, v->image_path);
             break;
         }
-        intrinsics in = {lens->fx, lens->fy, lens->cx, lens->cy, lens->width, lens->height, *lens};
         double c2w[4][4];
         ws_colmap_to_c2w(im->q, im->t, c2w);
-        rc = frame_camera(&in, c2w, opt, what, v, st);
+        rc = frame_camera(lens, c2w, opt, what, v, st);
     }
     if (!rc) {
         const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
@@ -732,7 +449,7 @@ static int parse_colmap(ws_scene *scene, const char *dir, const char *folder,
         scene->npoints = model.npoints;
         model.points = NULL;
     }
-    for (int s = 0; s < WS_NSPLITS; s++) free(lists[s]);
+    if (order) ws_colmap_lists_free(&lists);
     free(split_of);
     free(order);
     ws_colmap_free(&model);
@@ -805,7 +522,12 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     if (!rc && from_file) {
         ws_image_free(&alpha);
         ws_image rgb;
-        rc = ws_image_read(v->mask_path, full.width, full.height, black, &rgb, st);
+        rc = ws_image_read(v->mask_path, 0, 0, black, &rgb, st);
+        if (!rc && (rgb.width != full.width || rgb.height != full.height)) {
+            rc = ws_fail(st, WS_EINPUT, "%s: mask is %d x %d but its image %s is %d x %d", v->mask_path, rgb.width,
+                         rgb.height, v->image_path, full.width, full.height);
+            ws_image_free(&rgb);
+        }
         if (!rc) { /* the first plane is the mask */
             alpha = first_plane(rgb);
             for (size_t p = 0; p < plane; p++)
@@ -849,6 +571,80 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     ws_image_free(&alpha);
     if (!rc && v->mask.data) threshold_mask(&v->mask);
     return rc;
+}
+
+/* ---------------------------------------------------------------- masks folder */
+
+static int is_folder(const char *path) {
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
+
+/* The mask of image `name` in folder `dir`: DIR/NAME with its image
+ * extension replaced by .png, or with .png added; tried[2] get both. */
+static int find_mask(const char *dir, const char *name, char tried[2][WS_PATH_MAX], char *found, size_t size) {
+    const size_t stem = strlen(name) - image_extension(name);
+    snprintf(tried[0], WS_PATH_MAX, "%s/%.*s.png", dir, (int)stem, name);
+    snprintf(tried[1], WS_PATH_MAX, "%s/%s.png", dir, name);
+    for (int k = 0; k < 2; k++)
+        if (file_exists(tried[k]) && strlen(tried[k]) < size) {
+            strcpy(found, tried[k]);
+            return 1;
+        }
+    return 0;
+}
+
+/* Every view without a mask_path takes its mask from the masks folder
+ * (scene.h): opt->masks_dir, which must exist, or SCENE/masks of a
+ * nerfstudio or COLMAP scene. A folder that has masks for some views must
+ * have every one's: a view left without is refused, not fitted on its
+ * background. */
+static int find_masks(ws_scene *scene, const ws_scene_options *opt, ws_status *st) {
+    char dir[WS_PATH_MAX], tried[2][WS_PATH_MAX], first_tried[2][WS_PATH_MAX];
+    snprintf(dir, sizeof dir, "%s/masks", scene->dir);
+    if (opt->masks_dir && !is_folder(opt->masks_dir))
+        return ws_fail(st, WS_EUSAGE, "--masks %s: no such folder", opt->masks_dir);
+    if (opt->masks_dir)
+        snprintf(dir, sizeof dir, "%s", opt->masks_dir);
+    else if (scene->layout == WS_LAYOUT_NERF_SYNTHETIC || !is_folder(dir))
+        dir[0] = '\0';
+    const ws_view *missing = NULL;
+    int nmissing = 0;
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (int k = 0; k < scene->split[s].n; k++) {
+            ws_view *v = &scene->split[s].views[k];
+            if (v->mask_path[0]) {
+                scene->masks_from_paths++;
+            } else if (dir[0] && find_mask(dir, v->image_name, tried, v->mask_path, sizeof v->mask_path)) {
+                scene->masks_from_dir++;
+            } else if (dir[0] && nmissing++ == 0) {
+                missing = v;
+                memcpy(first_tried, tried, sizeof tried);
+            }
+        }
+    if (!nmissing) {
+        if (scene->masks_from_dir) snprintf(scene->masks_dir, sizeof scene->masks_dir, "%s", dir);
+        return WS_OK;
+    }
+    if (!scene->masks_from_dir)
+        return ws_fail(st, WS_EINPUT, "%s: no mask for any image (tried %s and %s for %s)", dir,
+                       first_tried[0], first_tried[1], missing->image_name);
+    return ws_fail(st, WS_EINPUT, "%s: no mask for %s (tried %s and %s), though the folder has the masks "
+                   "of %d other views", dir, missing->image_name, first_tried[0], first_tried[1], scene->masks_from_dir);
+}
+
+void ws_scene_mask_line(const ws_scene *scene, char *line, size_t size) {
+    int n = 0;
+    for (int s = 0; s < WS_NSPLITS; s++) n += scene->split[s].n;
+    line[0] = '\0';
+    if (scene->masks_from_paths && scene->masks_from_dir)
+        snprintf(line, size, "%.300s: masks for %d of %d views, %d from the frames' mask_path, %d from %.300s",
+                 scene->dir, scene->masks_from_paths + scene->masks_from_dir, n, scene->masks_from_paths,
+                 scene->masks_from_dir, scene->masks_dir);
+    else if (scene->masks_from_paths || scene->masks_from_dir)
+        snprintf(line, size, "%.300s: masks for %d of %d views from %.300s", scene->dir,
+                 scene->masks_from_paths + scene->masks_from_dir, n,
+                 scene->masks_from_dir ? scene->masks_dir : "the frames' mask_path");
 }
 
 /* Decodes every view's PNG, in parallel; the failure of the lowest view (in
@@ -980,13 +776,13 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
     strcpy(scene->dir, dir);
     scene->width = opt->width;
     scene->height = opt->height;
-    char path[4200];
-    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    char path[WS_PATH_MAX];
+    snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[WS_TRAIN]);
     int nerfstudio = access(path, F_OK) != 0;
-    snprintf(path, sizeof path, "%s/transforms.json", dir);
+    snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
     nerfstudio &= access(path, F_OK) == 0;
-    char folder[4200]; /* a COLMAP model's, when there is no transforms file */
-    snprintf(path, sizeof path, "%s/transforms_train.json", dir);
+    char folder[WS_PATH_MAX]; /* a COLMAP model's, when there is no transforms file */
+    snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[WS_TRAIN]);
     const int colmap = !nerfstudio && access(path, F_OK) != 0 &&
                        ws_colmap_find(dir, folder, sizeof folder) == 0;
     if (nerfstudio || colmap) {
@@ -1005,7 +801,7 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
         }
         if (s == WS_TRAIN) scene->camera_angle_x = angle;
     }
-    if (opt->load_images && load_photos(scene, opt, st)) {
+    if (opt->load_images && (find_masks(scene, opt, st) || load_photos(scene, opt, st))) {
         ws_scene_free(scene);
         return st->code;
     }

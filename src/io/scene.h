@@ -41,6 +41,13 @@
  * camera of the same fx, fy, cx, cy and size (io/undistort.h), before the
  * crop; so are masks and edge maps.
  *
+ * Masks (white = object; the size of their image): a frame's mask_path
+ * (JSON layouts, relative to SCENE) wins; else the mask of a masks folder,
+ * opt.masks_dir or, for nerfstudio and COLMAP scenes, SCENE/masks where it
+ * exists: FOLDER/<image_name> with its image extension replaced by .png or
+ * .png added (COLMAP's convention: image.jpg.png). When a masks folder is
+ * used, every view without a mask_path must have its mask there.
+ *
  * In the JSON layouts a frame's optional mask_path (a PNG, white = object) is
  * relative to SCENE, and so is its optional edge_path (a grayscale PNG, an
  * edge map made elsewhere, e.g. by a learned detector); with
@@ -50,21 +57,26 @@
  * values in [0, 1]). */
 #ifndef WS_SCENE_H
 #define WS_SCENE_H
+#include <limits.h>
 #include "render/camera.h"
 #include "render/lens.h"
+#include "base/paths.h"
 #include "io/image.h"
+#include "io/splits.h"
 #include "nn/base/status.h"
-
-enum { WS_TRAIN = 0, WS_VAL = 1, WS_TEST = 2, WS_NSPLITS = 3 };
 
 typedef struct {
     char name[256];       /* image file name without extension: "r_0" */
     int frame;            /* its index in its transforms file's frames[] (ws_scene_file);
                              a split's views are in this order */
-    char image_path[4096];/* the PNG that was found */
+    char image_path[WS_PATH_MAX];/* the PNG that was found */
     ws_camera cam;
     ws_image photo;       /* 3 x height x width, composited on the background */
-    char mask_path[4096]; /* the frame's mask_path, resolved; "" when it has none */
+    char image_name[256]; /* the image's name in its images folder, which its mask in a
+                             masks folder repeats: COLMAP's image name; file_path without
+                             "./" (nerfstudio: and without its first folder, "images/") */
+    char mask_path[WS_PATH_MAX]; /* the mask file: the frame's mask_path, resolved, else the one
+                             of a masks folder; "" when it has none */
     ws_image mask;        /* 1 x height x width: 1 = object, 0 = background; from the
                              mask_path image (value >= 1/2 of white) or else the photo's
                              alpha (>= 1/2); data NULL when neither exists (an opaque
@@ -72,7 +84,7 @@ typedef struct {
     int crop[4];          /* x0, y0, width, height: the file's pixels that make the
                              working view; width 0: the whole file (NeRF-synthetic) */
     int file_width, file_height; /* the image size the scene file states; 0: any */
-    char edge_path[4096]; /* the frame's edge_path or --edge-maps file; "" when none */
+    char edge_path[WS_PATH_MAX]; /* the frame's edge_path or --edge-maps file; "" when none */
     ws_image edges;       /* 1 x height x width from edge_path; data NULL when none */
     ws_lens lens;         /* the image file's lens (pinhole: all distortion 0); the
                              photo, mask and edge map are undistorted to the
@@ -93,19 +105,24 @@ typedef struct {
     int load_images;       /* 0: cameras only (e.g. for render) */
     const char *edge_maps_dir; /* NULL, or the directory of every view's edge map */
     const char *images_dir;    /* COLMAP: NULL (SCENE/images), or where the images are */
+    const char *masks_dir;     /* NULL (nerfstudio and COLMAP: SCENE/masks where it exists),
+                                  or the folder of every view's mask */
 } ws_scene_options;
 
 enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1, WS_LAYOUT_COLMAP = 2 };
 
 typedef struct {
-    char dir[4096];
+    char dir[PATH_MAX];    /* the directory as given (a user's path: paths made from it are WS_PATH_MAX) */
     int layout;            /* WS_LAYOUT_... */
     double camera_angle_x; /* of the train split (its first view's, at the working size) */
     int width, height;
     ws_split split[WS_NSPLITS];
     double center[3];      /* least-squares intersection of the optical axes */
-    char model_file[4200]; /* COLMAP: the images file, relative to dir
+    char model_file[WS_PATH_MAX]; /* COLMAP: the images file, relative to dir
                               ("sparse/0/images.txt") */
+    int masks_from_paths;  /* views whose mask is their frame's mask_path */
+    int masks_from_dir;    /* views whose mask is in masks_dir */
+    char masks_dir[WS_PATH_MAX]; /* the masks folder used; "" when none */
     int npoints;           /* COLMAP: points3D, in the file's world frame */
     double *points;        /* npoints x 3; NULL for the other layouts */
 } ws_scene;
@@ -126,6 +143,10 @@ void ws_scene_free(ws_scene *scene);
  * nerfstudio scene, the images file (scene->model_file) of a COLMAP one. */
 const char *ws_scene_file(const ws_scene *scene, int s);
 
+/* The line that says where the masks came from ("SCENE: masks for 56 of
+ * 64 views from DIR"), "" when no view has a mask file. */
+void ws_scene_mask_line(const ws_scene *scene, char *line, size_t size);
+
 /* The scene's sparse points (COLMAP's points3D, as the file has them,
  * outliers included): *n of them, x y z each; NULL with *n = 0 when the
  * scene has none. */
@@ -133,6 +154,5 @@ const double *ws_scene_points(const ws_scene *scene, int *n);
 
 /* "train" -> WS_TRAIN etc.; -1 for anything else. */
 int ws_split_index(const char *name);
-extern const char *const ws_split_names[WS_NSPLITS];
 
 #endif

@@ -4,7 +4,6 @@
  * tube's radius) along a dense polyline of its Bezier curve. Each capsule is
  * rasterised over its own screen bounding box with a depth buffer, so the
  * cost follows the pixels the tubes cover, not pixels x capsules. */
-#include <cJSON.h>
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -15,7 +14,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "base/outfile.h"
+#include "base/paths.h"
 #include "io/colmap.h"
+#include "io/transforms.h"
 #include "io/undistort.h"
 #include "nn/base/rng.h"
 #include "io/ref_lines.h"
@@ -110,6 +111,17 @@ static void view_file(const ws_synth_options *opt, int s, int k, char *out, size
         snprintf(out, size, "images/%s/r_%05d.%s", ws_split_names[s], k, ext);
     else
         snprintf(out, size, "rgb/%s/r_%d.%s", ws_split_names[s], k, ext);
+}
+
+/* View k's mask, relative to the scene: the scene loader's masks folder
+ * (scene.h), masks/ with the image's name under its images folder and .png
+ * for its extension ("masks/train/r_00003.png" for COLMAP's
+ * "images/train/r_00003.jpg"). */
+static void mask_file(const ws_synth_options *opt, int s, int k, char *out, size_t size) {
+    char image[64];
+    view_file(opt, s, k, image, sizeof image);
+    const char *name = strchr(image, '/') + 1; /* below rgb/ or images/ */
+    snprintf(out, size, "masks/%.*s.png", (int)(strrchr(name, '.') - name), name);
 }
 
 /* ---------------------------------------------------------------- objects */
@@ -594,80 +606,52 @@ static int write_text_file(const char *path, const char *text, ws_status *st) {
     return ws_outfile_commit(&f, st);
 }
 
-/* Writes root (then deleted) as path; ok = 0: building it ran out of memory. */
-static int write_json(const char *path, cJSON *root, int ok, ws_status *st) {
-    char *text = ok ? cJSON_Print(root) : NULL;
-    cJSON_Delete(root);
-    if (!text) return ws_fail(st, WS_ENOMEM, "%s: out of memory building the JSON", path);
-    int rc = write_text_file(path, text, st);
-    cJSON_free(text);
-    return rc;
-}
-
-/* transforms_SPLIT.json of the split's n cameras */
-static int write_transforms(const char *dir, int split, const double center[3],
-                            double (*c2w)[4][4], int n, int masks, ws_status *st) {
-    char path[4400];
-    snprintf(path, sizeof path, "%s/transforms_%s.json", dir, ws_split_names[split]);
-    /* each item goes to its parent as soon as it is made (adding fails only
-     * for a NULL item), so a failed allocation leaks nothing */
-    cJSON *root = cJSON_CreateObject(), *frames = NULL;
-    int ok =
-        root && cJSON_AddNumberToObject(root, "camera_angle_x", CAMERA_ANGLE_X) &&
-        cJSON_AddItemToObject(root, "object_position", cJSON_CreateDoubleArray(center, 3)) &&
-        (frames = cJSON_AddArrayToObject(root, "frames"));
-    for (int k = 0; k < n && ok; k++) {
-        char file_path[64];
-        snprintf(file_path, sizeof file_path, "%s/r_%d", ws_split_names[split], k);
-        cJSON *frame = cJSON_CreateObject(), *m = NULL;
-        char mask_path[64];
-        snprintf(mask_path, sizeof mask_path, "masks/%s/r_%d.png", ws_split_names[split], k);
-        ok = cJSON_AddItemToArray(frames, frame) &&
-             cJSON_AddStringToObject(frame, "file_path", file_path) &&
-             (!masks || cJSON_AddStringToObject(frame, "mask_path", mask_path)) &&
-             (m = cJSON_AddArrayToObject(frame, "transform_matrix"));
-        for (int i = 0; i < 4 && ok; i++)
-            ok = cJSON_AddItemToArray(m, cJSON_CreateDoubleArray(c2w[k][i], 4));
-    }
-    return write_json(path, root, ok, st);
-}
-
-/* SCENE/transforms.json of every view, nerfstudio layout: global
- * intrinsics with the lens, the split lists, frames in split order. */
-static int write_transforms_nerfstudio(const char *dir, const ws_synth_options *opt,
-                                       double (*c2w)[4][4], ws_status *st) {
-    char path[4400];
-    snprintf(path, sizeof path, "%s/transforms.json", dir);
-    ws_camera cam;
-    if (synth_camera(opt, c2w[0], path, &cam, st)) return st->code;
-    static const char *const list_keys[WS_NSPLITS] = {"train_filenames", "val_filenames",
-                                                      "test_filenames"};
-    static const char *const lens_keys[] = {"k1", "k2", "p1", "p2"};
-    cJSON *root = cJSON_CreateObject(), *frames = NULL, *lists[WS_NSPLITS] = {NULL};
-    int ok = root && cJSON_AddStringToObject(root, "camera_model", "OPENCV") &&
-             cJSON_AddNumberToObject(root, "fl_x", cam.focal) &&
-             cJSON_AddNumberToObject(root, "fl_y", cam.focal) &&
-             cJSON_AddNumberToObject(root, "cx", cam.cx) && cJSON_AddNumberToObject(root, "cy", cam.cy) &&
-             cJSON_AddNumberToObject(root, "w", cam.width) && cJSON_AddNumberToObject(root, "h", cam.height);
-    for (int k = 0; k < 4 && ok; k++) ok = cJSON_AddNumberToObject(root, lens_keys[k], opt->lens[k]) != NULL;
-    for (int s = 0; s < WS_NSPLITS && ok; s++) ok = (lists[s] = cJSON_AddArrayToObject(root, list_keys[s])) != NULL;
-    ok = ok && (frames = cJSON_AddArrayToObject(root, "frames"));
-    for (int s = 0, v = 0; s < WS_NSPLITS && ok; s++)
-        for (int k = 0; k < opt->views[s] && ok; k++, v++) {
-            char file_path[64];
-            view_file(opt, s, k, file_path, sizeof file_path);
-            cJSON *frame = cJSON_CreateObject(), *m = NULL;
-            char mask_path[64];
-            snprintf(mask_path, sizeof mask_path, "masks/%s/r_%d.png", ws_split_names[s], k);
-            ok = cJSON_AddItemToArray(frames, frame) &&
-                 cJSON_AddStringToObject(frame, "file_path", file_path) &&
-                 (!opt->masks || cJSON_AddStringToObject(frame, "mask_path", mask_path)) &&
-                 cJSON_AddItemToArray(lists[s], cJSON_CreateString(file_path)) &&
-                 (m = cJSON_AddArrayToObject(frame, "transform_matrix"));
-            for (int i = 0; i < 4 && ok; i++)
-                ok = cJSON_AddItemToArray(m, cJSON_CreateDoubleArray(c2w[v][i], 4));
+/* The n views of splits `first` .. `last` as transforms frames: file_path
+ * (view_file's name; without its extension in a NeRF-synthetic split
+ * file, which names its images so), mask_path where there are masks, and
+ * the camera. paths holds n file and mask paths. */
+static void view_frames(const ws_synth_options *opt, int first, int last, double (*c2w)[4][4],
+                        ws_transforms_frame *frames, char (*paths)[2][64]) {
+    for (int s = first, v = 0; s <= last; s++)
+        for (int k = 0; k < opt->views[s]; k++, v++) {
+            if (opt->nerfstudio)
+                view_file(opt, s, k, paths[v][0], sizeof paths[v][0]);
+            else
+                snprintf(paths[v][0], sizeof paths[v][0], "%s/r_%d", ws_split_names[s], k);
+            mask_file(opt, s, k, paths[v][1], sizeof paths[v][1]);
+            frames[v] = (ws_transforms_frame){paths[v][0], opt->masks ? paths[v][1] : NULL, NULL, {{0}}, s};
+            memcpy(frames[v].c2w, c2w[v], sizeof frames[v].c2w);
         }
-    return write_json(path, root, ok, st);
+}
+
+/* The camera files of a NeRF-synthetic or nerfstudio scene (io/transforms.h):
+ * transforms_SPLIT.json of each split that has views, or one
+ * transforms.json with the intrinsics and lens. */
+static int write_transforms(const char *dir, const ws_synth_options *opt, const double center[3],
+                            double (*c2w)[4][4], int total, ws_status *st) {
+    char path[WS_PATH_MAX];
+    ws_transforms_frame *frames = ws_malloc(sizeof *frames * total, "transforms frames", st);
+    char(*paths)[2][64] = frames ? ws_malloc(sizeof *paths * total, "transforms frames", st) : NULL;
+    int rc = paths ? WS_OK : st->code;
+    ws_camera cam;
+    ws_lens lens;
+    if (!rc && opt->nerfstudio) {
+        snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
+        view_frames(opt, WS_TRAIN, WS_TEST, c2w, frames, paths);
+        if (!(rc = synth_camera(opt, c2w[0], path, &cam, st)) && !(rc = synth_lens(opt, &cam, &lens, st))) {
+            const ws_transforms_camera intrinsics = {cam.focal, cam.focal, cam.cx, cam.cy, cam.width, cam.height, lens};
+            rc = ws_transforms_write_nerfstudio(path, &intrinsics, frames, total, st);
+        }
+    }
+    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++]) {
+        if (!opt->views[s]) continue;
+        snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
+        view_frames(opt, s, s, c2w + first, frames, paths);
+        rc = ws_transforms_write_split(path, CAMERA_ANGLE_X, center, frames, opt->views[s], st);
+    }
+    free(frames);
+    free(paths);
+    return rc;
 }
 
 /* COLMAP's sparse points of the object: SPARSE_POINTS in all, along the
@@ -702,7 +686,7 @@ static void sparse_points(const ws_curves *curves, const ws_synth_options *opt, 
 static int write_colmap(const char *dir, const ws_synth_options *opt, double (*c2w)[4][4],
                         const ws_curves *curves, ws_status *st) {
     const int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
-    char path[4400];
+    char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/sparse/0", dir);
     ws_colmap_camera camera = {.id = 1};
     ws_camera cam;
@@ -712,10 +696,10 @@ static int write_colmap(const char *dir, const ws_synth_options *opt, double (*c
     m.images = ws_calloc(total, sizeof *m.images, path, st);
     m.points = m.images ? ws_malloc(sizeof *m.points * 3 * SPARSE_POINTS, path, st) : NULL;
     int rc = m.points ? WS_OK : st->code;
-    for (int s = 0, v = 0; s < WS_NSPLITS && !rc; s++) {
-        ws_outfile list;
-        snprintf(path, sizeof path, "%s/%s_list.txt", dir, ws_split_names[s]);
-        if ((rc = ws_outfile_open(&list, path, st))) break;
+    const char **names = rc ? NULL : ws_malloc(sizeof *names * total, path, st);
+    int *split_of = names ? ws_malloc(sizeof *split_of * total, path, st) : NULL;
+    if (!rc && !split_of) rc = st->code;
+    for (int s = 0, v = 0; s < WS_NSPLITS && !rc; s++)
         for (int k = 0; k < opt->views[s]; k++, v++) {
             char file[64];
             view_file(opt, s, k, file, sizeof file);
@@ -724,10 +708,12 @@ static int write_colmap(const char *dir, const ws_synth_options *opt, double (*c
             im->camera_id = 1;
             snprintf(im->name, sizeof im->name, "%s", file + strlen("images/"));
             ws_colmap_from_c2w(c2w[v], im->q, im->t);
-            fprintf(list.fp, "%s\n", im->name);
+            names[v] = im->name;
+            split_of[v] = s;
         }
-        rc = ws_outfile_commit(&list, st);
-    }
+    if (!rc) rc = ws_colmap_lists_write(dir, names, split_of, total, st);
+    free(names);
+    free(split_of);
     if (!rc) {
         sparse_points(curves, opt, m.points, SPARSE_POINTS);
         snprintf(path, sizeof path, "%s/sparse/0", dir);
@@ -854,7 +840,7 @@ static int render_smooth(const char *dir, const ws_smooth *s, const ws_camera *c
     if (ws_geometry_buffer_alloc(&g, cam->width, cam->height, st)) return st->code;
     uint8_t *part = ws_malloc((size_t)cam->width * cam->height, "reference lines", st);
     int rc = part ? ws_smooth_render(s, cam, SUPERSAMPLE, background, img, &g, st) : st->code;
-    char lines_dir[4400], name[32];
+    char lines_dir[WS_PATH_MAX], name[32];
     snprintf(lines_dir, sizeof lines_dir, "%s/lines/%s", dir, ws_split_names[split]);
     snprintf(name, sizeof name, "r_%d", k);
     if (!rc) rc = ws_line_drawing(&g, part, st);
@@ -876,7 +862,7 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
         while (k >= opt->views[split]) k -= opt->views[split++];
         ws_status *vs = &status[v];
         ws_status_clear(vs);
-        char path[4400], what[4500];
+        char path[WS_PATH_MAX], what[WS_PATH_MAX + 64];
         char file[64];
         view_file(opt, split, k, file, sizeof file);
         snprintf(path, sizeof path, "%s/%s", dir, file);
@@ -889,7 +875,8 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
                           : render_view(obj, &cam, center, opt, &img, &mask, vs)) &&
             !(opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs)) &&
             opt->masks) {
-            snprintf(path, sizeof path, "%s/masks/%s/r_%d.png", dir, ws_split_names[split], k);
+            mask_file(opt, split, k, file, sizeof file);
+            snprintf(path, sizeof path, "%s/%s", dir, file);
             ws_png_write(path, &mask, vs);
         }
         ws_image_free(&img);
@@ -930,12 +917,13 @@ static int remove_scene_files(int fd, const char *where, int (*is_scene_file)(co
 }
 
 static int is_top_file(const char *name) {
-    static const char *const files[] = {"transforms_train.json", "transforms_val.json", "transforms_test.json",
-                                        "transforms.json",       "gt_curves.json",      "gt_points.ply",
-                                        "train_list.txt",        "val_list.txt",        "test_list.txt"};
+    static const char *const files[] = {"gt_curves.json", "gt_points.ply", "train_list.txt", "val_list.txt",
+                                        "test_list.txt"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
         if (!strcmp(name, files[k])) return 1;
-    return 0;
+    for (int s = 0; s < WS_NSPLITS; s++)
+        if (!strcmp(name, ws_transforms_split_files[s])) return 1;
+    return !strcmp(name, WS_TRANSFORMS_FILE);
 }
 
 /* r_K.png or r_K.jpg, as view_file names a view */
@@ -971,7 +959,7 @@ static int clear_subfolder(int fd, const char *dir, const char *a, const char *b
     if (afd < 0) return WS_OK;
     int bfd = openat(afd, b, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC), rc = WS_OK;
     if (bfd >= 0) {
-        char where[4400];
+        char where[WS_PATH_MAX];
         snprintf(where, sizeof where, "%s/%s/%s", dir, a, b);
         if (!(rc = remove_scene_files(bfd, where, is_scene_file, st))) unlinkat(afd, b, AT_REMOVEDIR);
     }
@@ -1002,15 +990,15 @@ static int clear_old_scene(const char *dir, ws_status *st) {
                                               "choose a new or empty folder", dir);
     }
     int rc = remove_scene_files(dup(fd), dir, is_top_file, st);
-    /* the views of either layout (rgb/ or COLMAP's images/), and the model */
-    static const char *const folders[2] = {"rgb", "images"};
-    for (int f = 0; f < 2 && !rc; f++)
+    /* the views of either layout (rgb/ or COLMAP's images/), their masks, and the model */
+    static const char *const folders[3] = {"rgb", "images", "masks"};
+    for (int f = 0; f < 3 && !rc; f++)
         for (int s = 0; s < WS_NSPLITS && !rc; s++)
             rc = clear_subfolder(fd, dir, folders[f], ws_split_names[s], is_view_file, st);
     if (!rc) rc = clear_subfolder(fd, dir, "sparse", "0", is_model_file, st);
     if (!rc) rc = clear_subfolder(fd, dir, "lines", "test", is_lines_file, st);
-    static const char *const parents[4] = {"rgb", "images", "sparse", "lines"};
-    for (int f = 0; f < 4 && !rc; f++) unlinkat(fd, parents[f], AT_REMOVEDIR); /* unless something else is there */
+    static const char *const parents[5] = {"rgb", "images", "masks", "sparse", "lines"};
+    for (int f = 0; f < 5 && !rc; f++) unlinkat(fd, parents[f], AT_REMOVEDIR); /* unless something else is there */
     close(fd);
     return rc;
 }
@@ -1039,7 +1027,7 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         return st->code;
     const scene_object what = {solid || smooth ? NULL : &obj, solid ? &sol : NULL, smooth ? &smo : NULL};
     const double *center = smooth ? smo.center : solid ? sol.center : obj.center;
-    char path[4400];
+    char path[WS_PATH_MAX];
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);
     int rc = c2w ? WS_OK : st->code;
@@ -1074,10 +1062,7 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         rc = write_views(dir, &what, center, opt, c2w, total, st);
     }
     const ws_curves *gt = solid ? &sol.edges : &obj.curves;
-    if (!rc && opt->colmap) rc = write_colmap(dir, opt, c2w, gt, st);
-    else if (!rc && opt->nerfstudio) rc = write_transforms_nerfstudio(dir, opt, c2w, st);
-    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio && !opt->colmap; first += opt->views[s++])
-        if (opt->views[s]) rc = write_transforms(dir, s, center, c2w + first, opt->views[s], opt->masks, st);
+    if (!rc) rc = opt->colmap ? write_colmap(dir, opt, c2w, gt, st) : write_transforms(dir, opt, center, c2w, total, st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     if (!rc && !smooth) rc = ws_curves_save(path, gt, st);
     snprintf(path, sizeof path, "%s/gt_points.ply", dir);

@@ -42,8 +42,9 @@ typedef struct {
     uint64_t seed;         /* camera placement [0] */
     int white_background;  /* 1: the object on white instead of black [0] */
     int room;              /* 1: the object in a box room instead (room.h) [0] */
-    int masks;             /* 1: also DIR/masks/SPLIT/r_K.png (white = object) and each
-                              frame's mask_path naming it [0] */
+    int masks;             /* 1: also DIR/masks/SPLIT/r_K.png (white = object; named after
+                              the image, as the loader's masks folder: scene.h) and, in the
+                              JSON layouts, each frame's mask_path [0] */
     int width, height;     /* a non-square image (nerfstudio layout); 0: size x size */
     double principal[2];   /* the principal point this many pixels right of and below the
                               image centre (nerfstudio layout), so that the object, which
