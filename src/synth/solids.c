@@ -25,12 +25,12 @@
 #define HOLE_SEGMENTS 96
 #define EDGE_THICKNESS 0.01
 
-const char *const ws_solid_names[] = {"cube", "dodecahedron", "nut"};
-const int ws_solid_count = sizeof ws_solid_names / sizeof ws_solid_names[0];
+static const char *const solid_names[] = {"cube", "dodecahedron", "nut"};
+static const int solid_count = sizeof solid_names / sizeof solid_names[0];
 
 int ws_solid_exists(const char *name) {
-    for (int k = 0; k < ws_solid_count; k++)
-        if (!strcmp(name, ws_solid_names[k])) return 1;
+    for (int k = 0; k < solid_count; k++)
+        if (!strcmp(name, solid_names[k])) return 1;
     return 0;
 }
 

@@ -36,11 +36,7 @@ typedef struct {
     double *normal; /* ntri x 3 corners x 3, unit */
 } ws_solid;
 
-/* The solids there are. */
-extern const char *const ws_solid_names[];
-extern const int ws_solid_count;
-
-/* Is `name` one of ws_solid_names? */
+/* Is `name` one of the solids there are ("cube", "dodecahedron", "nut")? */
 int ws_solid_exists(const char *name);
 
 /* Builds solid `name` with its bounding box centred on `center`; fails with

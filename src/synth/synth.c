@@ -55,8 +55,9 @@ static const double OBJECT_CENTER[3] = {0.3, -0.2, 0.5};
 /* surface points of a solid's gt_points.ply */
 #define GT_POINTS 20000
 
-const char *const ws_synth_names[] = {"trefoil", "chair", "spring", "flat"};
-const int ws_synth_count = sizeof ws_synth_names / sizeof ws_synth_names[0];
+/* The wire objects there are. */
+static const char *const synth_names[] = {"trefoil", "chair", "spring", "flat"};
+static const int synth_count = sizeof synth_names / sizeof synth_names[0];
 
 void ws_synth_options_default(ws_synth_options *opt) {
     opt->views[WS_TRAIN] = 48;
@@ -368,16 +369,16 @@ static int build_capsules(ws_synth_object *obj, ws_status *st) {
     return WS_OK;
 }
 
-/* The makers of the objects, in the order of ws_synth_names. */
+/* The makers of the objects, in the order of synth_names. */
 static int (*const makers[])(ws_synth_object *obj, ws_status *st) = {make_trefoil, make_chair,
                                                                       make_spring, make_flat};
-_Static_assert(sizeof makers / sizeof makers[0] == sizeof ws_synth_names / sizeof ws_synth_names[0],
+_Static_assert(sizeof makers / sizeof makers[0] == sizeof synth_names / sizeof synth_names[0],
                "one maker per name");
 
-/* The index of `name` in ws_synth_names, or -1. */
+/* The index of `name` in synth_names, or -1. */
 static int object_index(const char *name) {
-    for (int k = 0; k < ws_synth_count; k++)
-        if (!strcmp(name, ws_synth_names[k])) return k;
+    for (int k = 0; k < synth_count; k++)
+        if (!strcmp(name, synth_names[k])) return k;
     return -1;
 }
 
@@ -456,7 +457,11 @@ static void ball_screen_box(const double C[3], double r, double f, double cx, do
     }
 }
 
-int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
+/* Renders the object seen by cam into img (allocated here: 3 x cam->height x
+ * cam->width): the nearest tube surface of each of supersample^2 rays per
+ * pixel, Lambert + ambient shaded, averaged; the background image (3 x
+ * height x width, e.g. room.h's) where no tube is hit. */
+static int synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
                     const ws_image *background, ws_image *img, ws_status *st) {
     if (supersample < 1 || supersample > 16)
         return ws_fail(st, WS_EINTERNAL, "synth: supersampling %d is not in [1, 16]", supersample);
@@ -777,7 +782,7 @@ static int view_background(const ws_synth_options *opt, const ws_camera *cam, co
 static int render_object(const scene_object *obj, const ws_camera *cam, const ws_image *background, ws_image *img,
                          ws_status *st) {
     return obj->solid ? ws_solid_render(obj->solid, cam, SUPERSAMPLE, background, img, st)
-                      : ws_synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, st);
+                      : synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, st);
 }
 
 /* One pinhole view's photo, and with opt->masks its mask (1 x H x W: the
