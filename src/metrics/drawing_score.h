@@ -26,6 +26,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "io/scene.h"
+#include "io/turntable.h"
 #include "render/curves.h"
 #include "nn/base/status.h"
 
@@ -45,11 +46,6 @@ typedef struct {
  * contour_views = 0 when it has no outline. Fails only when out of memory. */
 int ws_drawing_score_view(const unsigned char *gray, const uint8_t *part, int W, int H, ws_drawing_score *s,
                           ws_status *st);
-
-/* Turns the sketch's render of a view (curves, H x W grey) into the
- * drawing a user gets of it (drawing, H x W grey). */
-typedef int (*ws_drawing_render_fn)(void *ctx, const ws_camera *cam, const unsigned char *curves,
-                                    unsigned char *drawing, ws_status *st);
 
 /* The sketch c rendered from every view of split (turned into a drawing by
  * render(ctx, ...) unless render is NULL) and scored against the reference
