@@ -72,7 +72,7 @@ int main(void) {
     static uint8_t band[TEST_SIZE * TEST_SIZE], covered[TEST_SIZE * TEST_SIZE];
     memset(band, 1, sizeof band);
     memset(covered, 7, sizeof covered);
-    CHECK(ws_hull_outline_cover(&o, &test, band, covered, &st) == 0, "%s", st.msg);
+    CHECK(ws_hull_outline_cover(&o, &test, band, NULL, NULL, covered, &st) == 0, "%s", st.msg);
     /* the circle: the test camera looks at the sphere's centre from 3.5 */
     double d = sqrt(at[0] * at[0] + at[1] * at[1] + at[2] * at[2]), radius = test.focal / sqrt(d * d - 1);
     int wrong = 0, checked = 0, ring = 0;
@@ -96,7 +96,7 @@ int main(void) {
     memset(band, 0, sizeof band);
     band[(TEST_SIZE / 2) * TEST_SIZE + TEST_SIZE / 2] = 1;
     memset(covered, 7, sizeof covered);
-    CHECK(ws_hull_outline_cover(&o, &test, band, covered, &st) == 0, "%s", st.msg);
+    CHECK(ws_hull_outline_cover(&o, &test, band, NULL, NULL, covered, &st) == 0, "%s", st.msg);
     CHECK(covered[(TEST_SIZE / 2) * TEST_SIZE + TEST_SIZE / 2] == 1 && covered[0] == 7, "band: centre %d, corner %d",
           covered[(TEST_SIZE / 2) * TEST_SIZE + TEST_SIZE / 2], covered[0]);
     ws_hull_outline_free(&o);
@@ -106,7 +106,7 @@ int main(void) {
     memset(band, 1, sizeof band);
     for (int tolerance = 0; tolerance <= 1; tolerance++) {
         CHECK(ws_hull_outline_init(&o, views, NVIEWS, tolerance, lo, hi, &st) == 0, "%s", st.msg);
-        CHECK(ws_hull_outline_cover(&o, &test, band, covered, &st) == 0, "%s", st.msg);
+        CHECK(ws_hull_outline_cover(&o, &test, band, NULL, NULL, covered, &st) == 0, "%s", st.msg);
         int count = 0, want = 0;
         for (int i = 0; i < TEST_SIZE; i++)
             for (int j = 0; j < TEST_SIZE; j++) {

@@ -125,13 +125,16 @@ static int box_range(const double lo[3], const double hi[3], const double p[3], 
     return a < b;
 }
 
-static int covers(const ws_hull_outline *o, const ws_camera *cam, int i, int j, double (*ab)[6], double *gap,
-                  double *top) {
+static int covers(const ws_hull_outline *o, const ws_camera *cam, int i, int j, double near, double far,
+                  double (*ab)[6], double *gap, double *top) {
     double D[3], w[3], p[3], t0, t1;
     ws_camera_pixel_ray(cam, i, j, D);
     for (int x = 0; x < 3; x++) w[x] = cam->R[0][x] * D[0] + cam->R[1][x] * D[1] + cam->R[2][x] * D[2];
     ws_camera_position(cam, p);
     if (!box_range(o->lo, o->hi, p, w, &t0, &t1)) return 0;
+    /* D's z is -1: t is the depth, which the range bounds */
+    t0 = fmax(t0, near);
+    t1 = fmin(t1, far);
     for (int k = 0; k < o->nviews; k++) {
         const ws_camera *c = o->views[k].cam;
         ws_camera_to_cam(c, p, ab[k]);
@@ -155,8 +158,8 @@ static int covers(const ws_hull_outline *o, const ws_camera *cam, int i, int j, 
     return 0;
 }
 
-int ws_hull_outline_cover(const ws_hull_outline *o, const ws_camera *cam, const uint8_t *band, uint8_t *covered,
-                          ws_status *st) {
+int ws_hull_outline_cover(const ws_hull_outline *o, const ws_camera *cam, const uint8_t *band, const float *near,
+                          const float *far, uint8_t *covered, ws_status *st) {
     const int W = cam->width, H = cam->height, threads = omp_get_max_threads();
     /* per thread: the ray in every view's camera space, the views' gaps and the running list of the largest */
     const size_t per = (size_t)o->nviews * 7 + (size_t)o->tolerance + 1;
@@ -168,7 +171,8 @@ int ws_hull_outline_cover(const ws_hull_outline *o, const ws_camera *cam, const 
         for (int j = 0; j < W; j++) {
             size_t p = (size_t)i * W + j;
             if (band[p])
-                covered[p] = (uint8_t)covers(o, cam, i, j, (double(*)[6])mine, mine + (size_t)o->nviews * 6,
+                covered[p] = (uint8_t)covers(o, cam, i, j, near ? near[p] : 0, far ? far[p] : INFINITY,
+                                             (double(*)[6])mine, mine + (size_t)o->nviews * 6,
                                              mine + (size_t)o->nviews * 7);
         }
     }

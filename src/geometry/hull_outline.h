@@ -20,15 +20,16 @@
  * `tolerance` views have s_k > 0 (the voxel hull's tolerance, so that the
  * same few bad masks carve nothing).
  *
- * A ray is followed from where it enters a box that holds the hull by
- * sphere tracing: with s_k and the speed v_k (pixels per unit of the ray's
+ * A ray is followed from where it enters a box that holds the hull (or
+ * the nearest depth it may meet the hull at) by sphere tracing: with s_k and the speed v_k (pixels per unit of the ray's
  * parameter) of the point's projection in every view, the point stays
  * outside while more than `tolerance` views still see it outside, which
  * no view's s_k can stop doing within s_k / (sqrt 2 v_k): the step is
  * the (tolerance + 1)-th largest of those, times WS_OUTLINE_STEP_SHARE
  * (the speed changes along the step with perspective), and at least
  * WS_OUTLINE_MIN_STEP_PX pixels in the fastest view. A ray that reaches
- * the box's far side misses. A hull part thinner than the smallest step
+ * the box's far side (or the farthest depth it may meet the hull at)
+ * misses. A hull part thinner than the smallest step
  * along the ray can be missed; at a tenth of a pixel that is below what
  * the silhouettes resolve. Deterministic (each pixel alone). */
 #ifndef WS_HULL_OUTLINE_H
@@ -61,8 +62,13 @@ void ws_hull_outline_box(const ws_hull *h, double lo[3], double hi[3]);
 
 /* covered[p] = whether the ray through pixel p's centre meets the hull,
  * for every pixel p with band[p] set (cam's height x width each); the
- * other pixels are left as they are. Fails only when out of memory. */
-int ws_hull_outline_cover(const ws_hull_outline *o, const ws_camera *cam, const uint8_t *band, uint8_t *covered,
-                          ws_status *st);
+ * other pixels are left as they are. near, far (or NULL: no bound): the
+ * depths between which the ray can meet the hull at each pixel (a voxel
+ * hull's nearest and farthest surface there, widened by its voxels), so
+ * that a ray grazing the hull is not followed beyond them (a third of the
+ * time of a drawing, measured on the rose). Fails only when out of
+ * memory. */
+int ws_hull_outline_cover(const ws_hull_outline *o, const ws_camera *cam, const uint8_t *band, const float *near,
+                          const float *far, uint8_t *covered, ws_status *st);
 
 #endif

@@ -87,10 +87,12 @@ void ws_line_evidence_free(ws_line_evidence *e) {
 }
 
 /* Z and K of a view (line_evidence.h) into z and crease (H x W; nearest:
- * scratch, the surface voxel nearest at each pixel). */
-static void hull_depth(const ws_line_evidence *e, const ws_camera *cam, float *z, int *nearest, uint8_t *crease) {
+ * scratch, the surface voxel nearest at each pixel; far, unless NULL: the
+ * farthest surface voxel's depth). */
+static void hull_depth(const ws_line_evidence *e, const ws_camera *cam, float *z, int *nearest, uint8_t *crease,
+                       float *far) {
     const ws_scene_hull *hl = e->hull;
-    ws_hull_surface_depth(&hl->surface, cam, hl->hull.voxel * sqrt(3.0) / 2, z, nearest);
+    ws_hull_surface_depth(&hl->surface, cam, hl->hull.voxel * sqrt(3.0) / 2, z, nearest, far);
     for (size_t p = 0; p < (size_t)cam->width * cam->height; p++)
         crease[p] = nearest[p] < 0 ? 0 : e->crease[nearest[p]];
 }
@@ -112,7 +114,7 @@ static int depth_jump(const float *z, int W, int H, int i, int j) {
 
 /* Buffers of one view, H x W each. */
 typedef struct {
-    float *z, *dist, *inside;
+    float *z, *dist, *inside, *far;
     int *nearest;
     uint8_t *crease, *set, *support, *covered;
 } view_buffers;
@@ -122,7 +124,8 @@ static int buffers_alloc(view_buffers *b, size_t n, ws_status *st) {
     b->z = ws_malloc(n * sizeof(float), "hull lines", st);
     b->dist = b->z ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
     b->inside = b->dist ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
-    b->crease = b->inside ? ws_malloc(n, "hull lines", st) : NULL;
+    b->far = b->inside ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
+    b->crease = b->far ? ws_malloc(n, "hull lines", st) : NULL;
     b->set = b->crease ? ws_malloc(n, "hull lines", st) : NULL;
     b->support = b->set ? ws_malloc(n, "hull lines", st) : NULL;
     b->covered = b->support ? ws_malloc(n, "hull lines", st) : NULL;
@@ -134,6 +137,7 @@ static void buffers_free(view_buffers *b) {
     free(b->z);
     free(b->dist);
     free(b->inside);
+    free(b->far);
     free(b->crease);
     free(b->set);
     free(b->support);
@@ -158,7 +162,7 @@ int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8
     view_buffers b;
     int rc = buffers_alloc(&b, (size_t)cam->width * cam->height, st);
     if (!rc) {
-        hull_depth(e, cam, b.z, b.nearest, b.crease);
+        hull_depth(e, cam, b.z, b.nearest, b.crease, NULL);
         rc = support_map(&b, cam->width, cam->height, WS_EVIDENCE_REACH_PX, support, st);
     }
     buffers_free(&b);
@@ -173,7 +177,7 @@ int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *ou
     view_buffers b;
     int rc = buffers_alloc(&b, n, st);
     if (!rc) {
-        hull_depth(e, cam, b.z, b.nearest, b.crease);
+        hull_depth(e, cam, b.z, b.nearest, b.crease, b.far);
         rc = support_map(&b, W, H, WS_DRAWING_SUPPORT_PX, b.support, st);
     }
     /* inside: the distance to the voxel hull's outside; the exact test
@@ -183,11 +187,18 @@ int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *ou
         rc = ws_distance_map(b.set, W, H, b.inside, st);
     }
     if (!rc) {
+        /* the depths between which a ray can meet the exact hull, inside the
+         * voxel hull: its nearest and farthest surface voxels' centres, a
+         * voxel's ball (and the discs' rounding) either side; dist holds
+         * the near ones until it is remade below */
+        const double widen = 2 * e->hull->hull.voxel;
         for (size_t p = 0; p < n; p++) {
             b.covered[p] = !b.set[p];
             b.set[p] = !b.set[p] && b.inside[p] <= WS_DRAWING_BAND_PX;
+            b.dist[p] = (float)(b.z[p] - widen);
+            b.far[p] = (float)(b.far[p] + widen);
         }
-        rc = ws_hull_outline_cover(outline, cam, b.set, b.covered, st);
+        rc = ws_hull_outline_cover(outline, cam, b.set, b.dist, b.far, b.covered, st);
     }
     /* inside: now the distance to the pixels the exact hull does not cover */
     if (!rc) {
