@@ -7,11 +7,15 @@
  * edge's image drawn (a line pixel within 1.5 px of each point of it not
  * hidden by a face); the
  * trefoil's lines within its tube's image radius plus 1 px of its centre
- * curves, and those drawn along them. */
+ * curves, and those drawn along them. End to end: `scene cube` writes
+ * them, `eval` at the scene's size scores the drawing, at another --size
+ * says in one line that it cannot. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "check.h"
+#include "cli_run.h"
 #include "io/ref_lines.h"
 #include "synth/solids.h"
 #include "synth/synth.h"
@@ -122,5 +126,25 @@ int main(void) {
     ws_solid_free(&sol);
     ws_geometry_buffer_free(&g);
     ws_image_free(&background);
+    const char *build = getenv("BUILD");
+    char bin[512], tmp[256], path[600];
+    static char out[1 << 15];
+    snprintf(bin, sizeof bin, "%s/wiresketch", build && *build ? build : "build");
+    snprintf(tmp, sizeof tmp, "/tmp/ws_test_solid_lines.%ld", (long)getpid());
+    int rc = run_cmd(out, sizeof out, "%s scene cube --out %s --size 48 --views-train 8 --views-val 1 --views-test 2",
+                     bin, tmp);
+    snprintf(path, sizeof path, "%s/lines/test/r_1_parts.png", tmp);
+    CHECK(rc == 0 && access(path, R_OK) == 0, "scene cube: %d %s", rc, out);
+    rc = run_cmd(out, sizeof out, "%s eval %s --curves %s/gt_curves.json --loss none --size 48 --threads 1", bin,
+                 tmp, tmp);
+    CHECK(rc == 0 && strstr(out, "\"drawing\": {\"views\": 2") && strstr(out, "\"drawing_curves\""),
+          "eval at the scene's size: %d %s", rc, out);
+    rc = run_cmd(out, sizeof out, "{ %s eval %s --curves %s/gt_curves.json --loss none --size 64 --threads 1 >/dev/null; }",
+                 bin, tmp, tmp);
+    char want[800];
+    snprintf(want, sizeof want, "wiresketch: warning: %s/lines/test: the reference lines are 48 x 48 pixels, the views "
+             "64 x 64 (--size); the drawing is not scored\n", tmp);
+    CHECK(rc == 0 && !strcmp(out, want), "eval at another size: %d %s", rc, out);
+    run_cmd(out, sizeof out, "rm -rf %s", tmp);
     return check_summary();
 }

@@ -81,6 +81,12 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     ws_drawing_score drawing, drawing_curves;
     ws_drawing_hull dh;
     int have_hull = 0;
+    char why[WS_PATH_MAX + 120];
+    if (!rc && have_lines && !ws_drawing_lines_match(lines_dir, &scene.split[split], scene.width, scene.height, why,
+                                                     sizeof why)) {
+        fprintf(stderr, "wiresketch: warning: %s; the drawing is not scored\n", why);
+        have_lines = 0;
+    }
     if (!rc && have_lines && curves.n == 0)
         rc = ws_fail(st, WS_EINPUT, "%s: no curves to score against the reference lines", curves_path);
     if (!rc && have_lines) {

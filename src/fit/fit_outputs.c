@@ -312,6 +312,12 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, const
     ws_drawing_score drawing[2]; /* the drawing's score, the curves' alone */
     char lines_dir[WS_PATH_MAX];
     int have_lines = ntest && ws_drawing_lines_dir(scene->dir, "test", lines_dir);
+    char why[WS_PATH_MAX + 120];
+    if (have_lines && !ws_drawing_lines_match(lines_dir, &scene->split[WS_TEST], scene->width, scene->height, why,
+                                              sizeof why)) {
+        fprintf(stderr, "wiresketch: warning: %s; the drawing is not scored\n", why);
+        have_lines = 0;
+    }
     ws_drawing_hull dh;
     int have_hull = 0;
     if (!rc && ntest) {

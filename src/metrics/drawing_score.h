@@ -59,6 +59,12 @@ int ws_drawing_score_split(const ws_split *split, int W, int H, const ws_curves 
  * exists (returns 1), else "" (returns 0). */
 int ws_drawing_lines_dir(const char *scene_dir, const char *split_name, char *dir);
 
+/* Whether the reference lines in lines_dir are W x H pixels (those of the
+ * split's first view; 1 when that file cannot be read, which scoring then
+ * names): lines drawn at a scene's own size cannot score its views at
+ * another --size. 0 with why (size bytes) saying so. */
+int ws_drawing_lines_match(const char *lines_dir, const ws_split *split, int W, int H, char *why, size_t size);
+
 /* Writes `"KEY": {"views": ..., "overdraw": ..., "precision_1": ...,
  * "recall_1", "fscore_1", "contour_recall_1", "scribble_1", then the same
  * with suffix 0.5}` for metrics.json and eval. */
