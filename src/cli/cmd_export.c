@@ -87,7 +87,7 @@ int cmd_export(int argc, char **argv) {
         {"--background", WS_ARG_STRING, &background, 0, WS_CLI_BACKGROUND_HELP " (--hidden-lines hull, --drawing hull)"},
     };
     const ws_command_spec spec = {
-        "export CURVES.json [--obj FILE] [--ply FILE] [--svg FILE --scene DIR [--split S --view K]]",
+        "export CURVES.json [--obj FILE] [--ply FILE] [--svg FILE --scene DIR [--split S --view K] [--drawing MODE]]",
         "Write a sketch as OBJ or PLY polylines, or as an SVG drawing of Bezier paths from one camera.",
         args, sizeof args / sizeof args[0], 1, 1};
     const char *pos[1];
