@@ -22,7 +22,7 @@ int main(void) {
     char path[512];
     int rc = run_cmd(out, sizeof out,
                      "%s export " FIXTURE "/gt_curves.json --svg %s/whole.svg --obj %s/curves.obj --scene " FIXTURE
-                     " --size 1024",
+                     " --size 1024 --drawing curves",
                      bin, tmp, tmp);
     CHECK(rc == 0 && !out[0], "export: %d %s", rc, out);
     rc = run_cmd(out, sizeof out,
@@ -37,7 +37,7 @@ int main(void) {
     /* hidden lines: the back of the knot is left out, curves cut */
     rc = run_cmd(out, sizeof out,
                  "%s export " FIXTURE "/gt_curves.json --svg %s/hidden.svg --scene " FIXTURE
-                 " --size 64 --view 1 --hidden-lines hull",
+                 " --size 64 --view 1 --hidden-lines hull --drawing curves",
                  bin, tmp);
     CHECK(rc == 0, "export --hidden-lines hull: %d %s", rc, out);
     rc = run_cmd(out, sizeof out,

@@ -189,7 +189,7 @@ static void test_export(const char *curves_path) {
     snprintf(obj, sizeof obj, "%s/s.obj", tmp);
     snprintf(ply, sizeof ply, "%s/s.ply", tmp);
     snprintf(svg, sizeof svg, "%s/s.svg", tmp);
-    int rc = run_cmd(out, sizeof out, "%s export %s --obj %s --ply %s --svg %s --scene %s --view 2", bin,
+    int rc = run_cmd(out, sizeof out, "%s export %s --obj %s --ply %s --svg %s --scene %s --view 2 --drawing curves", bin,
                  curves_path, obj, ply, svg, SCENE);
     CHECK(rc == 0, "export exits 0: %s", out);
     CHECK(count_lines(obj, "v ") == 8 * 33 && count_lines(obj, "l ") == 8,

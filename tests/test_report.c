@@ -261,7 +261,7 @@ static void test_turntable_render(void) {
     ws_sketch_renderer_free(&r);
 
     const char *path = in_dir("turntable.gif");
-    rc = ws_turntable_gif(path, &c, center, 3.0, 0.69, SIZE, N, &st);
+    rc = ws_turntable_gif(path, &c, center, 3.0, 0.69, SIZE, N, NULL, NULL, &st);
     CHECK(rc == WS_OK, "turntable GIF: %s", st.msg);
     GifFileType *g = read_gif(path);
     if (g) {

@@ -128,7 +128,8 @@ static void test_stdout(void) {
     snprintf(lines[0], sizeof lines[0], "--help");
     snprintf(lines[1], sizeof lines[1], "fit --help");
     snprintf(lines[2], sizeof lines[2], "scene trefoil --out %s/s --size 16 --views-train 2 --views-val 1 --views-test 1", tmp);
-    snprintf(lines[3], sizeof lines[3], "eval %s --curves %s/gt_curves.json --loss edges --threads 1", scene, scene);
+    snprintf(lines[3], sizeof lines[3], "eval %s --curves %s/gt_curves.json --loss edges --threads 1 --size 64", scene,
+             scene);
     snprintf(lines[4], sizeof lines[4], "rank %s --loss edges --threads 1", scene);
     snprintf(lines[5], sizeof lines[5], "embed --weights %s %s", tiny, image);
     snprintf(lines[6], sizeof lines[6], "check %s", scene);

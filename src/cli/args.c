@@ -86,7 +86,7 @@ static const char *text_metavar(const char *name) {
         {"--weights", "FILE"},   {"--weights-f16", "FILE"}, {"--weights-f32", "FILE"}, {"--init", "HOW|FILE"},
         {"--loss", "NAME"},      {"--split", "NAME"},      {"--layout", "NAME"},      {"--clip-geometric", "MODE"},
         {"--hidden-lines", "MODE"}, {"--background", "COLOR"}, {"--images", "DIR"},      {"--masks", "DIR"},      {"--precision", "MODE"},
-        {"--lens", "K1,K2,P1,P2"}, {"--size", "N|WxH"},   {"--principal", "DX,DY"},
+        {"--lens", "K1,K2,P1,P2"}, {"--size", "N|WxH"},   {"--principal", "DX,DY"}, {"--drawing", "MODE"},
     };
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
         if (!strcmp(names[k][0], name)) return names[k][1];

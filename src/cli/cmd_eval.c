@@ -165,6 +165,12 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     ws_drawing_score drawing, drawing_curves;
+    char why[WS_PATH_MAX + 120];
+    if (!rc && have_lines && !ws_drawing_lines_match(lines_dir, &scene.split[split], scene.width, scene.height, why,
+                                                     sizeof why)) {
+        fprintf(stderr, "wiresketch: warning: %s; the drawing is not scored\n", why);
+        have_lines = 0;
+    }
     if (!rc && have_lines)
         rc = score_drawings(&scene, split, &curves, curves_path, lines_dir, &drawing, &drawing_curves, st);
     ws_surface_curve *per = NULL;

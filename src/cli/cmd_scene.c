@@ -78,9 +78,10 @@ int cmd_scene(int argc, char **argv) {
         "The scene:\n"
         "DIR/transforms_{train,val,test}.json, DIR/rgb/SPLIT/r_K.png, and its exact\n"
         "ground truth DIR/gt_curves.json (the tubes' curves, the solids' sharp edges;\n"
-        "solids also DIR/gt_points.ply); smooth objects instead each test view's\n"
-        "reference lines DIR/lines/test/r_K.png and r_K_parts.png (silhouette, inner\n"
-        "contours, creases), which `eval` scores a sketch against.",
+        "solids also DIR/gt_points.ply; none for the smooth objects), and in a\n"
+        "NeRF-synthetic scene without --lens each test view's reference lines\n"
+        "DIR/lines/test/r_K.png and r_K_parts.png (silhouette, inner contours,\n"
+        "creases), which `eval` and `fit` score the drawing against.",
         args, sizeof args / sizeof args[0], 1, 1, NULL, 0};
     const char *pos[1];
     ws_status st;

@@ -183,7 +183,7 @@ static int write_metrics(const char *path, const ws_fit_state *s, int retired, d
 
 static int write_report(const char *path, const ws_fit_options *opt, const ws_scene *scene,
                         const ws_fit_state *s, const ws_curves *sketch, const ws_report_view *views,
-                        const ws_fit_metrics *m, const char *warning, ws_status *st) {
+                        const ws_fit_metrics *m, const char *warning, int drawn, ws_status *st) {
     int nval = 0;
     long *steps = ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(long), "report", st);
     double *losses = steps ? ws_malloc((size_t)(s->nlog + 1) * 2 * sizeof(double), "report", st) : NULL;
@@ -225,8 +225,12 @@ static int write_report(const char *path, const ws_fit_options *opt, const ws_sc
             cameras[6 * v + i] = train->views[v].cam.c2w[i][3];
             cameras[6 * v + 3 + i] = -train->views[v].cam.c2w[i][2];
         }
-    ws_report_image images[] = {{"turntable", output_files[OUT_TURNTABLE]},
-                                {"evolution during the fit", output_files[OUT_EVOLUTION]}};
+    /* drawn: the test views and the turntable show the drawing (the curves
+     * and the visual hull's lines), the evolution and the 3D view the curves */
+    ws_report_image images[] = {
+        {drawn ? "turntable: the drawing (the curves and the visual hull's outline)" : "turntable",
+         output_files[OUT_TURNTABLE]},
+        {"evolution of the curves during the fit", output_files[OUT_EVOLUTION]}};
     ws_report rep = {0};
     rep.title = "wiresketch fit";
     rep.scene_path = scene->dir;
@@ -311,6 +315,12 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, ws_vi
     ws_drawing_score drawing[2]; /* the drawing's score, the curves' alone */
     char lines_dir[WS_PATH_MAX];
     int have_lines = ntest && ws_drawing_lines_dir(scene->dir, "test", lines_dir);
+    char why[WS_PATH_MAX + 120];
+    if (have_lines && !ws_drawing_lines_match(lines_dir, &scene->split[WS_TEST], scene->width, scene->height, why,
+                                              sizeof why)) {
+        fprintf(stderr, "wiresketch: warning: %s; the drawing is not scored\n", why);
+        have_lines = 0;
+    }
     ws_drawing_hull dh;
     int have_hull = 0;
     if (!rc && ntest) {
@@ -366,10 +376,11 @@ int ws_fit_write_outputs(const ws_fit_options *opt, const ws_scene *scene, ws_vi
     if (!rc) rc = write_evolution(join(path, out, output_files[OUT_EVOLUTION]), scene, s, &r, st);
     if (!rc)
         rc = ws_turntable_gif(join(path, out, output_files[OUT_TURNTABLE]), &c, scene->center, distance,
-                              scene->camera_angle_x, scene->width, TURNTABLE_FRAMES, st);
+                              scene->camera_angle_x, scene->width, TURNTABLE_FRAMES,
+                              have_hull ? ws_drawing_hull_render : NULL, &dh, st);
     if (!rc)
         rc = write_report(join(path, out, output_files[OUT_REPORT]), opt, scene, s, &c, ntest ? views : NULL, &m,
-                          warning[0] ? warning : NULL, st);
+                          warning[0] ? warning : NULL, have_hull, st);
     if (!rc && explained_line[0]) fprintf(stderr, "wiresketch: warning: %s\n", explained_line);
     if (have_hull) ws_drawing_hull_free(&dh);
     free(views);

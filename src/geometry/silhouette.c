@@ -8,7 +8,7 @@ int ws_silhouette_make(const ws_image *photo, const ws_image *mask, ws_silhouett
                        ws_status *st) {
     const int W = photo->width, H = photo->height;
     const size_t hw = (size_t)W * H;
-    *s = (ws_silhouette){.width = W, .height = H};
+    *s = (ws_silhouette){.width = W, .height = H, .edge_inset = mask ? 0.0 : WS_SILHOUETTE_EDGE_INSET};
     if (mask && (mask->width != W || mask->height != H))
         return ws_fail(st, WS_EINTERNAL, "silhouette: mask %d x %d for a %d x %d photo",
                        mask->width, mask->height, W, H);

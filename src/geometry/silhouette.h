@@ -24,6 +24,9 @@
  * the object: half a pixel's diagonal twice, once for the pixel centre the
  * distance is read at, once for the silhouette pixel's own extent. */
 #define WS_SILHOUETTE_PIXEL_SLACK 1.42
+/* A photo's edge pixel is object from a few percent of cover up, so the
+ * object's edge lies about halfway across it, at its centre. */
+#define WS_SILHOUETTE_EDGE_INSET 0.5
 
 typedef struct {
     int width, height;
@@ -33,6 +36,10 @@ typedef struct {
     int touches_border; /* an object pixel lies on the image's edge: the object may go on
                            beyond the frame */
     long area;          /* object pixels */
+    double edge_inset;  /* how far inside the object pixels' outer edges the object's edge lies,
+                           pixels: WS_SILHOUETTE_EDGE_INSET from the photo, where a pixel the
+                           object covers only in part is object already; 0 from a mask, which
+                           holds the pixels it covers at least half */
 } ws_silhouette;
 
 /* From `mask` (1 x H x W, >= 1/2 = object) when it is not NULL, else from

@@ -180,11 +180,13 @@ int ws_curves_init_hull(ws_curves *c, const ws_hull_surface *s, int n, double le
     return WS_OK;
 }
 
-void ws_hull_surface_depth(const ws_hull_surface *s, const ws_camera *cam, double rho, float *z, int *nearest) {
+void ws_hull_surface_depth(const ws_hull_surface *s, const ws_camera *cam, double rho, float *z, int *nearest,
+                           float *far) {
     const int W = cam->width, H = cam->height;
     for (size_t p = 0; p < (size_t)W * H; p++) {
         z[p] = INFINITY;
         nearest[p] = -1;
+        if (far) far[p] = -INFINITY;
     }
     for (int k = 0; k < s->n; k++) {
         double c[3], u, v;
@@ -199,10 +201,12 @@ void ws_hull_surface_depth(const ws_hull_surface *s, const ws_camera *cam, doubl
             for (int j = j0; j <= j1; j++) {
                 double dx = j + WS_PIXEL_CENTER - u, dy = i + WS_PIXEL_CENTER - v;
                 size_t at = (size_t)i * W + j;
-                if (dx * dx + dy * dy <= r * r && d < z[at]) {
+                if (dx * dx + dy * dy > r * r) continue;
+                if (d < z[at]) {
                     z[at] = (float)d;
                     nearest[at] = k;
                 }
+                if (far && d > far[at]) far[at] = (float)d;
             }
     }
 }

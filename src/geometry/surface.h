@@ -51,8 +51,10 @@ void ws_hull_surface_free(ws_hull_surface *s);
  * width): each point drawn as a disc of radius rho (world units) at its
  * depth, at least half a pixel, covering the pixels whose centres it holds.
  * z is the nearest disc's depth (+inf where none falls) and nearest its
- * point's index (-1 there). */
-void ws_hull_surface_depth(const ws_hull_surface *s, const ws_camera *cam, double rho, float *z, int *nearest);
+ * point's index (-1 there); far, unless NULL, the farthest disc's depth
+ * (-inf there). */
+void ws_hull_surface_depth(const ws_hull_surface *s, const ws_camera *cam, double rho, float *z, int *nearest,
+                           float *far);
 
 /* The visual hull of a loaded scene's split and its surface, carved once
  * and shared by whatever needs them (a fit's initial curves, its respawn

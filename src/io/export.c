@@ -1,6 +1,7 @@
 /* export.c: OBJ, PLY and SVG files of a sketch (see export.h). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include "io/export.h"
 #include "base/outfile.h"
 
@@ -113,9 +114,10 @@ static void write_segments(FILE *fp, const ws_camera *cam, const double *P, doub
     fprintf(fp, " C%.3f %.3f %.3f %.3f %.3f %.3f", q[1][0], q[1][1], q[2][0], q[2][1], q[3][0], q[3][1]);
 }
 
-/* Whether the curve's point at t is seen: in front of the far limit where
- * its image falls inside the frame (outside it nothing hides it). */
-static int seen(const ws_camera *cam, const double *P, const float *far, double t) {
+/* Whether the curve's point at t is drawn: in front of the far limit (if
+ * any) and where the drawing keeps the curves (if it says), where its
+ * image falls inside the frame (outside it nothing hides it). */
+static int seen(const ws_camera *cam, const double *P, const float *far, const uint8_t *keep, double t) {
     double uv[2], duv[2], p[3], c[3], s = 1 - t;
     for (int i = 0; i < 3; i++)
         p[i] = s * s * s * P[i] + 3 * s * s * t * P[3 + i] + 3 * s * t * t * P[6 + i] + t * t * t * P[9 + i];
@@ -123,12 +125,64 @@ static int seen(const ws_camera *cam, const double *P, const float *far, double 
     image_point(cam, P, t, uv, duv);
     int j = (int)floor(uv[0]), i = (int)floor(uv[1]);
     if (i < 0 || j < 0 || i >= cam->height || j >= cam->width) return 1;
-    return -c[2] <= far[(size_t)i * cam->width + j];
+    size_t at = (size_t)i * cam->width + j;
+    return (!far || -c[2] <= far[at]) && (!keep || keep[at]);
 }
 
-int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, const float *far, ws_status *st) {
+/* A line pixel next to (i, j) not yet taken (4-neighbours first, so that
+ * a chain follows the line rather than cutting its corners); -1: none. */
+static long next_pixel(const uint8_t *lines, const uint8_t *taken, int W, int H, int i, int j) {
+    static const int di[8] = {-1, 1, 0, 0, -1, -1, 1, 1}, dj[8] = {0, 0, -1, 1, -1, 1, -1, 1};
+    for (int k = 0; k < 8; k++) {
+        int ii = i + di[k], jj = j + dj[k];
+        if (ii < 0 || ii >= H || jj < 0 || jj >= W) continue;
+        size_t q = (size_t)ii * W + jj;
+        if (lines[q] && !taken[q]) return (long)q;
+    }
+    return -1;
+}
+
+/* The line pixels as polylines through their centres: chains of
+ * 8-connected pixels, each grown from its first pixel (raster order) both
+ * ways; a lone pixel is a dot (a zero-length segment, which round caps
+ * draw). */
+static int write_lines(FILE *fp, const uint8_t *lines, int W, int H, ws_status *st) {
+    const size_t n = (size_t)W * H;
+    uint8_t *taken = ws_calloc(n, 1, "SVG lines", st);
+    long *chain = taken ? ws_malloc(2 * n * sizeof *chain, "SVG lines", st) : NULL;
+    if (!chain) {
+        free(taken);
+        return st->code;
+    }
+    fprintf(fp, "<g id=\"hull_lines\" stroke-width=\"1\">\n");
+    for (size_t p0 = 0; p0 < n; p0++) {
+        if (!lines[p0] || taken[p0]) continue;
+        /* chain[first .. last]: grown backwards from n, forwards from n */
+        long first = (long)n, last = (long)n;
+        chain[n] = (long)p0;
+        taken[p0] = 1;
+        for (int way = 0; way < 2; way++)
+            for (long q = (long)p0; (q = next_pixel(lines, taken, W, H, (int)(q / W), (int)(q % W))) >= 0;) {
+                taken[q] = 1;
+                if (way) chain[--first] = q;
+                else chain[++last] = q;
+            }
+        fprintf(fp, "<path d=\"");
+        for (long k = first; k <= last; k++)
+            fprintf(fp, "%s%.1f %.1f", k == first ? "M" : " L", chain[k] % W + WS_PIXEL_CENTER, chain[k] / W + WS_PIXEL_CENTER);
+        fprintf(fp, "%s\"/>\n", first == last ? " l0 0" : "");
+    }
+    fprintf(fp, "</g>\n");
+    free(taken);
+    free(chain);
+    return WS_OK;
+}
+
+int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, const float *far,
+                  const ws_svg_drawing *drawing, ws_status *st) {
     ws_outfile f;
     if (ws_curves_check_finite(path, c, st) || ws_outfile_open(&f, path, st)) return st->code;
+    const uint8_t *keep = drawing ? drawing->keep : NULL;
     fprintf(f.fp,
             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
@@ -148,7 +202,7 @@ int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, co
         int nruns = 0, open = 0;
         for (int k = 0; k <= WS_EXPORT_SVG_SAMPLES; k++) {
             double t = (double)k / WS_EXPORT_SVG_SAMPLES, half = 0.5 / WS_EXPORT_SVG_SAMPLES;
-            int is_seen = !far || seen(cam, P, far, t);
+            int is_seen = (!far && !keep) || seen(cam, P, far, keep, t);
             if (is_seen && !open) runs[nruns][0] = k ? t - half : 0;
             if (!is_seen && open) runs[nruns++][1] = t - half;
             open = is_seen;
@@ -167,6 +221,10 @@ int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, co
             write_segments(f.fp, cam, P, runs[r][0], runs[r][1], 6);
         }
         fprintf(f.fp, "\"/>\n");
+    }
+    if (drawing && write_lines(f.fp, drawing->lines, cam->width, cam->height, st)) {
+        ws_outfile_abort(&f);
+        return st->code;
     }
     fprintf(f.fp, "</g>\n</svg>\n");
     return ws_outfile_commit(&f, st);

@@ -16,11 +16,17 @@
  * where the splatted stroke reaches alpha 1/2, from the Gaussian footprint
  * sigma (METHOD.md section 3) at the depth of the curve's midpoint and the spacing: about
  * 3.5 sigma with the default overlap 0.6, never below 2 sigma.
- * A curve with a control point at depth <= 1e-3 is left out of the SVG; when
+ * With a drawing (the view-dependent lines of objective/line_evidence.h,
+ * the drawing a user gets) a curve is drawn only where the drawing keeps
+ * curves (cut the same way), and the drawing's line pixels follow in a
+ * group `hull_lines`: chains of 8-connected pixels (4-neighbours taken
+ * first) as polylines through the pixel centres, 1 px wide, a lone pixel
+ * as a dot. A curve with a control point at depth <= 1e-3 is left out of the SVG; when
  * all 4 are in front of the camera, so is the whole curve (it lies in their
  * convex hull). All three are written through a temporary file (outfile.h). */
 #ifndef WS_EXPORT_H
 #define WS_EXPORT_H
+#include <stdint.h>
 #include "render/camera.h"
 #include "render/curves.h"
 #include "nn/base/status.h"
@@ -31,9 +37,16 @@
 
 int ws_export_obj(const char *path, const ws_curves *c, ws_status *st);
 int ws_export_ply(const char *path, const ws_curves *c, ws_status *st);
+/* The drawing's layers in the camera's image (H x W each): keep = 1 where
+ * the curves are drawn, lines = 1 on the hull's outline and contours. */
+typedef struct {
+    const uint8_t *keep, *lines;
+} ws_svg_drawing;
+
 /* far: the view's far limit (H x W of the camera's image; a point at
- * depth d in pixel (i, j) is hidden when d > far[i W + j]), or NULL to
- * draw every curve whole. */
-int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, const float *far, ws_status *st);
+ * depth d in pixel (i, j) is hidden when d > far[i W + j]), or NULL; drawing:
+ * or NULL to draw the curves alone. */
+int ws_export_svg(const char *path, const ws_curves *c, const ws_camera *cam, const float *far,
+                  const ws_svg_drawing *drawing, ws_status *st);
 
 #endif

@@ -631,7 +631,7 @@ int ws_report_write(const char *path, const ws_report *r, ws_status *st) {
     fputs("</section>\n", f);
     if (r->curves) {
         fputs("<section id=\"curves-3d\">\n<h2>3D view</h2>\n<canvas id=\"view3d\"></canvas>\n"
-              "<p class=\"hint\">Drag to rotate, scroll to zoom, double-click to reset. "
+              "<p class=\"hint\">The 3D curves alone. Drag to rotate, scroll to zoom, double-click to reset. "
               "Nearer strokes are darker; the training cameras are the blue pyramids, each pointing where "
               "it looks.</p>\n"
               "<script type=\"application/json\" id=\"curve-data\">", f);

@@ -87,7 +87,7 @@ int ws_turntable_camera(ws_camera *cam, const double center[3], double distance,
 
 int ws_turntable_gif(const char *path, const ws_curves *c, const double center[3],
                      double distance, double camera_angle_x, int size, int nframes,
-                     ws_status *st) {
+                     ws_drawing_render_fn render, void *ctx, ws_status *st) {
     if (nframes < 1) return ws_fail(st, WS_EUSAGE, "%s: turntable needs at least 1 frame", path);
     int delay_cs = (int)lround(100 * TURN_SECONDS / nframes);
     ws_sketch_renderer r;
@@ -100,7 +100,8 @@ int ws_turntable_gif(const char *path, const ws_curves *c, const double center[3
     for (int i = 0; i < nframes; i++) {
         ws_camera cam;
         if (ws_turntable_camera(&cam, center, distance, camera_angle_x, size, i, nframes, st) ||
-            ws_sketch_render(&r, c, &cam, st) || ws_gif_add_frame(&gif, r.gray, st)) {
+            ws_sketch_render(&r, c, &cam, st) || (render && render(ctx, &cam, r.gray, r.gray, st)) ||
+            ws_gif_add_frame(&gif, r.gray, st)) {
             ws_gif_abort(&gif);
             ws_sketch_renderer_free(&r);
             return st->code;

@@ -35,6 +35,13 @@ void ws_sketch_renderer_free(ws_sketch_renderer *r);
 int ws_sketch_render(ws_sketch_renderer *r, const ws_curves *c, const ws_camera *cam,
                      ws_status *st);
 
+/* Turns the sketch's render of a view (curves, H x W grey) into the
+ * drawing a user gets of it (drawing, H x W grey; may be curves itself):
+ * objective/line_evidence.h's, which the turntable, the test renders and
+ * the drawing score (metrics/drawing_score.h) all show. */
+typedef int (*ws_drawing_render_fn)(void *ctx, const ws_camera *cam, const unsigned char *curves,
+                                    unsigned char *drawing, ws_status *st);
+
 /* The turntable distance: the mean distance of the split's cameras from
  * `center` (0 for an empty split). */
 double ws_turntable_distance(const ws_split *split, const double center[3]);
@@ -44,10 +51,11 @@ int ws_turntable_camera(ws_camera *cam, const double center[3], double distance,
                         double camera_angle_x, int size, int i, int nframes, ws_status *st);
 
 /* Renders the n-frame turntable of the curves into a looping gray GIF at
- * PATH; one turn takes about 6 s (the original's rotation time), each frame
- * at least 2/100 s. */
+ * PATH, each frame turned into the drawing by render(ctx, ...) unless
+ * render is NULL; one turn takes about 6 s (the original's rotation time),
+ * each frame at least 2/100 s. */
 int ws_turntable_gif(const char *path, const ws_curves *c, const double center[3],
                      double distance, double camera_angle_x, int size, int nframes,
-                     ws_status *st);
+                     ws_drawing_render_fn render, void *ctx, ws_status *st);
 
 #endif

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "base/paths.h"
+#include "io/image.h"
 #include "io/ref_lines.h"
 #include "io/turntable.h"
 #include "metrics/drawing_score.h"
@@ -112,6 +113,23 @@ int ws_drawing_score_split(const ws_split *split, int W, int H, const ws_curves 
     free(drawing);
     ws_sketch_renderer_free(&r);
     return rc;
+}
+
+int ws_drawing_lines_match(const char *lines_dir, const ws_split *split, int W, int H, char *why, size_t size) {
+    if (split->n == 0) return 1;
+    char path[WS_PATH_MAX + 80];
+    snprintf(path, sizeof path, "%s/%s.png", lines_dir, split->views[0].name);
+    const float black[3] = {0, 0, 0};
+    ws_image img = {0};
+    ws_status st;
+    ws_status_clear(&st);
+    if (ws_image_read(path, 0, 0, black, &img, &st)) return 1; /* the score names what is wrong with it */
+    int match = img.width == W && img.height == H;
+    if (!match)
+        snprintf(why, size, "%s: the reference lines are %d x %d pixels, the views %d x %d (--size)", lines_dir,
+                 img.width, img.height, W, H);
+    ws_image_free(&img);
+    return match;
 }
 
 int ws_drawing_lines_dir(const char *scene_dir, const char *split_name, char *dir) {

@@ -26,6 +26,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "io/scene.h"
+#include "io/turntable.h"
 #include "render/curves.h"
 #include "nn/base/status.h"
 
@@ -46,11 +47,6 @@ typedef struct {
 int ws_drawing_score_view(const unsigned char *gray, const uint8_t *part, int W, int H, ws_drawing_score *s,
                           ws_status *st);
 
-/* Turns the sketch's render of a view (curves, H x W grey) into the
- * drawing a user gets of it (drawing, H x W grey). */
-typedef int (*ws_drawing_render_fn)(void *ctx, const ws_camera *cam, const unsigned char *curves,
-                                    unsigned char *drawing, ws_status *st);
-
 /* The sketch c rendered from every view of split (turned into a drawing by
  * render(ctx, ...) unless render is NULL) and scored against the reference
  * lines lines_dir/NAME.png, NAME_parts.png of each (a view's files must
@@ -62,6 +58,12 @@ int ws_drawing_score_split(const ws_split *split, int W, int H, const ws_curves 
 /* SCENE/lines/SPLIT into dir (WS_PATH_MAX bytes) when that directory
  * exists (returns 1), else "" (returns 0). */
 int ws_drawing_lines_dir(const char *scene_dir, const char *split_name, char *dir);
+
+/* Whether the reference lines in lines_dir are W x H pixels (those of the
+ * split's first view; 1 when that file cannot be read, which scoring then
+ * names): lines drawn at a scene's own size cannot score its views at
+ * another --size. 0 with why (size bytes) saying so. */
+int ws_drawing_lines_match(const char *lines_dir, const ws_split *split, int W, int H, char *why, size_t size);
 
 /* Writes `"KEY": {"views": ..., "overdraw": ..., "precision_1": ...,
  * "recall_1", "fscore_1", "contour_recall_1", "scribble_1", then the same

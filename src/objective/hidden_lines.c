@@ -61,7 +61,7 @@ static double tolerance_voxels(const ws_camera *cam, const double n[3], const do
  * (surface.h; nearest: their indices); and into far, Z plus the tolerance
  * of the voxel nearest there (+inf where none falls). */
 static void depth_map(const ws_scene_hull *h, const ws_camera *cam, float *z, int *nearest, float *far) {
-    ws_hull_surface_depth(&h->surface, cam, h->hull.voxel * sqrt(3.0) / 2, z, nearest);
+    ws_hull_surface_depth(&h->surface, cam, h->hull.voxel * sqrt(3.0) / 2, z, nearest, NULL);
     for (size_t p = 0; p < (size_t)cam->width * cam->height; p++) {
         int k = nearest[p];
         far[p] = INFINITY;

@@ -87,10 +87,12 @@ void ws_line_evidence_free(ws_line_evidence *e) {
 }
 
 /* Z and K of a view (line_evidence.h) into z and crease (H x W; nearest:
- * scratch, the surface voxel nearest at each pixel). */
-static void hull_depth(const ws_line_evidence *e, const ws_camera *cam, float *z, int *nearest, uint8_t *crease) {
+ * scratch, the surface voxel nearest at each pixel; far, unless NULL: the
+ * farthest surface voxel's depth). */
+static void hull_depth(const ws_line_evidence *e, const ws_camera *cam, float *z, int *nearest, uint8_t *crease,
+                       float *far) {
     const ws_scene_hull *hl = e->hull;
-    ws_hull_surface_depth(&hl->surface, cam, hl->hull.voxel * sqrt(3.0) / 2, z, nearest);
+    ws_hull_surface_depth(&hl->surface, cam, hl->hull.voxel * sqrt(3.0) / 2, z, nearest, far);
     for (size_t p = 0; p < (size_t)cam->width * cam->height; p++)
         crease[p] = nearest[p] < 0 ? 0 : e->crease[nearest[p]];
 }
@@ -112,9 +114,9 @@ static int depth_jump(const float *z, int W, int H, int i, int j) {
 
 /* Buffers of one view, H x W each. */
 typedef struct {
-    float *z, *dist, *inside;
+    float *z, *dist, *inside, *far;
     int *nearest;
-    uint8_t *crease, *set, *support;
+    uint8_t *crease, *set, *support, *covered;
 } view_buffers;
 
 static int buffers_alloc(view_buffers *b, size_t n, ws_status *st) {
@@ -122,10 +124,12 @@ static int buffers_alloc(view_buffers *b, size_t n, ws_status *st) {
     b->z = ws_malloc(n * sizeof(float), "hull lines", st);
     b->dist = b->z ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
     b->inside = b->dist ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
-    b->crease = b->inside ? ws_malloc(n, "hull lines", st) : NULL;
+    b->far = b->inside ? ws_malloc(n * sizeof(float), "hull lines", st) : NULL;
+    b->crease = b->far ? ws_malloc(n, "hull lines", st) : NULL;
     b->set = b->crease ? ws_malloc(n, "hull lines", st) : NULL;
     b->support = b->set ? ws_malloc(n, "hull lines", st) : NULL;
-    b->nearest = b->support ? ws_malloc(n * sizeof(int), "hull lines", st) : NULL;
+    b->covered = b->support ? ws_malloc(n, "hull lines", st) : NULL;
+    b->nearest = b->covered ? ws_malloc(n * sizeof(int), "hull lines", st) : NULL;
     return b->nearest ? WS_OK : st->code;
 }
 
@@ -133,21 +137,24 @@ static void buffers_free(view_buffers *b) {
     free(b->z);
     free(b->dist);
     free(b->inside);
+    free(b->far);
     free(b->crease);
     free(b->set);
     free(b->support);
+    free(b->covered);
     free(b->nearest);
 }
 
-/* support from z and crease (b->dist is overwritten). */
-static int support_map(view_buffers *b, int W, int H, uint8_t *support, ws_status *st) {
+/* support from z and crease, grown by reach pixels (b->dist is
+ * overwritten). */
+static int support_map(view_buffers *b, int W, int H, double reach, uint8_t *support, ws_status *st) {
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
             size_t p = (size_t)i * W + j;
             b->set[p] = (uint8_t)(isfinite(b->z[p]) && (b->crease[p] || depth_jump(b->z, W, H, i, j)));
         }
     if (ws_distance_map(b->set, W, H, b->dist, st)) return st->code;
-    for (size_t p = 0; p < (size_t)W * H; p++) support[p] = b->dist[p] <= WS_EVIDENCE_REACH_PX;
+    for (size_t p = 0; p < (size_t)W * H; p++) support[p] = b->dist[p] <= reach;
     return WS_OK;
 }
 
@@ -155,72 +162,123 @@ int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8
     view_buffers b;
     int rc = buffers_alloc(&b, (size_t)cam->width * cam->height, st);
     if (!rc) {
-        hull_depth(e, cam, b.z, b.nearest, b.crease);
-        rc = support_map(&b, cam->width, cam->height, support, st);
+        hull_depth(e, cam, b.z, b.nearest, b.crease, NULL);
+        rc = support_map(&b, cam->width, cam->height, WS_EVIDENCE_REACH_PX, support, st);
     }
     buffers_free(&b);
     return rc;
 }
 
-int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_camera *cam, const unsigned char *curves,
-                             unsigned char *drawing, ws_status *st) {
+int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
+                            uint8_t *lines, uint8_t *keep, ws_status *st) {
     const int W = cam->width, H = cam->height;
     const size_t n = (size_t)W * H;
-    const double inset = WS_DRAWING_INSET_PX, thin = WS_DRAWING_THIN_PX, margin = WS_DRAWING_CURVE_MARGIN_PX;
+    const double thin = WS_DRAWING_THIN_PX, margin = WS_DRAWING_CURVE_MARGIN_PX;
     view_buffers b;
     int rc = buffers_alloc(&b, n, st);
     if (!rc) {
-        hull_depth(e, cam, b.z, b.nearest, b.crease);
-        rc = support_map(&b, W, H, b.support, st);
+        hull_depth(e, cam, b.z, b.nearest, b.crease, b.far);
+        rc = support_map(&b, W, H, WS_DRAWING_SUPPORT_PX, b.support, st);
     }
-    /* inside: the distance to the hull's outside */
+    /* inside: the distance to the voxel hull's outside; the exact test
+     * only where that is within the band */
     if (!rc) {
         for (size_t p = 0; p < n; p++) b.set[p] = !isfinite(b.z[p]);
         rc = ws_distance_map(b.set, W, H, b.inside, st);
     }
-    /* dist: to where the inset region is wider than a thin part */
     if (!rc) {
-        for (size_t p = 0; p < n; p++) b.set[p] = b.inside[p] > inset + thin;
+        /* the depths between which a ray can meet the exact hull, inside the
+         * voxel hull: its nearest and farthest surface voxels' centres, a
+         * voxel's ball (and the discs' rounding) either side; dist holds
+         * the near ones until it is remade below */
+        const double widen = 2 * e->hull->hull.voxel;
+        for (size_t p = 0; p < n; p++) {
+            b.covered[p] = !b.set[p];
+            b.set[p] = !b.set[p] && b.inside[p] <= WS_DRAWING_BAND_PX;
+            b.dist[p] = (float)(b.z[p] - widen);
+            b.far[p] = (float)(b.far[p] + widen);
+        }
+        rc = ws_hull_outline_cover(outline, cam, b.set, b.dist, b.far, b.covered, st);
+    }
+    /* inside: now the distance to the pixels the exact hull does not cover */
+    if (!rc) {
+        for (size_t p = 0; p < n; p++) b.set[p] = !b.covered[p];
+        rc = ws_distance_map(b.set, W, H, b.inside, st);
+    }
+    /* dist: to where the covered region is wider than a thin part */
+    if (!rc) {
+        for (size_t p = 0; p < n; p++) b.set[p] = b.inside[p] > thin;
         rc = ws_distance_map(b.set, W, H, b.dist, st);
     }
     if (!rc)
         for (int i = 0; i < H; i++)
             for (int j = 0; j < W; j++) {
                 size_t p = (size_t)i * W + j;
-                int keep = b.support[p] && b.inside[p] > inset + margin;
-                int in = b.inside[p] > inset, wide = b.dist[p] <= thin + 1.5, outline = 0;
-                for (int k = 0; k < 4 && in && wide && !outline; k++) {
+                int in = b.covered[p], wide = b.dist[p] <= thin + 1.5, outline_px = 0;
+                for (int k = 0; k < 4 && in && wide && !outline_px; k++) {
                     int ii = i + (k == 0) - (k == 1), jj = j + (k == 2) - (k == 3);
-                    outline = ii >= 0 && ii < H && jj >= 0 && jj < W && b.inside[(size_t)ii * W + jj] <= inset;
+                    outline_px = ii >= 0 && ii < H && jj >= 0 && jj < W && !b.covered[(size_t)ii * W + jj];
                 }
-                int contour = in && wide && depth_jump(b.z, W, H, i, j);
-                drawing[p] = outline || contour ? 0 : keep ? curves[p] : 255;
+                lines[p] = (uint8_t)(outline_px || (in && wide && depth_jump(b.z, W, H, i, j)));
+                keep[p] = (uint8_t)(b.support[p] && b.inside[p] > margin);
+                b.set[p] = (uint8_t)(in && !wide);
             }
+    /* the thin parts, which only the curves draw, and their edge */
+    if (!rc) rc = ws_distance_map(b.set, W, H, b.dist, st);
+    for (size_t p = 0; !rc && p < n; p++) keep[p] |= b.dist[p] <= WS_DRAWING_THIN_EDGE_PX;
     buffers_free(&b);
+    return rc;
+}
+
+int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
+                             const unsigned char *curves, unsigned char *drawing, ws_status *st) {
+    const size_t n = (size_t)cam->width * cam->height;
+    uint8_t *lines = ws_malloc(2 * n, "hull lines", st);
+    if (!lines) return st->code;
+    int rc = ws_line_evidence_layers(e, outline, cam, lines, lines + n, st);
+    for (size_t p = 0; !rc && p < n; p++) drawing[p] = lines[p] ? 0 : lines[n + p] ? curves[p] : 255;
+    free(lines);
     return rc;
 }
 
 int ws_drawing_hull_make(ws_drawing_hull *d, const ws_scene *scene, ws_status *st) {
     memset(d, 0, sizeof *d);
     const ws_split *train = &scene->split[WS_TRAIN];
-    ws_silhouette *sil = ws_calloc(train->n ? (size_t)train->n : 1, sizeof *sil, "silhouettes", st);
-    int rc = sil ? WS_OK : st->code;
-    for (int v = 0; v < train->n && !rc; v++) rc = ws_view_silhouette(&train->views[v], &sil[v], st);
-    if (!rc) rc = ws_scene_hull_make(scene, WS_TRAIN, sil, WS_DRAWING_HULL_RESOLUTION, &d->hull, st);
+    d->nviews = train->n;
+    d->sil = ws_calloc(train->n ? (size_t)train->n : 1, sizeof *d->sil, "silhouettes", st);
+    d->views = d->sil ? ws_malloc((train->n ? (size_t)train->n : 1) * sizeof *d->views, "silhouettes", st) : NULL;
+    int rc = d->views ? WS_OK : st->code;
+    for (int v = 0; v < train->n && !rc; v++) {
+        rc = ws_view_silhouette(&train->views[v], &d->sil[v], st);
+        d->views[v] = (ws_hull_view){.cam = &train->views[v].cam, .sil = &d->sil[v]};
+    }
+    if (!rc) rc = ws_scene_hull_make(scene, WS_TRAIN, d->sil, WS_DRAWING_HULL_RESOLUTION, &d->hull, st);
     if (!rc) rc = ws_line_evidence_init(&d->evidence, &d->hull, st);
-    for (int v = 0; sil && v < train->n; v++) ws_silhouette_free(&sil[v]);
-    free(sil);
+    double lo[3], hi[3];
+    if (!rc) ws_hull_outline_box(&d->hull.hull, lo, hi);
+    if (!rc) rc = ws_hull_outline_init(&d->outline, d->views, train->n, d->hull.hull.tolerance, lo, hi, st);
     if (rc) ws_drawing_hull_free(d);
     return rc;
 }
 
 void ws_drawing_hull_free(ws_drawing_hull *d) {
+    ws_hull_outline_free(&d->outline);
     ws_line_evidence_free(&d->evidence);
     ws_scene_hull_free(&d->hull);
+    for (int v = 0; d->sil && v < d->nviews; v++) ws_silhouette_free(&d->sil[v]);
+    free(d->sil);
+    free(d->views);
+    d->sil = NULL;
+    d->views = NULL;
+}
+
+int ws_drawing_hull_layers(const ws_drawing_hull *d, const ws_camera *cam, uint8_t *lines, uint8_t *keep,
+                           ws_status *st) {
+    return ws_line_evidence_layers(&d->evidence, &d->outline, cam, lines, keep, st);
 }
 
 int ws_drawing_hull_render(void *ctx, const ws_camera *cam, const unsigned char *curves, unsigned char *drawing,
                            ws_status *st) {
     const ws_drawing_hull *d = ctx;
-    return ws_line_evidence_drawing(&d->evidence, cam, curves, drawing, st);
+    return ws_line_evidence_drawing(&d->evidence, &d->outline, cam, curves, drawing, st);
 }

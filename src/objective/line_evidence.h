@@ -32,6 +32,7 @@
 #ifndef WS_LINE_EVIDENCE_H
 #define WS_LINE_EVIDENCE_H
 #include <stdint.h>
+#include "geometry/hull_outline.h"
 #include "geometry/surface.h"
 #include "render/camera.h"
 #include "nn/base/status.h"
@@ -41,12 +42,17 @@
 #define WS_EVIDENCE_DEPTH_JUMP 0.02
 #define WS_EVIDENCE_REACH_PX 3.0
 #define WS_DRAWING_HULL_RESOLUTION 160 /* voxels along the hull's longest side */
-/* pixels: the hull's excess over the object is mostly its carving's pixel
- * slack (geometry/hull.h: 1.42 px) and the discs it is drawn with, not a
- * share of the image */
-#define WS_DRAWING_INSET_PX 3.5
+/* pixels: the voxel hull's excess over the object is mostly its carving's
+ * pixel slack (geometry/hull.h: 1.42 px) and the discs it is drawn with,
+ * 3 to 4 px, not a share of the image */
+#define WS_DRAWING_BAND_PX 6.0
 #define WS_DRAWING_CURVE_MARGIN_PX 5.0
+/* the drawing keeps curves nearer the hull's lines than the line target
+ * does (WS_EVIDENCE_REACH_PX): its outline is exact now, and a curve 3 px
+ * off a line is off it at 0.5% of the diagonal */
+#define WS_DRAWING_SUPPORT_PX 2.0
 #define WS_DRAWING_THIN_PX 2.0
+#define WS_DRAWING_THIN_EDGE_PX 1.5 /* a thin part's curve is drawn this far beyond its pixels */
 #define WS_EVIDENCE_OUTLINE_PX 2.5 /* line_target.h: the outline band, always kept */
 
 typedef struct ws_line_evidence {
@@ -58,30 +64,41 @@ typedef struct ws_line_evidence {
 int ws_line_evidence_init(ws_line_evidence *e, const ws_scene_hull *hull, ws_status *st);
 void ws_line_evidence_free(ws_line_evidence *e);
 
-/* The drawing a user gets of a view (what the test renders, the report and
- * the drawing score show): the view-dependent lines of the hull beside the
- * view-independent curves, as 3Doodle draws its proxies' contours. A 3D
- * curve on a smooth object is an outline in some views and crosses the
- * body in the others; the hull's own outline is the outline in every view.
- * With curves the sketch's render (io/turntable.h: grey, strokes dark):
- *   inside  = the distance to the pixels where the hull has no surface;
- *   inset = WS_DRAWING_INSET_PX, margin = WS_DRAWING_CURVE_MARGIN_PX,
- *             thin = WS_DRAWING_THIN_PX;
- *   outline = pixels with inside > inset and a 4-neighbour with inside <=
- *             inset (the hull's outline moved in by its excess over the
- *             object), and contour = the near sides of the hull's depth
- *             jumps with inside > inset, both only within thin + 1.5 px of
- *             where inside > inset + thin (a thin part, a wire, is drawn
- *             by its curve, not by two outlines);
+/* The drawing a user gets of a view (what the test renders, the report,
+ * the SVG and the drawing score show): the view-dependent lines of the
+ * hull beside the view-independent curves, as 3Doodle draws its proxies'
+ * contours. A 3D curve on a smooth object is an outline in some views and
+ * crosses the body in the others; the hull's own outline is the outline in
+ * every view. With curves the sketch's render (io/turntable.h: grey,
+ * strokes dark):
+ *   covered = the pixels the voxel hull's surface covers, except within
+ *             WS_DRAWING_BAND_PX of its edge, where each pixel is tested
+ *             exactly (geometry/hull_outline.h): the voxel hull stands a
+ *             pixel or two proud of the object, the exact one does not;
+ *   inside  = the distance to the pixels not covered;
+ *   margin = WS_DRAWING_CURVE_MARGIN_PX, thin = WS_DRAWING_THIN_PX;
+ *   outline = covered pixels with a 4-neighbour not covered, and contour =
+ *             the near sides of the voxel hull's depth jumps on covered
+ *             pixels, both only within thin + 1.5 px of where inside >
+ *             thin (a thin part, a wire, is drawn by its curve, not by two
+ *             outlines);
  *   drawing = 0 on outline and contour pixels; elsewhere the curves' grey
- *             where the hull supports a line (ws_line_evidence_view) and
- *             inside > inset + margin (curves along the outline are left
- *             to it), else 255.
- * The inset, margin and hull resolution were chosen on the duck's and the
- * rose's test views (docs/RESULTS.md, "Drawings of smooth objects").
+ *             where the hull supports a line (as ws_line_evidence_view,
+ *             grown by WS_DRAWING_SUPPORT_PX instead) and
+ *             inside > margin (curves along the outline are left to it),
+ *             and within WS_DRAWING_THIN_EDGE_PX of a thin part's covered
+ *             pixels (no outline is drawn there), else 255.
+ * The margin and hull resolution were chosen on the duck's and the rose's
+ * test views (docs/RESULTS.md, "Drawings of smooth objects").
  * drawing: H x W, and may be curves itself. */
-int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_camera *cam, const unsigned char *curves,
-                             unsigned char *drawing, ws_status *st);
+int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
+                             const unsigned char *curves, unsigned char *drawing, ws_status *st);
+
+/* The drawing's two layers apart (H x W each, for a vector drawing:
+ * io/export.h): lines = 1 on the outline and contour pixels, keep = 1
+ * where the curves are drawn. */
+int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
+                            uint8_t *lines, uint8_t *keep, ws_status *st);
 
 /* support (cam->height x cam->width): 1 where a photo edge has the hull's
  * support in this view, else 0. */
@@ -89,17 +106,26 @@ int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8
 
 /* The hull a drawing is made with (ws_line_evidence_drawing): the training
  * views' visual hull carved at WS_DRAWING_HULL_RESOLUTION (finer than a
- * fit's, so that its outline lies within a pixel or two of the object's)
- * from their silhouettes, and its creases. */
+ * fit's, so that its creases and contours lie within a pixel or two of the
+ * object's) from their silhouettes, its creases, and the silhouettes for
+ * the exact outline. */
 typedef struct {
     ws_scene_hull hull;
     ws_line_evidence evidence;
+    int nviews;
+    ws_silhouette *sil;    /* the training views' silhouettes */
+    ws_hull_view *views;   /* their cameras and silhouettes */
+    ws_hull_outline outline;
 } ws_drawing_hull;
 
 /* Needs the scene's photos loaded (the silhouettes are made here). Fails
  * as ws_scene_hull_make does. */
 int ws_drawing_hull_make(ws_drawing_hull *d, const ws_scene *scene, ws_status *st);
 void ws_drawing_hull_free(ws_drawing_hull *d);
+
+/* ws_line_evidence_layers of d's evidence. */
+int ws_drawing_hull_layers(const ws_drawing_hull *d, const ws_camera *cam, uint8_t *lines, uint8_t *keep,
+                           ws_status *st);
 
 /* ws_line_evidence_drawing of d's evidence, with the signature of a
  * drawing score's renderer (metrics/drawing_score.h); ctx: a ws_drawing_hull. */

@@ -29,6 +29,17 @@ void ws_geometry_buffer_free(ws_geometry_buffer *g) {
     g->coverage = g->depth = g->normal = NULL;
 }
 
+void ws_geometry_buffer_set(ws_geometry_buffer *g, const ws_camera *cam, int i, int j, float coverage, double depth,
+                            const float n[3]) {
+    const size_t plane = (size_t)g->width * g->height, at = (size_t)i * g->width + j;
+    int hit = isfinite(depth);
+    g->coverage[at] = coverage;
+    g->depth[at] = hit ? (float)depth : INFINITY;
+    /* world = R^T camera */
+    for (int x = 0; x < 3; x++)
+        g->normal[x * plane + at] = hit ? (float)(cam->R[0][x] * n[0] + cam->R[1][x] * n[1] + cam->R[2][x] * n[2]) : 0;
+}
+
 /* cos of the angle between the normals of pixels p and q. */
 static double cos_normals(const ws_geometry_buffer *g, size_t p, size_t q) {
     const size_t plane = (size_t)g->width * g->height;

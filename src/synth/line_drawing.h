@@ -19,6 +19,7 @@
 #ifndef WS_LINE_DRAWING_H
 #define WS_LINE_DRAWING_H
 #include <stdint.h>
+#include "render/camera.h"
 #include "nn/base/status.h"
 
 #define WS_LINE_DEPTH_JUMP 0.02
@@ -35,6 +36,11 @@ typedef struct {
 } ws_geometry_buffer;
 
 int ws_geometry_buffer_alloc(ws_geometry_buffer *g, int width, int height, ws_status *st);
+/* Pixel (i, j): its coverage, the depth of its centre's ray (INFINITY: a
+ * miss) and the unit normal there in cam's camera space (read only on a
+ * hit), stored in world space. */
+void ws_geometry_buffer_set(ws_geometry_buffer *g, const ws_camera *cam, int i, int j, float coverage, double depth,
+                            const float n[3]);
 void ws_geometry_buffer_free(ws_geometry_buffer *g);
 
 /* part: H x W ws_line_part values (io/ref_lines.h). Fails only when out of

@@ -298,22 +298,28 @@ static double ray_triangle(const double D[3], const double A[3], const double B[
 }
 
 int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
-                    const ws_image *background, ws_image *img, ws_status *st) {
+                    const ws_image *background, ws_image *img, ws_geometry_buffer *g, ws_status *st) {
     if (supersample < 1 || supersample > 16)
         return ws_fail(st, WS_EINTERNAL, "solid: supersampling %d is not in [1, 16]", supersample);
     if (background->width != cam->width || background->height != cam->height || background->channels != 3)
         return ws_fail(st, WS_EINTERNAL, "solid: the background is not the camera's image");
+    if (g && (g->width != cam->width || g->height != cam->height || supersample % 2 == 0))
+        return ws_fail(st, WS_EINTERNAL, "solid: geometry buffer %d x %d, camera %d x %d, supersampling %d", g->width,
+                       g->height, cam->width, cam->height, supersample);
     const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
     const size_t fine = (size_t)W2 * H2;
     double *depth = ws_malloc(sizeof *depth * fine, "a depth buffer", st);
     float *shade = depth ? ws_malloc(sizeof *shade * fine, "a shading buffer", st) : NULL;
     double *cc = shade ? ws_malloc(sizeof *cc * 9 * s->ntri, "camera-space triangles", st) : NULL;
     double *cn = cc ? ws_malloc(sizeof *cn * 9 * s->ntri, "camera-space normals", st) : NULL;
-    if (!cn || ws_image_alloc(img, W, H, 3, st)) {
+    /* with g: each fine sample's camera-space normal */
+    float *fn = cn && g ? ws_malloc(sizeof *fn * 3 * fine, "a normal buffer", st) : NULL;
+    if (!cn || (g && !fn) || ws_image_alloc(img, W, H, 3, st)) {
         free(depth);
         free(shade);
         free(cc);
         free(cn);
+        free(fn);
         return st->code;
     }
     for (size_t k = 0; k < fine; k++) depth[k] = INFINITY;
@@ -368,6 +374,7 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
                 if (dot3(n, view) < 0)
                     for (int x = 0; x < 3; x++) n[x] = -n[x];
                 shade[at] = (float)(AMBIENT + KEY * fmax(0, dot3(n, key)) + FILL * fmax(0, dot3(n, fill)));
+                for (int x = 0; fn && x < 3; x++) fn[3 * at + x] = (float)n[x];
             }
     }
     const size_t plane = (size_t)W * H;
@@ -386,11 +393,16 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
             for (int c = 0; c < 3; c++)
                 img->data[c * plane + (size_t)i * W + j] =
                     (float)((s->albedo[c] * lit + background->data[c * plane + (size_t)i * W + j] * miss) / (ss * ss));
+            if (g) /* the middle sample is the pixel's centre (ss odd) */
+                ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss),
+                                       depth[(size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2],
+                                       fn + 3 * ((size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2));
         }
     free(depth);
     free(shade);
     free(cc);
     free(cn);
+    free(fn);
     return WS_OK;
 }
 

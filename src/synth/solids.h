@@ -25,6 +25,7 @@
 #include "render/camera.h"
 #include "render/curves.h"
 #include "io/image.h"
+#include "synth/line_drawing.h"
 #include "nn/base/status.h"
 
 typedef struct {
@@ -45,9 +46,11 @@ int ws_solid_make(ws_solid *s, const char *name, const double center[3], ws_stat
 void ws_solid_free(ws_solid *s);
 
 /* Renders s seen by cam into img (allocated here: 3 x height x width), the
- * average of supersample^2 rays per pixel spread evenly over it. */
+ * average of supersample^2 rays per pixel spread evenly over it; g: NULL,
+ * or a buffer of the camera's size to fill (supersample odd, so that one
+ * ray passes through each pixel's centre: line_drawing.h). */
 int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
-                    const ws_image *background, ws_image *img, ws_status *st);
+                    const ws_image *background, ws_image *img, ws_geometry_buffer *g, ws_status *st);
 
 /* Writes n points of the surface (uniform by area, seeded) as an ASCII PLY
  * file: the scene's gt_points.ply. */

@@ -460,13 +460,17 @@ static void ball_screen_box(const double C[3], double r, double f, double cx, do
 /* Renders the object seen by cam into img (allocated here: 3 x cam->height x
  * cam->width): the nearest tube surface of each of supersample^2 rays per
  * pixel, Lambert + ambient shaded, averaged; the background image (3 x
- * height x width, e.g. room.h's) where no tube is hit. */
-static int synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
-                    const ws_image *background, ws_image *img, ws_status *st) {
+ * height x width, e.g. room.h's) where no tube is hit; g: NULL, or a
+ * buffer of the camera's size to fill (supersample odd: line_drawing.h). */
+int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
+                    const ws_image *background, ws_image *img, ws_geometry_buffer *g, ws_status *st) {
     if (supersample < 1 || supersample > 16)
         return ws_fail(st, WS_EINTERNAL, "synth: supersampling %d is not in [1, 16]", supersample);
     if (background->width != cam->width || background->height != cam->height || background->channels != 3)
         return ws_fail(st, WS_EINTERNAL, "synth: the background is not the camera's image");
+    if (g && (g->width != cam->width || g->height != cam->height || supersample % 2 == 0))
+        return ws_fail(st, WS_EINTERNAL, "synth: geometry buffer %d x %d, camera %d x %d, supersampling %d", g->width,
+                       g->height, cam->width, cam->height, supersample);
     const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
     const double r = obj->curves.thickness;
     /* The fine grid: sample (I, J) is the centre of the fine pixel (I, J),
@@ -480,10 +484,13 @@ static int synth_render(const ws_synth_object *obj, const ws_camera *cam, int su
     float *shade = depth ? ws_calloc((size_t)W2 * H2, sizeof *shade, "a shading buffer", st) : NULL;
     double *cc =
         shade ? ws_malloc(sizeof *cc * 6 * obj->ncapsules, "camera-space capsules", st) : NULL;
-    if (!cc || ws_image_alloc(img, W, H, 3, st)) {
+    /* with g: each fine sample's camera-space normal */
+    float *fn = cc && g ? ws_calloc((size_t)3 * W2 * H2, sizeof *fn, "a normal buffer", st) : NULL;
+    if (!cc || (g && !fn) || ws_image_alloc(img, W, H, 3, st)) {
         free(depth);
         free(shade);
         free(cc);
+        free(fn);
         return st->code;
     }
     for (size_t k = 0; k < (size_t)W2 * H2; k++) depth[k] = INFINITY;
@@ -523,6 +530,7 @@ static int synth_render(const ws_synth_object *obj, const ws_camera *cam, int su
                 double nl = sqrt(dot3(n, n));
                 double lambert = nl > 0 ? fmax(0, dot3(n, light) / nl) : 0;
                 shade[at] = (float)(AMBIENT + (1 - AMBIENT) * lambert);
+                for (int x = 0; fn && nl > 0 && x < 3; x++) fn[3 * at + x] = (float)(n[x] / nl);
             }
     }
     const size_t plane = (size_t)W * H;
@@ -539,10 +547,15 @@ static int synth_render(const ws_synth_object *obj, const ws_camera *cam, int su
             for (int c = 0; c < 3; c++)
                 img->data[c * plane + (size_t)i * W + j] =
                     (float)((obj->colour[c] * sum + background->data[c * plane + (size_t)i * W + j] * miss) / (ss * ss));
+            if (g) /* the middle sample is the pixel's centre (ss odd) */
+                ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss),
+                                       depth[(size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2],
+                                       fn + 3 * ((size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2));
         }
     free(depth);
     free(shade);
     free(cc);
+    free(fn);
     return WS_OK;
 }
 
@@ -780,9 +793,9 @@ static int view_background(const ws_synth_options *opt, const ws_camera *cam, co
 }
 
 static int render_object(const scene_object *obj, const ws_camera *cam, const ws_image *background, ws_image *img,
-                         ws_status *st) {
-    return obj->solid ? ws_solid_render(obj->solid, cam, SUPERSAMPLE, background, img, st)
-                      : synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, st);
+                         ws_geometry_buffer *g, ws_status *st) {
+    return obj->solid ? ws_solid_render(obj->solid, cam, SUPERSAMPLE, background, img, g, st)
+                      : ws_synth_render(obj->tubes, cam, SUPERSAMPLE, background, img, g, st);
 }
 
 /* One pinhole view's photo, and with opt->masks its mask (1 x H x W: the
@@ -795,11 +808,11 @@ static int pinhole_view(const scene_object *obj, const ws_camera *cam, const dou
     ws_image background = {0}, white = {0};
     const float colour = opt->room ? -1.0f : (float)opt->white_background;
     int rc = view_background(opt, cam, center, opt->masks ? 0.0f : colour, &background, st) ||
-             render_object(obj, cam, &background, img, st);
+             render_object(obj, cam, &background, img, NULL, st);
     if (!rc && opt->masks) {
         ws_image_free(&background);
         const size_t plane = (size_t)cam->width * cam->height;
-        rc = view_background(opt, cam, center, 1.0f, &white, st) || render_object(obj, cam, &white, mask, st) ||
+        rc = view_background(opt, cam, center, 1.0f, &white, st) || render_object(obj, cam, &white, mask, NULL, st) ||
              view_background(opt, cam, center, colour, &background, st);
         for (size_t k = 0; k < 3 * plane && !rc; k++) /* mask: white - black, the background's share */
             mask->data[k] -= img->data[k];
@@ -836,23 +849,53 @@ static int render_view(const scene_object *obj, const ws_camera *cam, const doub
     return rc ? st->code : WS_OK;
 }
 
-/* A view of a smooth object and, for a test view, its reference lines into
- * dir/lines/test/r_K.png and r_K_parts.png (io/ref_lines.h). */
+/* Test view k's reference lines into dir/lines/test/r_K.png and
+ * r_K_parts.png (io/ref_lines.h), from its geometry buffer g. */
+static int write_ref_lines(const char *dir, int k, const ws_geometry_buffer *g, ws_status *st) {
+    uint8_t *part = ws_malloc((size_t)g->width * g->height, "reference lines", st);
+    if (!part) return st->code;
+    char lines_dir[WS_PATH_MAX], name[32];
+    snprintf(lines_dir, sizeof lines_dir, "%s/lines/%s", dir, ws_split_names[WS_TEST]);
+    snprintf(name, sizeof name, "r_%d", k);
+    int rc = ws_line_drawing(g, part, st);
+    if (!rc) rc = ws_ref_lines_write(lines_dir, name, part, g->width, g->height, st);
+    free(part);
+    return rc;
+}
+
+/* A view of a smooth object and, for a test view, its reference lines. */
 static int render_smooth(const char *dir, const ws_smooth *s, const ws_camera *cam, int split, int k,
                          const float background[3], ws_image *img, ws_status *st) {
     if (split != WS_TEST) return ws_smooth_render(s, cam, SUPERSAMPLE, background, img, NULL, st);
     ws_geometry_buffer g;
     if (ws_geometry_buffer_alloc(&g, cam->width, cam->height, st)) return st->code;
-    uint8_t *part = ws_malloc((size_t)cam->width * cam->height, "reference lines", st);
-    int rc = part ? ws_smooth_render(s, cam, SUPERSAMPLE, background, img, &g, st) : st->code;
-    char lines_dir[WS_PATH_MAX], name[32];
-    snprintf(lines_dir, sizeof lines_dir, "%s/lines/%s", dir, ws_split_names[split]);
-    snprintf(name, sizeof name, "r_%d", k);
-    if (!rc) rc = ws_line_drawing(&g, part, st);
-    if (!rc) rc = ws_ref_lines_write(lines_dir, name, part, cam->width, cam->height, st);
-    free(part);
+    int rc = ws_smooth_render(s, cam, SUPERSAMPLE, background, img, &g, st);
+    if (!rc) rc = write_ref_lines(dir, k, &g, st);
     ws_geometry_buffer_free(&g);
     return rc;
+}
+
+/* The reference lines of a wire object's or a solid's test view k, from
+ * its exact geometry (rendered once more, for the geometry buffer alone). */
+static int solid_lines(const char *dir, const scene_object *obj, const ws_camera *cam, int k, ws_status *st) {
+    ws_geometry_buffer g;
+    ws_image background = {0}, img = {0};
+    if (ws_geometry_buffer_alloc(&g, cam->width, cam->height, st)) return st->code;
+    int rc = ws_image_alloc(&background, cam->width, cam->height, 3, st);
+    if (!rc) memset(background.data, 0, sizeof(float) * 3 * cam->width * cam->height);
+    if (!rc) rc = render_object(obj, cam, &background, &img, &g, st);
+    if (!rc) rc = write_ref_lines(dir, k, &g, st);
+    ws_image_free(&background);
+    ws_image_free(&img);
+    ws_geometry_buffer_free(&g);
+    return rc;
+}
+
+/* Whether a wire object's or a solid's scene gets reference lines: a
+ * pinhole NeRF-synthetic scene, whose test views `eval` scores (a lens or
+ * another layout's views are not those the renderer's pixels are). */
+static int ref_lines(const ws_synth_options *opt) {
+    return !opt->colmap && !opt->nerfstudio && !opt->lens[0] && !opt->lens[1] && !opt->lens[2] && !opt->lens[3];
 }
 
 /* Renders and writes every view's image, in parallel; the failure of the
@@ -878,6 +921,7 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
         if (!synth_camera(opt, c2w[v], what, &cam, vs) &&
             !(obj->smooth ? render_smooth(dir, obj->smooth, &cam, split, k, background, &img, vs)
                           : render_view(obj, &cam, center, opt, &img, &mask, vs)) &&
+            !(!obj->smooth && split == WS_TEST && ref_lines(opt) && solid_lines(dir, obj, &cam, k, vs)) &&
             !(opt->jpeg ? ws_image_write_jpeg(path, &img, JPEG_QUALITY, vs) : ws_png_write(path, &img, vs)) &&
             opt->masks) {
             mask_file(opt, split, k, file, sizeof file);
@@ -1058,7 +1102,7 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         rc = ws_mkdir(path, st);
     }
     snprintf(path, sizeof path, "%s/lines", dir);
-    if (!rc && smooth && opt->views[WS_TEST] && !(rc = ws_mkdir(path, st))) {
+    if (!rc && (smooth || ref_lines(opt)) && opt->views[WS_TEST] && !(rc = ws_mkdir(path, st))) {
         snprintf(path, sizeof path, "%s/lines/test", dir);
         rc = ws_mkdir(path, st);
     }

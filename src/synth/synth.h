@@ -34,6 +34,7 @@
 #include "render/curves.h"
 #include "io/image.h"
 #include "io/scene.h"
+#include "synth/line_drawing.h"
 #include "nn/base/status.h"
 
 typedef struct {
@@ -69,6 +70,14 @@ void ws_synth_options_default(ws_synth_options *opt);
 /* Builds object `name`; fails with WS_EUSAGE for an unknown name. */
 int ws_synth_object_make(ws_synth_object *obj, const char *name, ws_status *st);
 void ws_synth_object_free(ws_synth_object *obj);
+
+/* Renders the object seen by cam into img (allocated here: 3 x cam->height x
+ * cam->width): the nearest tube surface of each of supersample^2 rays per
+ * pixel, Lambert + ambient shaded, averaged; the background image (3 x
+ * height x width, e.g. room.h's) where no tube is hit; g: NULL, or a
+ * buffer of the camera's size to fill (supersample odd: line_drawing.h). */
+int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supersample,
+                    const ws_image *background, ws_image *img, ws_geometry_buffer *g, ws_status *st);
 
 /* Writes the scene of object `name` into directory dir (created if needed). */
 int ws_synth_write(const char *name, const char *dir, const ws_synth_options *opt, ws_status *st);
