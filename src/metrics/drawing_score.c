@@ -13,8 +13,9 @@
 #include "render/distance.h"
 #include "render/skeleton.h"
 
-const double WS_DRAWING_TAU[WS_DRAWING_NTAU] = {0.01, 0.005};
-const char *const WS_DRAWING_TAU_NAME[WS_DRAWING_NTAU] = {"1", "0.5"};
+/* the distances: 0.01 and 0.005 of the diagonal, named in percent */
+static const double drawing_tau[WS_DRAWING_NTAU] = {0.01, 0.005};
+static const char *const drawing_tau_name[WS_DRAWING_NTAU] = {"1", "0.5"};
 
 static double ratio(size_t a, size_t b) { return b ? (double)a / (double)b : 0; }
 
@@ -43,7 +44,7 @@ int ws_drawing_score_view(const unsigned char *gray, const uint8_t *part, int W,
         for (size_t p = 0; p < n; p++) ns += sketch[p];
         const double diagonal = sqrt((double)W * W + (double)H * H);
         for (int k = 0; k < WS_DRAWING_NTAU; k++) {
-            const double tau = WS_DRAWING_TAU[k] * diagonal;
+            const double tau = drawing_tau[k] * diagonal;
             size_t near = 0, scribble = 0, found = 0, found_outline = 0;
             for (size_t p = 0; p < n; p++) {
                 if (sketch[p] && to_lines[p] <= tau) near++;
@@ -143,7 +144,7 @@ int ws_drawing_lines_dir(const char *scene_dir, const char *split_name, char *di
 void ws_drawing_score_json(FILE *fp, const char *key, const ws_drawing_score *s) {
     fprintf(fp, "\"%s\": {\"views\": %d, \"overdraw\": %.9g", key, s->views, s->overdraw);
     for (int k = 0; k < WS_DRAWING_NTAU; k++) {
-        const char *t = WS_DRAWING_TAU_NAME[k];
+        const char *t = drawing_tau_name[k];
         fprintf(fp, ", \"precision_%s\": %.9g, \"recall_%s\": %.9g, \"fscore_%s\": %.9g, "
                 "\"contour_recall_%s\": %.9g, \"scribble_%s\": %.9g",
                 t, s->precision[k], t, s->recall[k], t, s->fscore[k], t, s->contour_recall[k], t, s->scribble[k]);

@@ -30,9 +30,7 @@
 #include "render/curves.h"
 #include "nn/base/status.h"
 
-#define WS_DRAWING_NTAU 2
-extern const double WS_DRAWING_TAU[WS_DRAWING_NTAU]; /* 0.01, 0.005 of the diagonal */
-extern const char *const WS_DRAWING_TAU_NAME[WS_DRAWING_NTAU]; /* "1", "0.5": in percent */
+#define WS_DRAWING_NTAU 2 /* the distances tau: 1% and 0.5% of the image diagonal */
 
 typedef struct {
     int views, contour_views; /* views scored; of them, with an outline */

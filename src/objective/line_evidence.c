@@ -230,8 +230,35 @@ int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *ou
     return rc;
 }
 
-int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
-                             const unsigned char *curves, unsigned char *drawing, ws_status *st) {
+/* The drawing a user gets of a view (what the test renders, the report,
+ * the SVG and the drawing score show): the view-dependent lines of the
+ * hull beside the view-independent curves, as 3Doodle draws its proxies'
+ * contours. A 3D curve on a smooth object is an outline in some views and
+ * crosses the body in the others; the hull's own outline is the outline in
+ * every view. With curves the sketch's render (io/turntable.h: grey,
+ * strokes dark):
+ *   covered = the pixels the voxel hull's surface covers, except within
+ *             WS_DRAWING_BAND_PX of its edge, where each pixel is tested
+ *             exactly (geometry/hull_outline.h): the voxel hull stands a
+ *             pixel or two proud of the object, the exact one does not;
+ *   inside  = the distance to the pixels not covered;
+ *   margin = WS_DRAWING_CURVE_MARGIN_PX, thin = WS_DRAWING_THIN_PX;
+ *   outline = covered pixels with a 4-neighbour not covered, and contour =
+ *             the near sides of the voxel hull's depth jumps on covered
+ *             pixels, both only within thin + 1.5 px of where inside >
+ *             thin (a thin part, a wire, is drawn by its curve, not by two
+ *             outlines);
+ *   drawing = 0 on outline and contour pixels; elsewhere the curves' grey
+ *             where the hull supports a line (as ws_line_evidence_view,
+ *             grown by WS_DRAWING_SUPPORT_PX instead) and
+ *             inside > margin (curves along the outline are left to it),
+ *             and within WS_DRAWING_THIN_EDGE_PX of a thin part's covered
+ *             pixels (no outline is drawn there), else 255.
+ * The margin and hull resolution were chosen on the duck's and the rose's
+ * test views (docs/RESULTS.md, "Drawings of smooth objects").
+ * drawing: H x W, and may be curves itself. */
+static int draw_view(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
+                   const unsigned char *curves, unsigned char *drawing, ws_status *st) {
     const size_t n = (size_t)cam->width * cam->height;
     uint8_t *lines = ws_malloc(2 * n, "hull lines", st);
     if (!lines) return st->code;
@@ -280,5 +307,5 @@ int ws_drawing_hull_layers(const ws_drawing_hull *d, const ws_camera *cam, uint8
 int ws_drawing_hull_render(void *ctx, const ws_camera *cam, const unsigned char *curves, unsigned char *drawing,
                            ws_status *st) {
     const ws_drawing_hull *d = ctx;
-    return ws_line_evidence_drawing(&d->evidence, &d->outline, cam, curves, drawing, st);
+    return draw_view(&d->evidence, &d->outline, cam, curves, drawing, st);
 }

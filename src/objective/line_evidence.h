@@ -64,36 +64,6 @@ typedef struct ws_line_evidence {
 int ws_line_evidence_init(ws_line_evidence *e, const ws_scene_hull *hull, ws_status *st);
 void ws_line_evidence_free(ws_line_evidence *e);
 
-/* The drawing a user gets of a view (what the test renders, the report,
- * the SVG and the drawing score show): the view-dependent lines of the
- * hull beside the view-independent curves, as 3Doodle draws its proxies'
- * contours. A 3D curve on a smooth object is an outline in some views and
- * crosses the body in the others; the hull's own outline is the outline in
- * every view. With curves the sketch's render (io/turntable.h: grey,
- * strokes dark):
- *   covered = the pixels the voxel hull's surface covers, except within
- *             WS_DRAWING_BAND_PX of its edge, where each pixel is tested
- *             exactly (geometry/hull_outline.h): the voxel hull stands a
- *             pixel or two proud of the object, the exact one does not;
- *   inside  = the distance to the pixels not covered;
- *   margin = WS_DRAWING_CURVE_MARGIN_PX, thin = WS_DRAWING_THIN_PX;
- *   outline = covered pixels with a 4-neighbour not covered, and contour =
- *             the near sides of the voxel hull's depth jumps on covered
- *             pixels, both only within thin + 1.5 px of where inside >
- *             thin (a thin part, a wire, is drawn by its curve, not by two
- *             outlines);
- *   drawing = 0 on outline and contour pixels; elsewhere the curves' grey
- *             where the hull supports a line (as ws_line_evidence_view,
- *             grown by WS_DRAWING_SUPPORT_PX instead) and
- *             inside > margin (curves along the outline are left to it),
- *             and within WS_DRAWING_THIN_EDGE_PX of a thin part's covered
- *             pixels (no outline is drawn there), else 255.
- * The margin and hull resolution were chosen on the duck's and the rose's
- * test views (docs/RESULTS.md, "Drawings of smooth objects").
- * drawing: H x W, and may be curves itself. */
-int ws_line_evidence_drawing(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
-                             const unsigned char *curves, unsigned char *drawing, ws_status *st);
-
 /* The drawing's two layers apart (H x W each, for a vector drawing:
  * io/export.h): lines = 1 on the outline and contour pixels, keep = 1
  * where the curves are drawn. */
@@ -104,7 +74,7 @@ int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *ou
  * support in this view, else 0. */
 int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8_t *support, ws_status *st);
 
-/* The hull a drawing is made with (ws_line_evidence_drawing): the training
+/* The hull a drawing is made with (ws_drawing_hull_render): the training
  * views' visual hull carved at WS_DRAWING_HULL_RESOLUTION (finer than a
  * fit's, so that its creases and contours lie within a pixel or two of the
  * object's) from their silhouettes, its creases, and the silhouettes for
@@ -127,7 +97,8 @@ void ws_drawing_hull_free(ws_drawing_hull *d);
 int ws_drawing_hull_layers(const ws_drawing_hull *d, const ws_camera *cam, uint8_t *lines, uint8_t *keep,
                            ws_status *st);
 
-/* ws_line_evidence_drawing of d's evidence, with the signature of a
+/* The drawing a user gets of a view (line_evidence.c: draw_view) from
+ * d's evidence, with the signature of a
  * drawing score's renderer (metrics/drawing_score.h); ctx: a ws_drawing_hull. */
 int ws_drawing_hull_render(void *ctx, const ws_camera *cam, const unsigned char *curves, unsigned char *drawing,
                            ws_status *st);

@@ -11,18 +11,18 @@
 #define NORMAL_STEP 1e-4  /* central differences of the distance function */
 #define BLEND 0.06        /* the animal's smooth minimum */
 
-const char *const ws_smooth_names[] = {"torus", "vase", "animal"};
-const int ws_smooth_count = sizeof ws_smooth_names / sizeof ws_smooth_names[0];
+static const char *const smooth_names[] = {"torus", "vase", "animal"};
+static const int smooth_count = sizeof smooth_names / sizeof smooth_names[0];
 
 int ws_smooth_exists(const char *name) {
-    for (int k = 0; k < ws_smooth_count; k++)
-        if (!strcmp(name, ws_smooth_names[k])) return 1;
+    for (int k = 0; k < smooth_count; k++)
+        if (!strcmp(name, smooth_names[k])) return 1;
     return 0;
 }
 
 int ws_smooth_make(ws_smooth *s, const char *name, const double center[3], ws_status *st) {
-    for (int k = 0; k < ws_smooth_count; k++)
-        if (!strcmp(name, ws_smooth_names[k])) {
+    for (int k = 0; k < smooth_count; k++)
+        if (!strcmp(name, smooth_names[k])) {
             s->kind = k;
             memcpy(s->center, center, sizeof s->center);
             return WS_OK;

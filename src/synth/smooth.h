@@ -26,12 +26,9 @@
 #include "nn/base/status.h"
 
 typedef struct {
-    int kind;         /* index in ws_smooth_names */
+    int kind;         /* which object: 0 torus, 1 vase, 2 animal */
     double center[3]; /* the object's centre (of its bounding box) */
 } ws_smooth;
-
-extern const char *const ws_smooth_names[];
-extern const int ws_smooth_count;
 
 int ws_smooth_exists(const char *name);
 
