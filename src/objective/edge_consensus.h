@@ -12,10 +12,23 @@
  *   grid   = the centres p of the cubes of `resolution` along the box's
  *            longest side that tile the region of interest (the fit's:
  *            WS_CONSENSUS_RESOLUTION);
- *   p hits view v when v sees p (in front, in the frame) and D_v at the
- *            pixel p projects into is at most WS_CONSENSUS_VOTE_PX plus
- *            half the radius in pixels of p's cube's circumscribed ball
- *            (f rho / 2 d);
+ *   A_v    = at each pixel, the direction of the photo's luminance
+ *            gradient (3 x 3 Sobel) at the nearest edge pixel within
+ *            WS_CONSENSUS_ORIENT_REACH pixels;
+ *   p is near an edge in view v when v sees p (in front, in the frame) and
+ *            D_v at the pixel p projects into is at most
+ *            WS_CONSENSUS_VOTE_PX plus half the radius in pixels of p's
+ *            cube's circumscribed ball (f rho / 2 d); the edge there, a
+ *            line across A_v, and the camera span a plane of normal n_v;
+ *   t(p)   = the direction most nearly perpendicular to the n_v of those
+ *            views (the smallest eigenvector of sum n_v n_v^T), found
+ *            again from the views within WS_CONSENSUS_ORIENT_DEG of
+ *            perpendicular to the first: the 3D direction of the edge
+ *            through p that the views' edges agree on;
+ *   p hits view v when it is near an edge there and |n_v . t| <=
+ *            sin(WS_CONSENSUS_ORIENT_DEG): the edge runs as an edge
+ *            through p along t would (a busy background's edges at random
+ *            orientations stop agreeing; only parallel families still do);
  *   strong: at least WS_CONSENSUS_MIN_VIEWS views see p and a share of
  *            WS_CONSENSUS_STRONG of them is hit;
  *   weak:   the same share at WS_CONSENSUS_WEAK among the views of a cap:
@@ -25,9 +38,12 @@
  *            (and WS_CONSENSUS_MIN_VIEWS) are in it and see p. An edge of a
  *            solid is hidden from the views behind its faces, so only a
  *            part of the sphere of views sees it, all of them on an edge;
- *   kept:   the 26-connected parts of the strong and weak points that hold
- *            at least WS_CONSENSUS_MIN_PART strong ones (chance agreement
- *            scatters; an edge of the object is a line of grid points).
+ *   kept:   the parts of the strong and weak points that hold at least
+ *            WS_CONSENSUS_MIN_PART strong ones, grown from a strong point
+ *            to its 26 neighbours and from a weak one only to those within
+ *            acos(WS_CONSENSUS_ALONG) of its t: an edge of the object is a
+ *            line of grid points along t, while chance agreement with a
+ *            background's parallel lines scatters or fills blobs.
  * The kept points are the object's edges as the views agree on them (a
  * band about the edges a few pixels wide). For any camera:
  *   N   = the distance to the pixels the kept points project into (in
@@ -54,12 +70,15 @@
 
 #define WS_CONSENSUS_RESOLUTION 128
 #define WS_CONSENSUS_VOTE_PX 1.0
-#define WS_CONSENSUS_STRONG 0.7
-#define WS_CONSENSUS_WEAK 0.85
+#define WS_CONSENSUS_STRONG 0.75
+#define WS_CONSENSUS_WEAK 0.7
 #define WS_CONSENSUS_CAP_ANGLE 90.0 /* degrees */
 #define WS_CONSENSUS_MIN_VIEWS 8
 #define WS_CONSENSUS_MIN_PART 16
-#define WS_CONSENSUS_MAX_VIEWS 1024 /* train views that vote (the first ones) */
+#define WS_CONSENSUS_MAX_VIEWS 256 /* train views that vote (the first ones) */
+#define WS_CONSENSUS_ORIENT_REACH 2 /* pixels */
+#define WS_CONSENSUS_ORIENT_DEG 20.0
+#define WS_CONSENSUS_ALONG 0.7
 #define WS_CONSENSUS_SILHOUETTE_PX 1.5
 #define WS_CONSENSUS_KEEP_PX 3.0
 
