@@ -195,8 +195,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         {"--images", WS_ARG_STRING, &opt->images, 0,
          "a COLMAP scene's images folder [SCENE/images]"},
         {"--bbox", WS_ARG_STRING, &opt->bbox, 0,
-         "X0,Y0,Z0,X1,Y1,Z1: the box the object is in; the fit keeps the edges the views agree on inside it "
-         "[from the scene where no view has a silhouette]"},
+         "the box the object is in; the fit keeps the edges the views agree on inside it "
+         "[from the scene where the views have no usable silhouette]"},
         {"--cutoff", WS_ARG_CUTOFF, &opt->cutoff, 0, "splat cut-off in sigmas, or inf [4]"},
         {"--seed", WS_ARG_INT, &seed, 0, "random seed [0]"},
         {"--threads", WS_ARG_INT, &opt->threads, 0, "threads, 0 = all cores [0]"},
