@@ -87,6 +87,7 @@ static const char *text_metavar(const char *name) {
         {"--loss", "NAME"},      {"--split", "NAME"},      {"--layout", "NAME"},      {"--clip-geometric", "MODE"},
         {"--hidden-lines", "MODE"}, {"--background", "COLOR"}, {"--images", "DIR"},      {"--masks", "DIR"},      {"--precision", "MODE"},
         {"--lens", "K1,K2,P1,P2"}, {"--size", "N|WxH"},   {"--principal", "DX,DY"}, {"--drawing", "MODE"},
+        {"--bbox", "X0,Y0,Z0,X1,Y1,Z1"},
     };
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
         if (!strcmp(names[k][0], name)) return names[k][1];

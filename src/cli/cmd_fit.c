@@ -142,7 +142,7 @@ static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
 /* The headings of `fit --help`; the table in parse_fit keeps its order,
  * which the report's settings and config.json follow. */
 static const char *const input_options[] = {"--resume", "--config", "--size", "--background", "--edge-maps",
-                                            "--images", "--masks", "--no-check", NULL};
+                                            "--images", "--masks", "--bbox", "--no-check", NULL};
 static const char *const loss_options[] = {
     "--loss",           "--weights",           "--edges-weight",  "--silhouette-weight", "--clip-weight",
     "--clip-conv-loss", "--clip-fc-loss-weight", "--clip-conv-layer-weights", "--clip-geometric",
@@ -249,6 +249,9 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         WS_ROW_EDGE_MAPS(&opt->edge_maps),
         WS_ROW_IMAGES(&opt->images),
         WS_ROW_MASKS(&opt->masks),
+        {"--bbox", WS_ARG_STRING, &opt->bbox, 0,
+         "the box the object is in; the fit keeps the edges the views agree on inside it "
+         "[from the scene where the views have no usable silhouette]"},
         WS_ROW_CUTOFF(&opt->cutoff),
         {"--seed", WS_ARG_INT, &w.seed, 0, "random seed [0]"},
         WS_ROW_THREADS(&opt->threads),

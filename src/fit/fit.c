@@ -47,6 +47,7 @@ typedef struct {
     ws_fit_state s;
     ws_respawn *respawn;      /* NULL when --respawn-every is 0 (and not --init edges) */
     ws_line_evidence evidence; /* the hull's contours and creases, which the line targets keep */
+    ws_edge_consensus consensus; /* the edges the views agree on, where they have no silhouette */
     ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
                                * the respawn and hidden-line removal (empty when none of them is on) */
     double start;             /* ws_seconds() when this process began fitting */
@@ -326,6 +327,7 @@ static void fit_run_free(fit_run *r) {
     ws_respawn_free(r->respawn);
     ws_objective_free(r->objective);
     ws_view_targets_free(r->targets);
+    ws_edge_consensus_free(&r->consensus);
     ws_line_evidence_free(&r->evidence);
     ws_scene_hull_free(&r->hull);
     free(r->grad);
@@ -398,6 +400,9 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
         if (warning[0] && speaks())
             fprintf(stderr, "wiresketch: warning: %s\n", warning);
     }
+    char consensus[WS_CHECK_LINE];
+    if (ws_fit_consensus(o, &r->scene, r->targets, &r->consensus, consensus, st)) return st->code;
+    if (consensus[0] && speaks() && !o->quiet) printf("%s\n", consensus);
     int edges_init = !resume && !strcmp(o->init_curves, "edges");
     int hull_init = edges_init || (!resume && !strcmp(o->init_curves, "hull"));
     const ws_silhouette *sil;

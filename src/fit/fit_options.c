@@ -8,6 +8,7 @@
 #include <string.h>
 #include "base/runtime.h"
 #include "fit/fit_options.h"
+#include "geometry/roi.h"
 
 void ws_fit_options_default(ws_fit_options *o) {
     memset(o, 0, sizeof *o);
@@ -42,6 +43,8 @@ void ws_fit_options_default(ws_fit_options *o) {
 
 int ws_fit_options_check(const ws_fit_options *o, ws_status *st) {
     if (!o->scene_dir) return ws_fail(st, WS_EUSAGE, "fit: no SCENE given");
+    double box[6];
+    if (o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) return st->code;
     if (o->batch_size < 1 || o->batch_size > MAX_COUNT)
         return ws_fail(st, WS_EUSAGE, "--batch-size: %d is not in [1, %d]", o->batch_size, MAX_COUNT);
     if (o->epochs < 0 || o->epochs > MAX_COUNT)

@@ -30,6 +30,7 @@ typedef struct {
     const char *edge_maps;     /* NULL, or the directory of the views' edge maps (scene.h) */
     const char *images;        /* NULL, or a COLMAP scene's images folder (scene.h) */
     const char *masks;         /* NULL, or the views' masks folder (scene.h) */
+    const char *bbox;          /* NULL, or the region of interest "x0,y0,z0,x1,y1,z1" (geometry/roi.h) */
     /* report.html's settings table: every option of the run with its value
      * (the command line derives it from its option list); NULL: none */
     const struct ws_report_item *settings;

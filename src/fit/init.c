@@ -3,6 +3,7 @@
 #include <string.h>
 #include "fit/init.h"
 #include "geometry/check.h"
+#include "geometry/roi.h"
 
 int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_scene_hull *hull, ws_rng *rng,
                        ws_curves *c, ws_status *st) {
@@ -28,9 +29,32 @@ int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char war
     int rc = WS_OK;
     if (ws_check_warning_only(&r))
         snprintf(warning, WS_CHECK_LINE, "%.900s (%s)", r.line,
-                 r.no_silhouette ? "a fit goes on without silhouettes" : "a focal estimate alone does not stop a fit");
+                 r.no_silhouette ? "a fit goes on with the edges the views agree on in the region of interest"
+                                 : "a focal estimate alone does not stop a fit");
     else if (!r.consistent)
         rc = ws_fail(st, WS_EINPUT, "%.900s (or go on anyway with --no-check)", r.line);
     ws_check_report_free(&r);
     return rc;
+}
+
+int ws_fit_consensus(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets,
+                     ws_edge_consensus *c, char line[WS_CHECK_LINE], ws_status *st) {
+    memset(c, 0, sizeof *c);
+    line[0] = 0;
+    double box[6];
+    if (o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) return st->code;
+    if (!o->bbox) {
+        const ws_silhouette *sil;
+        int empty, edge;
+        if (ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, st)) return st->code;
+        if (ws_check_silhouettes_usable(sil, scene->split[WS_TRAIN].n, &empty, &edge)) return WS_OK;
+    }
+    ws_roi roi;
+    if (ws_roi_find(scene, o->bbox ? box : NULL, &roi, st) ||
+        ws_edge_consensus_make(scene, &roi, WS_CONSENSUS_RESOLUTION, c, st))
+        return st->code;
+    snprintf(line, WS_CHECK_LINE, "%.400s; %d of its %ld grid points (spacing %.3g) lie on edges the train views "
+             "agree on, the lines the fit draws", roi.line, c->n, c->tested, c->voxel);
+    ws_view_targets_set_consensus(targets, c);
+    return WS_OK;
 }

@@ -19,6 +19,7 @@
 #include "geometry/surface.h"
 #include "io/scene.h"
 #include "nn/base/rng.h"
+#include "objective/edge_consensus.h"
 #include "objective/view_targets.h"
 #include "render/curves.h"
 
@@ -35,5 +36,14 @@ int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_
  * the silhouettes of every split from targets. */
 int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char warning[WS_CHECK_LINE],
                        ws_status *st);
+
+/* Where the train views have no usable silhouette (geometry/check.h:
+ * ws_check_silhouettes_usable), or the user gives a box (o->bbox), finds
+ * the region of interest (geometry/roi.h) and the edges the views agree on
+ * in it (objective/edge_consensus.h), and hands them to targets, whose
+ * silhouettes and line targets are theirs from then on; line: one line
+ * that says so ("" and c empty otherwise). c must outlive targets' use. */
+int ws_fit_consensus(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets,
+                     ws_edge_consensus *c, char line[WS_CHECK_LINE], ws_status *st);
 
 #endif

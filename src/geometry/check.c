@@ -662,6 +662,15 @@ static double edge_share(const ws_silhouette *s) {
     return all ? (double)in / all : 0;
 }
 
+int ws_check_silhouettes_usable(const ws_silhouette *sil, int n, int *empty, int *edge) {
+    *empty = *edge = 0;
+    for (int k = 0; k < n; k++) {
+        *empty += sil[k].area == 0;
+        *edge += sil[k].area > 0 && edge_share(&sil[k]) >= WS_CHECK_SILHOUETTE_EDGE;
+    }
+    return n == 0 || 2 * (*empty + *edge) <= n;
+}
+
 /* The first split more than half of whose views have an empty silhouette
  * or one holding WS_CHECK_SILHOUETTE_EDGE of the frame's edge or more
  * (check.h): says so in r->line and returns 1; 0 when every split has
@@ -669,14 +678,10 @@ static double edge_share(const ws_silhouette *s) {
 static int no_silhouette(const ws_scene *scene, const ws_silhouette *const sil[WS_NSPLITS], ws_check_report *r) {
     for (int s = 0; s < WS_NSPLITS; s++) {
         const int n = scene->split[s].n;
-        int empty = 0, edge = 0;
+        int empty, edge;
+        if (ws_check_silhouettes_usable(sil[s], n, &empty, &edge)) continue;
         double share = 0;
-        for (int k = 0; k < n; k++) {
-            empty += sil[s][k].area == 0;
-            edge += sil[s][k].area > 0 && edge_share(&sil[s][k]) >= WS_CHECK_SILHOUETTE_EDGE;
-            share += (double)sil[s][k].area / ((double)sil[s][k].width * sil[s][k].height) / n;
-        }
-        if (n == 0 || 2 * (empty + edge) <= n) continue;
+        for (int k = 0; k < n; k++) share += (double)sil[s][k].area / ((double)sil[s][k].width * sil[s][k].height) / n;
         r->no_silhouette = 1;
         r->explained = s;
         snprintf(r->line, sizeof r->line,

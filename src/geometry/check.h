@@ -86,6 +86,11 @@
  * measured. */
 #define WS_CHECK_SILHOUETTE_EDGE 0.5
 
+/* Whether n views' silhouettes show an object (1; also for n = 0): no more
+ * than half of them are empty (*empty) or hold WS_CHECK_SILHOUETTE_EDGE of
+ * the frame's edge or more (*edge). */
+int ws_check_silhouettes_usable(const ws_silhouette *sil, int n, int *empty, int *edge);
+
 typedef enum {
     WS_CAUSE_NONE,       /* consistent */
     WS_CAUSE_SHIFT,      /* image k belongs to the camera listed for frame k + shift */

@@ -1,4 +1,5 @@
 /* scene_gt_coverage.c: a scene's ground-truth coverage (see scene_gt_coverage.h). */
+#include <string.h>
 #include "base/json_number.h"
 #include "geometry/check.h"
 #include "objective/scene_gt_coverage.h"
@@ -11,6 +12,14 @@ int ws_scene_gt_coverage(const ws_scene *scene, ws_view_targets *targets, const 
     ws_curves tubes = {0};
     int rc = WS_OK;
     for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = ws_view_targets_silhouettes(targets, s, &sil[s], st);
+    /* silhouettes that show no object (a busy background without masks)
+     * say nothing of what the ground truth misses: nothing measured */
+    int empty, edge;
+    if (!rc && !ws_check_silhouettes_usable(sil[WS_TRAIN], scene->split[WS_TRAIN].n, &empty, &edge)) {
+        memset(c, 0, sizeof *c);
+        c->reference = -1;
+        return WS_OK;
+    }
     if (!rc) rc = ws_pointcloud_load_ply(gt_points, &pc, st);
     if (!rc && gt_curves && *gt_curves) rc = ws_curves_load(gt_curves, &tubes, st);
     if (!rc)

@@ -11,7 +11,9 @@
  * silhouettes of every split of scene (loaded with its images; targets
  * made from it). gt_curves: the scene's ground-truth curves, NULL or ""
  * for none; where given, its points are the axes of tubes of radius its
- * thickness (synth/synth.h), which each disc grows by. */
+ * thickness (synth/synth.h), which each disc grows by. Where the train
+ * views have no usable silhouette (geometry/check.h), nothing is measured:
+ * c is all 0 (not flagged, reference -1). */
 int ws_scene_gt_coverage(const ws_scene *scene, ws_view_targets *targets, const char *gt_points,
                          const char *gt_curves, ws_gt_coverage *c, ws_status *st);
 

@@ -14,6 +14,7 @@ struct ws_view_targets {
     ws_silhouette *sil[WS_NSPLITS]; /* per view; in == NULL until made */
     ws_view_cache line;             /* per view: H x W */
     const ws_line_evidence *evidence; /* NULL: line targets without the hull's support */
+    const ws_edge_consensus *consensus; /* NULL: silhouettes and line targets from the photos alone */
 };
 
 int ws_view_targets_create(ws_view_targets **out, const ws_scene *scene, ws_status *st) {
@@ -53,7 +54,9 @@ void ws_view_targets_release_setup(ws_view_targets *t) {
 /* Makes view `view`'s silhouette unless it is made already. */
 static int make_silhouette(ws_view_targets *t, int split, int view, ws_status *st) {
     ws_silhouette *s = &t->sil[split][view];
-    return s->in ? WS_OK : ws_view_silhouette(&t->scene->split[split].views[view], s, st);
+    const ws_view *v = &t->scene->split[split].views[view];
+    if (s->in) return WS_OK;
+    return t->consensus ? ws_edge_consensus_silhouette(t->consensus, v, s, st) : ws_view_silhouette(v, s, st);
 }
 
 int ws_view_targets_silhouettes(ws_view_targets *t, int split, const ws_silhouette **out, ws_status *st) {
@@ -72,6 +75,7 @@ static int fill_line(void *ctx, int split, int view, float *slot, ws_status *st)
         return WS_OK;
     }
     if (make_silhouette(t, split, view, st)) return st->code;
+    if (t->consensus) return ws_edge_consensus_line_target(t->consensus, v, &t->sil[split][view], slot, st);
     uint8_t *support = NULL;
     if (t->evidence && (!(support = ws_malloc(t->line.floats_per_view, "line support", st)) ||
                         ws_line_evidence_view(t->evidence, &v->cam, support, st))) {
@@ -84,6 +88,14 @@ static int fill_line(void *ctx, int split, int view, float *slot, ws_status *st)
 }
 
 void ws_view_targets_set_evidence(ws_view_targets *t, const ws_line_evidence *e) { t->evidence = e; }
+
+void ws_view_targets_set_consensus(ws_view_targets *t, const ws_edge_consensus *c) {
+    for (int s = 0; s < WS_NSPLITS; s++) {
+        ws_view_cache_drop(&t->line, s);
+        for (int v = 0; v < t->scene->split[s].n; v++) ws_silhouette_free(&t->sil[s][v]);
+    }
+    t->consensus = c;
+}
 
 int ws_view_targets_line(ws_view_targets *t, int split, int view, const float **out, ws_status *st) {
     return ws_view_cache_get(&t->line, split, view, fill_line, t, out, st);

@@ -23,6 +23,7 @@
 #define WS_VIEW_TARGETS_H
 #include "geometry/silhouette.h"
 #include "io/scene.h"
+#include "objective/edge_consensus.h"
 #include "objective/line_evidence.h"
 #include "nn/base/status.h"
 
@@ -46,6 +47,15 @@ int ws_view_targets_line(ws_view_targets *t, int split, int view, const float **
  * contours and creases, line_evidence.h; e must outlive t): a fit sets it
  * once its hull is carved, before anyone asks for a line target. */
 void ws_view_targets_set_evidence(ws_view_targets *t, const ws_line_evidence *e);
+
+/* From now on, every view's silhouette and line target (where the view has
+ * no edge map of the user's) are c's (edge_consensus.h; c must outlive t),
+ * in place of its photo's and mask's: a fit sets it where the train views
+ * have no usable silhouette or the user gives a box, before the hull is
+ * carved. Whatever was made before is dropped. The hull's support
+ * (ws_view_targets_set_evidence) is not read then: the consensus already
+ * keeps only what the views agree on. */
+void ws_view_targets_set_consensus(ws_view_targets *t, const ws_edge_consensus *c);
 
 /* Frees what only a fit's setup reads when its loss reads no line target
  * (CLIP alone): every line target (the respawn keeps their edges in its

@@ -1,0 +1,56 @@
+/* roi.h: the region of interest of a capture, an axis-aligned box in the
+ * scene's world frame that holds the object and little else, found from
+ * what the files give, in this order:
+ *   1. the user's box (`fit --bbox x0,y0,z0,x1,y1,z1`);
+ *   2. the sparse points (COLMAP's points3D) with their outliers removed:
+ *      the points seen by at least half of the train views (in front, in
+ *      the frame), then those whose WS_ROI_NEIGHBOURS-th nearest neighbour
+ *      lies within WS_ROI_DENSITY times the median of that distance (a
+ *      reconstruction's points crowd along the object's edges; outliers
+ *      lie alone), their bounding box grown by WS_ROI_MARGIN of its largest
+ *      side on every side; when fewer than WS_ROI_MIN_POINTS remain, 3.;
+ *   3. where the cameras look: the cube around the scene's centre (the
+ *      least-squares intersection of the optical axes, scene.h) whose half
+ *      side is the radius of the largest ball around it that every train
+ *      view sees whole (the object is in every view; the room around it
+ *      is not in the ball).
+ * A box room's walls and floor (synth/room.h) lie outside every one of
+ * these for the capture bed's scenes: the cameras stand 4 from the centre
+ * and see a ball of radius about 1.1 there, the object is about 1.5 wide. */
+#ifndef WS_ROI_H
+#define WS_ROI_H
+#include "io/scene.h"
+#include "nn/base/status.h"
+
+#define WS_ROI_NEIGHBOURS 8
+#define WS_ROI_DENSITY 3.0
+#define WS_ROI_MARGIN 0.05
+#define WS_ROI_MIN_POINTS 16
+#define WS_ROI_MAX_SAMPLE 4096 /* points the outlier test looks at (evenly spaced in the file's order) */
+#define WS_ROI_LINE 512
+
+typedef enum { WS_ROI_USER, WS_ROI_POINTS, WS_ROI_CAMERAS } ws_roi_source;
+
+typedef struct {
+    double lo[3], hi[3];
+    ws_roi_source source;
+    char line[WS_ROI_LINE]; /* one line: the box and where it came from */
+} ws_roi;
+
+/* "x0,y0,z0,x1,y1,z1" into box (lo then hi); WS_EUSAGE naming --bbox when
+ * it is not six finite numbers with x0 < x1, y0 < y1, z0 < z1. */
+int ws_roi_parse_bbox(const char *text, double box[6], ws_status *st);
+
+/* The scene's region of interest: from user (a box as ws_roi_parse_bbox
+ * makes it) when not NULL, else as above. Fails with WS_EINPUT when the
+ * scene's centre is in no train view. */
+int ws_roi_find(const ws_scene *scene, const double *user, ws_roi *roi, ws_status *st);
+
+/* The sources one at a time (ws_roi_find's 2. and 3.); points: n x 3.
+ * ws_roi_from_points sets *found to 0 and leaves roi alone when fewer than
+ * WS_ROI_MIN_POINTS pass; it fails only when out of memory. */
+int ws_roi_from_points(const ws_scene *scene, const double *points, int n, ws_roi *roi, int *found,
+                       ws_status *st);
+int ws_roi_from_cameras(const ws_scene *scene, ws_roi *roi, ws_status *st);
+
+#endif

@@ -1,0 +1,367 @@
+/* edge_consensus.c: the edges the views agree on inside the region of
+ * interest (see edge_consensus.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "objective/edge_consensus.h"
+#include "objective/line_target.h"
+#include "render/distance.h"
+#include "render/thin_edges.h"
+
+/* angle (H x W): at each pixel, the direction in [0, pi) of the photo's
+ * luminance gradient (3 x 3 Sobel, borders repeated) at the nearest pixel
+ * of edge within WS_CONSENSUS_ORIENT_REACH pixels (first in row order
+ * among equals); NAN where there is none. */
+static void edge_angles(const float *photo, const float *edge, int W, int H, float *grad, float *angle) {
+    const size_t hw = (size_t)W * H;
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            size_t p = (size_t)i * W + j;
+            if (!(edge[p] >= 0.5f)) continue;
+            double y[3][3];
+            for (int a = -1; a <= 1; a++)
+                for (int b = -1; b <= 1; b++) {
+                    int ii = i + a < 0 ? 0 : i + a >= H ? H - 1 : i + a, jj = j + b < 0 ? 0 : j + b >= W ? W - 1 : j + b;
+                    size_t q = (size_t)ii * W + jj;
+                    y[a + 1][b + 1] = 0.299 * photo[q] + 0.587 * photo[hw + q] + 0.114 * photo[2 * hw + q];
+                }
+            double gx = y[0][2] + 2 * y[1][2] + y[2][2] - y[0][0] - 2 * y[1][0] - y[2][0];
+            double gy = y[2][0] + 2 * y[2][1] + y[2][2] - y[0][0] - 2 * y[0][1] - y[0][2];
+            double t = atan2(gy, gx);
+            grad[p] = (float)(t < 0 ? t + M_PI : t >= M_PI ? t - M_PI : t);
+        }
+    const int R = WS_CONSENSUS_ORIENT_REACH;
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            int best = R * R + 1;
+            float at = NAN;
+            for (int a = -R; a <= R; a++)
+                for (int b = -R; b <= R; b++) {
+                    int ii = i + a, jj = j + b;
+                    if (ii < 0 || ii >= H || jj < 0 || jj >= W || a * a + b * b >= best ||
+                        !(edge[(size_t)ii * W + jj] >= 0.5f))
+                        continue;
+                    best = a * a + b * b;
+                    at = grad[(size_t)ii * W + jj];
+                }
+            angle[(size_t)i * W + j] = at;
+        }
+}
+
+/* dist, angle (n views x H x W): D_v of every train view, and its
+ * edge_angles. */
+static int edge_maps(const ws_split *train, float *dist, float *angle, ws_status *st) {
+    const int W = train->views[0].photo.width, H = train->views[0].photo.height;
+    const size_t hw = (size_t)W * H;
+    float *edge = ws_malloc(hw * sizeof *edge, "edge consensus", st);
+    float *grad = edge ? ws_malloc(hw * sizeof *grad, "edge consensus", st) : NULL;
+    uint8_t *set = grad ? ws_malloc(hw, "edge consensus", st) : NULL;
+    int rc = set ? WS_OK : st->code;
+    for (int v = 0; v < train->n && !rc; v++) {
+        const ws_image *photo = &train->views[v].photo;
+        if (photo->width != W || photo->height != H) {
+            rc = ws_fail(st, WS_EINTERNAL, "edge consensus: view %d is %d x %d, view 0 %d x %d", v, photo->width,
+                         photo->height, W, H);
+            break;
+        }
+        if (!(rc = ws_thin_edges(photo->data, W, H, edge, st))) {
+            for (size_t p = 0; p < hw; p++) set[p] = edge[p] >= 0.5f;
+            rc = ws_distance_map(set, W, H, dist + v * hw, st);
+            edge_angles(photo->data, edge, W, H, grad, angle + v * hw);
+        }
+    }
+    free(edge);
+    free(grad);
+    free(set);
+    return rc;
+}
+
+/* The unit eigenvector t of the smallest eigenvalue of the symmetric m
+ * (xx, yy, zz, xy, xz, yz), by cyclic Jacobi rotations: the direction most
+ * nearly perpendicular to the normals m sums the outer products of. */
+static void least_direction(const double m[6], double t[3]) {
+    double a[3][3] = {{m[0], m[3], m[4]}, {m[3], m[1], m[5]}, {m[4], m[5], m[2]}};
+    double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int sweep = 0; sweep < 8; sweep++)
+        for (int p = 0; p < 2; p++)
+            for (int q = p + 1; q < 3; q++) {
+                if (!(fabs(a[p][q]) > 1e-15 * (fabs(a[p][p]) + fabs(a[q][q])))) continue;
+                double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
+                double tt = (theta >= 0 ? 1 : -1) / (fabs(theta) + sqrt(theta * theta + 1));
+                double c = 1 / sqrt(tt * tt + 1), s = tt * c;
+                for (int k = 0; k < 3; k++) {
+                    double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq, a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk, a[q][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq, v[k][q] = s * vkp + c * vkq;
+                }
+            }
+    int best = 0;
+    for (int k = 1; k < 3; k++)
+        if (a[k][k] < a[best][best]) best = k;
+    for (int k = 0; k < 3; k++) t[k] = v[k][best];
+}
+
+#define WORDS ((WS_CONSENSUS_MAX_VIEWS + 63) / 64)
+#define CAPS 26
+
+/* What the votes read (edge_consensus.h). */
+typedef struct {
+    const ws_split *train;
+    int nviews;
+    const float *dist, *angle;
+    double rho;               /* a grid cube's circumscribed radius */
+    uint64_t cap[CAPS][WORDS]; /* the views of each cap, one bit each */
+} votes;
+
+/* x->cap: the views whose direction from centre lies within
+ * WS_CONSENSUS_CAP_ANGLE of each of the 26 directions from a cube's centre
+ * to its neighbours'. */
+static void view_caps(votes *x, const double centre[3]) {
+    memset(x->cap, 0, sizeof x->cap);
+    const double cosine = cos(WS_CONSENSUS_CAP_ANGLE * M_PI / 180);
+    int k = 0;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                if (!dx && !dy && !dz) continue;
+                for (int v = 0; v < x->nviews; v++) {
+                    double pos[3];
+                    ws_camera_position(&x->train->views[v].cam, pos);
+                    double e[3] = {pos[0] - centre[0], pos[1] - centre[1], pos[2] - centre[2]};
+                    double len = sqrt((dx * dx + dy * dy + dz * dz) * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
+                    if (dx * e[0] + dy * e[1] + dz * e[2] > cosine * len) x->cap[k][v / 64] |= 1ull << (v % 64);
+                }
+                k++;
+            }
+}
+
+/* 2 where grid point p is strong, 1 where it is weak, else 0
+ * (edge_consensus.h). */
+static uint8_t vote(const votes *x, const double p[3], int8_t dir[3]) {
+    uint64_t seen[WORDS] = {0}, hit[WORDS] = {0};
+    double normal[WS_CONSENSUS_MAX_VIEWS][3];
+    int view[WS_CONSENSUS_MAX_VIEWS], nhit = 0;
+    for (int v = 0; v < x->nviews; v++) {
+        const ws_camera *cam = &x->train->views[v].cam;
+        double c[3], u, w;
+        ws_camera_to_cam(cam, p, c);
+        double d = ws_camera_project(cam, c, &u, &w);
+        if (!(d > x->rho) || !(u >= 0 && u < cam->width && w >= 0 && w < cam->height)) continue;
+        seen[v / 64] |= 1ull << (v % 64);
+        size_t at = ((size_t)v * cam->height + (size_t)w) * cam->width + (size_t)u;
+        float angle = x->angle[at];
+        if (!(x->dist[at] <= WS_CONSENSUS_VOTE_PX + cam->focal * x->rho / (2 * d)) || isnan(angle)) continue;
+        /* the plane through the camera and the image's edge line there:
+         * the ray to (u, w) crossed with the line's direction (-gy, gx) */
+        double ray[3], e[3] = {-sin(angle) / cam->focal, -cos(angle) / cam->focal, 0}, n[3];
+        ws_camera_ray(cam, u, w, ray);
+        n[0] = ray[1] * e[2] - ray[2] * e[1];
+        n[1] = ray[2] * e[0] - ray[0] * e[2];
+        n[2] = ray[0] * e[1] - ray[1] * e[0];
+        double len = 0;
+        for (int k = 0; k < 3; k++) {
+            normal[nhit][k] = cam->R[0][k] * n[0] + cam->R[1][k] * n[1] + cam->R[2][k] * n[2];
+            len += normal[nhit][k] * normal[nhit][k];
+        }
+        if (!(len > 0)) continue;
+        for (int k = 0; k < 3; k++) normal[nhit][k] /= sqrt(len);
+        view[nhit++] = v;
+    }
+    /* the direction the hit views' edges agree on, found twice: from all
+     * of them, then from those that agree with the first answer */
+    const double tolerance = sin(WS_CONSENSUS_ORIENT_DEG * M_PI / 180);
+    double t[3] = {0, 0, 0};
+    for (int pass = 0; pass < 2; pass++) {
+        double m[6] = {0, 0, 0, 0, 0, 0};
+        for (int h = 0; h < nhit; h++) {
+            const double *n = normal[h];
+            if (pass && fabs(n[0] * t[0] + n[1] * t[1] + n[2] * t[2]) > tolerance) continue;
+            m[0] += n[0] * n[0], m[1] += n[1] * n[1], m[2] += n[2] * n[2];
+            m[3] += n[0] * n[1], m[4] += n[0] * n[2], m[5] += n[1] * n[2];
+        }
+        least_direction(m, t);
+    }
+    for (int k = 0; k < 3; k++) dir[k] = (int8_t)lrint(127 * t[k]);
+    for (int h = 0; h < nhit; h++) {
+        const double *n = normal[h];
+        if (fabs(n[0] * t[0] + n[1] * t[1] + n[2] * t[2]) <= tolerance) hit[view[h] / 64] |= 1ull << (view[h] % 64);
+    }
+    int all = 0, all_hit = 0;
+    for (int w = 0; w < WORDS; w++) all += __builtin_popcountll(seen[w]), all_hit += __builtin_popcountll(hit[w]);
+    if (all >= WS_CONSENSUS_MIN_VIEWS && all_hit >= WS_CONSENSUS_STRONG * all) return 2;
+    const int need = x->nviews / 4 > WS_CONSENSUS_MIN_VIEWS ? x->nviews / 4 : WS_CONSENSUS_MIN_VIEWS;
+    for (int k = 0; k < CAPS; k++) {
+        int s = 0, h = 0;
+        for (int w = 0; w < WORDS; w++)
+            s += __builtin_popcountll(seen[w] & x->cap[k][w]), h += __builtin_popcountll(hit[w] & x->cap[k][w]);
+        if (s >= need && h >= WS_CONSENSUS_WEAK * s) return 1;
+    }
+    return 0;
+}
+
+/* Keeps the parts of keep (n[0] x n[1] x n[2]; 0 = out, 1 = weak, 2 =
+ * strong) that hold at least min_part strong points, as 1; the rest 0. A
+ * part grows from a strong point to its 26 neighbours, from a weak point
+ * only to those along its edge's direction (dir: 127 t, t the direction
+ * its hits agree on; offsets within acos(WS_CONSENSUS_ALONG) of it):
+ * an edge of the object is a line of grid points, while the points that
+ * agree by chance with a busy background's parallel lines fill sheets and
+ * blobs. stack: as many longs as keep has points; a part's points are kept
+ * at its far end while its flood fill uses the near end (|= 4: reached). */
+static void keep_parts(uint8_t *keep, const int8_t *dir, const int n[3], long min_part, long *stack) {
+    const long total = (long)n[0] * n[1] * n[2];
+    for (long start = 0; start < total; start++) {
+        if (keep[start] != 1 && keep[start] != 2) continue;
+        long top = 0, count = 0, strong = 0;
+        stack[top++] = start;
+        keep[start] |= 4;
+        while (top > 0) {
+            long k = stack[--top];
+            stack[total - 1 - count++] = k;
+            strong += (keep[k] & 3) == 2;
+            const int8_t *t = dir + 3 * k;
+            const double tt = sqrt((double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2]);
+            int x = (int)(k % n[0]), y = (int)(k / n[0] % n[1]), z = (int)(k / ((long)n[0] * n[1]));
+            for (int dz = -1; dz <= 1; dz++)
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int xx = x + dx, yy = y + dy, zz = z + dz;
+                        if (xx < 0 || xx >= n[0] || yy < 0 || yy >= n[1] || zz < 0 || zz >= n[2]) continue;
+                        long q = ((long)zz * n[1] + yy) * n[0] + xx;
+                        if (keep[q] != 1 && keep[q] != 2) continue;
+                        double along = fabs((double)(dx * t[0] + dy * t[1] + dz * t[2]));
+                        if ((keep[k] & 3) == 1 && !(along >= WS_CONSENSUS_ALONG * tt * sqrt(dx * dx + dy * dy + dz * dz)))
+                            continue;
+                        keep[q] |= 4;
+                        stack[top++] = q;
+                    }
+        }
+        uint8_t mark = strong >= min_part ? 8 : 0;
+        for (long c = 0; c < count; c++) keep[stack[total - 1 - c]] = mark;
+    }
+    for (long k = 0; k < total; k++) keep[k] = keep[k] == 8;
+}
+
+int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolution, ws_edge_consensus *c,
+                           ws_status *st) {
+    memset(c, 0, sizeof *c);
+    c->roi = *roi;
+    const ws_split *train = &scene->split[WS_TRAIN];
+    double side = 0;
+    for (int a = 0; a < 3; a++) side = fmax(side, roi->hi[a] - roi->lo[a]);
+    c->voxel = side / resolution;
+    int n[3];
+    for (int a = 0; a < 3; a++) n[a] = (int)fmax(1, ceil((roi->hi[a] - roi->lo[a]) / c->voxel - 1e-9));
+    c->tested = (long)n[0] * n[1] * n[2];
+    const size_t hw = (size_t)scene->width * scene->height;
+    float *dist = ws_malloc(hw * (size_t)(train->n ? train->n : 1) * sizeof *dist, "edge consensus", st);
+    float *angle = dist ? ws_malloc(hw * (size_t)(train->n ? train->n : 1) * sizeof *angle, "edge consensus", st) : NULL;
+    uint8_t *keep = angle ? ws_calloc((size_t)c->tested, 1, "edge consensus", st) : NULL;
+    int8_t *dir = keep ? ws_malloc((size_t)c->tested * 3, "edge consensus", st) : NULL;
+    int rc = dir ? WS_OK : st->code;
+    if (!rc && train->n) rc = edge_maps(train, dist, angle, st);
+    votes *x = rc ? NULL : ws_malloc(sizeof *x, "edge consensus", st);
+    long *stack = x ? ws_malloc(sizeof *stack * (size_t)c->tested, "edge consensus", st) : NULL;
+    if (!rc && !stack) rc = st->code;
+    if (!rc) {
+        *x = (votes){train, train->n < WS_CONSENSUS_MAX_VIEWS ? train->n : WS_CONSENSUS_MAX_VIEWS, dist, angle,
+                     c->voxel * sqrt(3.0) / 2, {{0}}};
+        double centre[3];
+        for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
+        view_caps(x, centre);
+#pragma omp parallel for schedule(dynamic)
+        for (int z = 0; z < n[2]; z++)
+            for (int y = 0; y < n[1]; y++)
+                for (int i = 0; i < n[0]; i++) {
+                    double p[3] = {roi->lo[0] + (i + 0.5) * c->voxel, roi->lo[1] + (y + 0.5) * c->voxel,
+                                   roi->lo[2] + (z + 0.5) * c->voxel};
+                    size_t k = ((size_t)z * n[1] + y) * n[0] + i;
+                    keep[k] = vote(x, p, dir + 3 * k);
+                }
+        keep_parts(keep, dir, n, WS_CONSENSUS_MIN_PART, stack);
+    }
+    free(x);
+    free(stack);
+    if (!rc) {
+        for (long k = 0; k < c->tested; k++) c->n += keep[k];
+        c->p = ws_malloc(sizeof *c->p * 3 * (size_t)(c->n ? c->n : 1), "edge consensus", st);
+        if (!c->p) rc = st->code;
+    }
+    if (!rc) {
+        int m = 0;
+        for (long k = 0; k < c->tested; k++) {
+            if (!keep[k]) continue;
+            long x = k % n[0], y = k / n[0] % n[1], z = k / ((long)n[0] * n[1]);
+            c->p[3 * m] = roi->lo[0] + (x + 0.5) * c->voxel;
+            c->p[3 * m + 1] = roi->lo[1] + (y + 0.5) * c->voxel;
+            c->p[3 * m + 2] = roi->lo[2] + (z + 0.5) * c->voxel;
+            m++;
+        }
+    }
+    free(dist);
+    free(angle);
+    free(keep);
+    free(dir);
+    if (rc) ws_edge_consensus_free(c);
+    return rc;
+}
+
+void ws_edge_consensus_free(ws_edge_consensus *c) {
+    free(c->p);
+    c->p = NULL;
+    c->n = 0;
+}
+
+int ws_edge_consensus_near(const ws_edge_consensus *c, const ws_camera *cam, float *near, ws_status *st) {
+    const int W = cam->width, H = cam->height;
+    uint8_t *set = ws_calloc((size_t)W * H, 1, "edge consensus", st);
+    if (!set) return st->code;
+    for (int k = 0; k < c->n; k++) {
+        double q[3], u, w;
+        ws_camera_to_cam(cam, c->p + 3 * (size_t)k, q);
+        if (!(ws_camera_project(cam, q, &u, &w) > 0) || !(u >= 0 && u < W && w >= 0 && w < H)) continue;
+        set[(size_t)w * W + (size_t)u] = 1;
+    }
+    int rc = ws_distance_map(set, W, H, near, st);
+    free(set);
+    return rc;
+}
+
+int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st) {
+    const ws_camera *cam = &v->cam;
+    ws_image mask = {0};
+    if (ws_image_alloc(&mask, cam->width, cam->height, 1, st)) return st->code;
+    int rc = ws_edge_consensus_near(c, cam, mask.data, st);
+    if (!rc) {
+        for (size_t p = 0; p < (size_t)cam->width * cam->height; p++)
+            mask.data[p] = mask.data[p] <= WS_CONSENSUS_SILHOUETTE_PX ? 1.0f : 0.0f;
+        rc = ws_silhouette_make(&v->photo, &mask, s, st);
+        /* the kept points are all there is of the object: a view says
+         * what lies beyond its frame too (a band cut by the frame's edge
+         * would leave the hull unbounded there) */
+        if (!rc) s->touches_border = 0;
+    }
+    ws_image_free(&mask);
+    return rc;
+}
+
+int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *sil,
+                                  float *edge, ws_status *st) {
+    const size_t hw = (size_t)v->cam.width * v->cam.height;
+    float *near = ws_malloc(hw * sizeof *near, "edge consensus", st);
+    int rc = near ? WS_OK : st->code;
+    if (!rc) rc = ws_edge_consensus_near(c, &v->cam, near, st);
+    if (!rc) rc = ws_line_target(&v->photo, NULL, sil, NULL, edge, st);
+    if (!rc)
+        for (size_t p = 0; p < hw; p++)
+            if (!(near[p] <= WS_CONSENSUS_KEEP_PX)) edge[p] = 0;
+    free(near);
+    return rc;
+}

@@ -1,0 +1,111 @@
+/* edge_consensus.h: what of the photos' edges a curve inside the region of
+ * interest (geometry/roi.h) can explain across views, for a capture whose
+ * views have no usable silhouette (an object over a busy background, no
+ * mask; geometry/check.h) or whose user gives a box.
+ *
+ * A curve of the object is seen on an edge of every photo whose view it is
+ * not hidden in; a background edge (a wall, the floor, anything at another
+ * depth) falls on the object's edges in some views, by chance, not in
+ * nearly all of those that see a point. So:
+ *   E_v    = the thin edges of train view v's photo (render/thin_edges.h);
+ *   D_v    = the distance to E_v (render/distance.h);
+ *   grid   = the centres p of the cubes of `resolution` along the box's
+ *            longest side that tile the region of interest (the fit's:
+ *            WS_CONSENSUS_RESOLUTION);
+ *   A_v    = at each pixel, the direction of the photo's luminance
+ *            gradient (3 x 3 Sobel) at the nearest edge pixel within
+ *            WS_CONSENSUS_ORIENT_REACH pixels;
+ *   p is near an edge in view v when v sees p (in front, in the frame) and
+ *            D_v at the pixel p projects into is at most
+ *            WS_CONSENSUS_VOTE_PX plus half the radius in pixels of p's
+ *            cube's circumscribed ball (f rho / 2 d); the edge there, a
+ *            line across A_v, and the camera span a plane of normal n_v;
+ *   t(p)   = the direction most nearly perpendicular to the n_v of those
+ *            views (the smallest eigenvector of sum n_v n_v^T), found
+ *            again from the views within WS_CONSENSUS_ORIENT_DEG of
+ *            perpendicular to the first: the 3D direction of the edge
+ *            through p that the views' edges agree on;
+ *   p hits view v when it is near an edge there and |n_v . t| <=
+ *            sin(WS_CONSENSUS_ORIENT_DEG): the edge runs as an edge
+ *            through p along t would (a busy background's edges at random
+ *            orientations stop agreeing; only parallel families still do);
+ *   strong: at least WS_CONSENSUS_MIN_VIEWS views see p and a share of
+ *            WS_CONSENSUS_STRONG of them is hit;
+ *   weak:   the same share at WS_CONSENSUS_WEAK among the views of a cap:
+ *            those whose direction from the box's centre lies within
+ *            WS_CONSENSUS_CAP_ANGLE degrees of one of 26 directions (to a
+ *            cube's neighbours), when at least a quarter of the train views
+ *            (and WS_CONSENSUS_MIN_VIEWS) are in it and see p. An edge of a
+ *            solid is hidden from the views behind its faces, so only a
+ *            part of the sphere of views sees it, all of them on an edge;
+ *   kept:   the parts of the strong and weak points that hold at least
+ *            WS_CONSENSUS_MIN_PART strong ones, grown from a strong point
+ *            to its 26 neighbours and from a weak one only to those within
+ *            acos(WS_CONSENSUS_ALONG) of its t: an edge of the object is a
+ *            line of grid points along t, while chance agreement with a
+ *            background's parallel lines scatters or fills blobs.
+ * The kept points are the object's edges as the views agree on them (a
+ * band about the edges a few pixels wide). For any camera:
+ *   N   = the distance to the pixels the kept points project into (in
+ *         front of it);
+ *   silhouette: N <= WS_CONSENSUS_SILHOUETTE_PX: a band along the
+ *         object's edges (hidden ones too), which the visual hull, the
+ *         silhouette term, the initial curves and the respawn read as they
+ *         read a mask's (a solid's hull is then a frame of its edges);
+ *         it never touches the frame's edge, so every view carves the
+ *         hull beyond its frame (the kept points are all of the object);
+ *   line target: ws_line_target of the photo with that silhouette and no
+ *         mask (so a band's thin parts are drawn by their axes), kept where
+ *         N <= WS_CONSENSUS_KEEP_PX and 0 elsewhere.
+ * A background edge at any depth thus pulls no stroke: it is outside the
+ * region, or the views do not agree on it. Deterministic: the vote of each
+ * point is its own, gathered in grid order. The constants were chosen on
+ * the box-room cube (docs/RESULTS.md, "Busy backgrounds without masks"). */
+#ifndef WS_EDGE_CONSENSUS_H
+#define WS_EDGE_CONSENSUS_H
+#include "geometry/roi.h"
+#include "geometry/silhouette.h"
+#include "io/scene.h"
+#include "nn/base/status.h"
+
+#define WS_CONSENSUS_RESOLUTION 128
+#define WS_CONSENSUS_VOTE_PX 1.0
+#define WS_CONSENSUS_STRONG 0.75
+#define WS_CONSENSUS_WEAK 0.7
+#define WS_CONSENSUS_CAP_ANGLE 90.0 /* degrees */
+#define WS_CONSENSUS_MIN_VIEWS 8
+#define WS_CONSENSUS_MIN_PART 16
+#define WS_CONSENSUS_MAX_VIEWS 256 /* train views that vote (the first ones) */
+#define WS_CONSENSUS_ORIENT_REACH 2 /* pixels */
+#define WS_CONSENSUS_ORIENT_DEG 20.0
+#define WS_CONSENSUS_ALONG 0.7
+#define WS_CONSENSUS_SILHOUETTE_PX 1.5
+#define WS_CONSENSUS_KEEP_PX 3.0
+
+typedef struct {
+    ws_roi roi;
+    double voxel;   /* the grid's spacing, world units */
+    long tested;    /* grid points */
+    int n;          /* kept points */
+    double *p;      /* n x 3 */
+} ws_edge_consensus;
+
+/* Votes over the train views of scene (photos loaded, all of the working
+ * size) on a grid of `resolution` (>= 1) along the region's longest side.
+ * Fails only when out of memory. */
+int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolution, ws_edge_consensus *c,
+                           ws_status *st);
+void ws_edge_consensus_free(ws_edge_consensus *c);
+
+/* near (cam->height x cam->width): N above. */
+int ws_edge_consensus_near(const ws_edge_consensus *c, const ws_camera *cam, float *near, ws_status *st);
+
+/* The silhouette of view v (its camera and photo) as above. */
+int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st);
+
+/* The line target of view v (edge: H x W) with sil, its silhouette as
+ * ws_edge_consensus_silhouette makes it. */
+int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *sil,
+                                  float *edge, ws_status *st);
+
+#endif

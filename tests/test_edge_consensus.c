@@ -1,0 +1,211 @@
+/* slow test */
+/* test_edge_consensus.c: a capture with a busy background and no mask
+ * (geometry/roi.h, objective/edge_consensus.h). On the cube in the box room
+ * (`scene cube --background room`, 224 px, 48 train views) beside the same
+ * scene with masks:
+ *   - the region of interest from COLMAP's sparse points (10% outliers in a
+ *     box three times the object) holds the object and is at most a little
+ *     wider; from the cameras it holds the object and none of the room;
+ *     --bbox is parsed, and bad boxes get their one-line messages;
+ *   - the consensus line target keeps the object's edges (most of the
+ *     masked scene's line target is near it, and most of it near that),
+ *     where the photo's own edges are mostly the room's;
+ *   - with it, the line loss ranks the ground truth above no curves and
+ *     above the truth shifted by 5% on the scene without masks (printed
+ *     beside the photo's own edges' ranking). */
+#define _XOPEN_SOURCE 700
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "geometry/roi.h"
+#include "metrics/metrics.h"
+#include "objective/edge_consensus.h"
+#include "objective/line_target.h"
+#include "objective/ranking.h"
+#include "objective/view_targets.h"
+#include "render/distance.h"
+#include "render/thin_edges.h"
+#include "scene_load.h"
+#include "synth/room.h"
+#include "synth/synth.h"
+#include "test_util.h"
+
+/* the capture bed's cube at the fit's working size, views and grid: the
+ * votes' chance agreement with the room depends on all three */
+enum { SIZE = 224, TRAIN = 48, RESOLUTION = WS_CONSENSUS_RESOLUTION, SHARE_VIEWS = 4 };
+
+/* The share of the pixels of a (values >= 1/2) within 2 px of one of b. */
+static double near_share(const float *a, const float *b, int W, int H) {
+    const size_t hw = (size_t)W * H;
+    uint8_t *set = malloc(hw);
+    float *d = malloc(hw * sizeof *d);
+    ws_status st;
+    for (size_t p = 0; p < hw; p++) set[p] = b[p] >= 0.5f;
+    long in = 0, all = 0;
+    if (!ws_distance_map(set, W, H, d, &st))
+        for (size_t p = 0; p < hw; p++)
+            if (a[p] >= 0.5f) all++, in += d[p] <= 2;
+    free(set);
+    free(d);
+    return all ? (double)in / all : 0;
+}
+
+static int inside(const double lo[3], const double hi[3], const double alo[3], const double ahi[3]) {
+    for (int a = 0; a < 3; a++)
+        if (!(lo[a] <= alo[a] && ahi[a] <= hi[a])) return 0;
+    return 1;
+}
+
+static void bbox_messages(void) {
+    ws_status st;
+    double box[6];
+    CHECK(ws_roi_parse_bbox("-1,-1,-1,1,1,1.5", box, &st) == WS_OK && box[0] == -1 && box[5] == 1.5,
+          "a good box: %s", st.msg);
+    CHECK(ws_roi_parse_bbox("1,2,3", box, &st) == WS_EUSAGE &&
+              !strcmp(st.msg, "--bbox 1,2,3: not six numbers x0,y0,z0,x1,y1,z1"),
+          "three numbers: %s", st.msg);
+    CHECK(ws_roi_parse_bbox("0,0,0,1,1,1,2", box, &st) == WS_EUSAGE &&
+              !strcmp(st.msg, "--bbox 0,0,0,1,1,1,2: not six numbers x0,y0,z0,x1,y1,z1"),
+          "seven numbers: %s", st.msg);
+    CHECK(ws_roi_parse_bbox("0,0,0,1,nan,1", box, &st) == WS_EUSAGE &&
+              !strcmp(st.msg, "--bbox 0,0,0,1,nan,1: not six numbers x0,y0,z0,x1,y1,z1"),
+          "NaN: %s", st.msg);
+    CHECK(ws_roi_parse_bbox("0,0,0,1,-1,1", box, &st) == WS_EUSAGE &&
+              !strcmp(st.msg, "--bbox 0,0,0,1,-1,1: the box is empty along y (0 >= -1)"),
+          "an empty box: %s", st.msg);
+}
+
+int main(void) {
+    const char *tmp = test_tmpdir("edge_consensus");
+    char room[300], masked[300], colmap[300], path[400];
+    ws_status st;
+    bbox_messages();
+
+    ws_synth_options syn;
+    ws_synth_options_default(&syn);
+    syn.size = SIZE;
+    syn.views[WS_TRAIN] = TRAIN;
+    syn.views[WS_VAL] = 0;
+    syn.views[WS_TEST] = 4;
+    syn.room = 1;
+    snprintf(room, sizeof room, "%s/room", tmp);
+    snprintf(masked, sizeof masked, "%s/masked", tmp);
+    snprintf(colmap, sizeof colmap, "%s/colmap", tmp);
+    snprintf(path, sizeof path, "%s/gt_curves.json", room);
+    ws_scene scene = {0}, with_masks = {0}, sparse = {0};
+    ws_curves gt = {0};
+    int rc = ws_synth_write("cube", room, &syn, &st);
+    syn.masks = 1;
+    if (!rc) rc = ws_synth_write("cube", masked, &syn, &st);
+    syn.masks = 0;
+    syn.colmap = 2;
+    if (!rc) rc = ws_synth_write("cube", colmap, &syn, &st);
+    if (!rc) rc = load_scene_at(&scene, room, SIZE, &st);
+    if (!rc) rc = load_scene_at(&with_masks, masked, SIZE, &st);
+    if (!rc) rc = load_scene_at(&sparse, colmap, SIZE, &st);
+    if (!rc) rc = ws_curves_load(path, &gt, &st);
+    CHECK(rc == WS_OK, "setup: %s", st.msg);
+    if (rc) return check_summary();
+    double lo[3], hi[3], side = 0;
+    ws_curves_bbox(&gt, lo, hi);
+    for (int a = 0; a < 3; a++) side = fmax(side, hi[a] - lo[a]);
+
+    /* the region of interest */
+    ws_roi roi;
+    int n;
+    CHECK(ws_scene_points(&sparse, &n) && n > 0, "the COLMAP scene has no sparse points");
+    rc = ws_roi_find(&sparse, NULL, &roi, &st);
+    CHECK(rc == WS_OK && roi.source == WS_ROI_POINTS, "from the points: %s (source %d)", st.msg, roi.source);
+    printf("%s\n", roi.line);
+    CHECK(inside(roi.lo, roi.hi, lo, hi), "the box from the points does not hold the object");
+    for (int a = 0; a < 3; a++)
+        CHECK(roi.hi[a] - roi.lo[a] <= hi[a] - lo[a] + 0.25 * side,
+              "the box from the points is %.3f wide along %c, the object %.3f", roi.hi[a] - roi.lo[a], "xyz"[a],
+              hi[a] - lo[a]);
+    rc = ws_roi_find(&scene, NULL, &roi, &st);
+    CHECK(rc == WS_OK && roi.source == WS_ROI_CAMERAS, "from the cameras: %s (source %d)", st.msg, roi.source);
+    printf("%s\n", roi.line);
+    CHECK(inside(roi.lo, roi.hi, lo, hi), "the box from the cameras does not hold the object");
+    for (int a = 0; a < 3; a++)
+        CHECK(roi.hi[a] - roi.lo[a] < 2 * WS_ROOM_FLOOR, "the box from the cameras reaches the room along %c",
+              "xyz"[a]);
+    const double user[6] = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
+    CHECK(ws_roi_find(&scene, user, &roi, &st) == WS_OK && roi.source == WS_ROI_USER && roi.lo[1] == lo[1] &&
+              roi.hi[2] == hi[2],
+          "the user's box is not taken as given");
+
+    /* the consensus line target against the masked scene's */
+    ws_edge_consensus c = {0};
+    rc = ws_roi_find(&scene, NULL, &roi, &st) || ws_edge_consensus_make(&scene, &roi, RESOLUTION, &c, &st);
+    CHECK(rc == WS_OK, "consensus: %s", st.msg);
+    printf("consensus: %d of %ld grid points kept\n", c.n, c.tested);
+    CHECK(c.n > 0 && c.n < c.tested / 50, "consensus: %d of %ld grid points kept", c.n, c.tested);
+    const size_t hw = (size_t)SIZE * SIZE;
+    float *mine = malloc(hw * sizeof *mine), *truth = malloc(hw * sizeof *truth), *raw = malloc(hw * sizeof *raw);
+    double precision = 0, recall = 0, raw_precision = 0;
+    const ws_split *views = &scene.split[WS_TRAIN];
+    for (int v = 0; v < SHARE_VIEWS && !rc; v++) {
+        ws_silhouette sil = {0}, msil = {0};
+        const ws_view *mv = &with_masks.split[WS_TRAIN].views[v];
+        rc = ws_edge_consensus_silhouette(&c, &views->views[v], &sil, &st) ||
+             ws_edge_consensus_line_target(&c, &views->views[v], &sil, mine, &st) ||
+             ws_view_silhouette(mv, &msil, &st) || ws_line_target(&mv->photo, &mv->mask, &msil, NULL, truth, &st) ||
+             ws_thin_edges(views->views[v].photo.data, SIZE, SIZE, raw, &st);
+        CHECK(rc == WS_OK, "test view %d: %s", v, st.msg);
+        precision += near_share(mine, truth, SIZE, SIZE) / SHARE_VIEWS;
+        recall += near_share(truth, mine, SIZE, SIZE) / SHARE_VIEWS;
+        raw_precision += near_share(raw, truth, SIZE, SIZE) / SHARE_VIEWS;
+        ws_silhouette_free(&sil);
+        ws_silhouette_free(&msil);
+    }
+    printf("train views 0-%d: consensus target %.3f near the masked target, which is %.3f near it; the photo's edges "
+           "%.3f\n", SHARE_VIEWS - 1, precision, recall, raw_precision);
+    CHECK(precision >= 0.7, "only %.3f of the consensus target is near the object's edges", precision);
+    CHECK(recall >= 0.8, "only %.3f of the object's edges are near the consensus target", recall);
+    CHECK(raw_precision < 0.3, "%.3f of the photo's edges are the object's: the room is not busy", raw_precision);
+
+    /* the line loss's ranking, with the consensus and with the photo's edges */
+    for (int k = 0; k < 2 && !rc; k++) {
+        ws_view_targets *t = NULL;
+        ws_objective *obj = NULL;
+        ws_loss_options lo_opt;
+        ws_loss_options_default(&lo_opt);
+        lo_opt.conv_weight = lo_opt.fc_weight = lo_opt.global_weight = 0;
+        lo_opt.lines_weight = 1;
+        lo_opt.hidden_lines = WS_HIDDEN_NONE;
+        ws_splat_options so;
+        ws_splat_options_default(&so);
+        rc = ws_view_targets_create(&t, &scene, &st);
+        if (!rc && k == 0) ws_view_targets_set_consensus(t, &c);
+        lo_opt.targets = t;
+        double l[WS_RANK_COUNT];
+        if (!rc) rc = ws_objective_create(&obj, &scene, &lo_opt, &so, ws_rank_curves(&gt), &st);
+        if (!rc) rc = ws_rank_losses(obj, WS_TEST, &gt, 0.01, 3, l, &st);
+        CHECK(rc == WS_OK, "ranking: %s", st.msg);
+        if (!rc) {
+            printf("%s: truth %.5f, empty %.5f, shifted 5%% %.5f\n", k == 0 ? "consensus" : "photo edges",
+                   l[WS_RANK_TRUTH], l[WS_RANK_EMPTY], l[WS_RANK_SHIFT5]);
+            if (k == 0) {
+                CHECK(l[WS_RANK_TRUTH] < l[WS_RANK_EMPTY], "consensus: the truth (%.5g) does not beat no curves (%.5g)",
+                      l[WS_RANK_TRUTH], l[WS_RANK_EMPTY]);
+                CHECK(l[WS_RANK_TRUTH] < l[WS_RANK_SHIFT5],
+                      "consensus: the truth (%.5g) does not beat the 5%% shift (%.5g)", l[WS_RANK_TRUTH],
+                      l[WS_RANK_SHIFT5]);
+            }
+        }
+        ws_objective_free(obj);
+        ws_view_targets_free(t);
+    }
+
+    free(mine);
+    free(truth);
+    free(raw);
+    ws_edge_consensus_free(&c);
+    ws_curves_free(&gt);
+    ws_scene_free(&scene);
+    ws_scene_free(&with_masks);
+    ws_scene_free(&sparse);
+    return check_summary();
+}
