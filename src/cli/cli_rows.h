@@ -25,6 +25,10 @@
 #define WS_ROW_MASKS(dest)                                                                     \
     {"--masks", WS_ARG_STRING, (dest), 0,                                                      \
      "folder of the views' masks (DIR/<image name> as .png; white = object) [SCENE/masks, nerfstudio and COLMAP]"}
+#define WS_ROW_BBOX(dest)                                                                      \
+    {"--bbox", WS_ARG_STRING, (dest), 0,                                                       \
+     "the box the object is in; the line targets keep the edges the views agree on inside it " \
+     "[from the scene where the views have no usable silhouette]"}
 #define WS_ROW_EDGE_MAPS(dest)                                                                       \
     {"--edge-maps", WS_ARG_STRING, (dest), 0,                                                        \
      "directory of the views' edge maps (DIR/<file_path>.png) for the edges loss [none]"}

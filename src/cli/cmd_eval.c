@@ -7,7 +7,9 @@
  * (SCENE/lines/SPLIT) the drawing score (metrics/drawing_score.h) of the
  * drawing a user gets (field drawing: the curves beside the hull's
  * outline, objective/line_evidence.h) and of the curves alone (field
- * drawing_curves). The loss is computed
+ * drawing_curves). The loss's line targets are the fit's (fit/init.h):
+ * where the train views have no usable silhouette, or with --bbox, the
+ * edges the views agree on in the region of interest. The loss is computed
  * only when asked for (--loss NAME) or, by default, when it can be: the
  * CLIP loss when the CLIP weight file exists; distances need no weights. */
 #include <math.h>
@@ -23,6 +25,7 @@
 #include "cli/cli_rows.h"
 #include "cli/cli_view.h"
 #include "cli/commands.h"
+#include "fit/init.h"
 #include "io/pointcloud.h"
 #include "metrics/drawing_score.h"
 #include "objective/line_evidence.h"
@@ -132,9 +135,22 @@ static int score_drawings(const ws_scene *scene, int split, const ws_curves *cur
     return rc;
 }
 
+/* The loss's view targets, made as the fit makes them: where the train
+ * views have no usable silhouette (or with bbox), the edges the views agree
+ * on in the region of interest (fit/init.h), whose line goes to stderr
+ * (stdout is the JSON); else the photos' own, as the loss would make them. */
+static int loss_targets(const char *bbox, const ws_scene *scene, ws_view_targets **targets, ws_edge_consensus *c,
+                        ws_status *st) {
+    char line[WS_CHECK_LINE];
+    if (ws_view_targets_create(targets, scene, st) || ws_fit_consensus(bbox, scene, *targets, c, line, st))
+        return st->code;
+    if (line[0]) fprintf(stderr, "%s\n", line);
+    return WS_OK;
+}
+
 /* lo NULL: no loss (the scene's cameras only are read). */
 static int evaluate_sketch(const char *scene_dir, const char *curves_path, const char *split_name,
-                           const ws_scene_options *scene_opt, const char *loss_name,
+                           const ws_scene_options *scene_opt, const char *loss_name, const char *bbox,
                            const ws_loss_options *lo,
                            const ws_splat_options *so, const char *gt_points, const char *gt_curves,
                            int per_curve, ws_status *st) {
@@ -149,7 +165,9 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     ws_curves curves = {0};
     ws_gaussians g = {0};
     ws_objective *obj = NULL;
-    ws_view_targets *targets = NULL;
+    ws_view_targets *targets = NULL, *line_targets = NULL; /* the coverage's, the loss's */
+    ws_edge_consensus consensus = {0};
+    ws_loss_options with_targets = lo ? *lo : (ws_loss_options){0};
     ws_gt_coverage cov;
     double mean = NAN;
     ws_quality q;
@@ -161,7 +179,9 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     if (!rc) ws_scene_mask_line(&scene, masks_line, sizeof masks_line);
     if (!rc && masks_line[0]) fprintf(stderr, "%s\n", masks_line);
     if (!rc) rc = ws_curves_sample(&curves, &g, st);
-    if (!rc && lo) rc = ws_objective_create(&obj, &scene, lo, so, curves.n, st);
+    if (!rc && lo) rc = loss_targets(bbox, &scene, &line_targets, &consensus, st);
+    with_targets.targets = line_targets;
+    if (!rc && lo) rc = ws_objective_create(&obj, &scene, &with_targets, so, curves.n, st);
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
     if (!rc) rc = ws_quality_measure(&curves, gt_points, gt_curves, &q, st);
     ws_drawing_score drawing, drawing_curves;
@@ -201,6 +221,8 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     free(per);
     ws_view_targets_free(targets);
     ws_objective_free(obj);
+    ws_view_targets_free(line_targets);
+    ws_edge_consensus_free(&consensus);
     ws_gaussians_free(&g);
     ws_curves_free(&curves);
     ws_scene_free(&photos);
@@ -211,7 +233,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
 int cmd_eval(int argc, char **argv) {
     const char *curves_path = NULL, *split_name = "test", *loss_name = "auto", *background = "black";
     const char *edge_maps = NULL, *geometric = "blocks", *hidden = NULL, *masks = NULL;
-    const char *gt_points = NULL, *gt_curves = NULL;
+    const char *gt_points = NULL, *gt_curves = NULL, *bbox = NULL;
     double edges_weight = 1.0;
     int size = 224, threads = 0, per_curve = 0;
     ws_arg_list layers = {0};
@@ -227,6 +249,7 @@ int cmd_eval(int argc, char **argv) {
         WS_ROW_BACKGROUND(&background),
         WS_ROW_MASKS(&masks),
         WS_ROW_EDGE_MAPS(&edge_maps),
+        WS_ROW_BBOX(&bbox),
         WS_ROW_LOSS_OR_NONE(&loss_name),
         WS_ROW_WEIGHTS(&lo.weights_path),
         WS_ROW_LAYER_WEIGHTS(&layers),
@@ -279,7 +302,7 @@ int cmd_eval(int argc, char **argv) {
     }
     if (ws_runtime_init(threads, &st)) return ws_cli_fail(&st);
     ws_cli_announce_loss(given_loss, lo.weights_path);
-    if (evaluate_sketch(pos[0], curves_path, split_name, &sopt, loss_name, with_loss ? &lo : NULL,
+    if (evaluate_sketch(pos[0], curves_path, split_name, &sopt, loss_name, bbox, with_loss ? &lo : NULL,
                         &so, gt_points, gt_curves, per_curve, &st))
         return ws_cli_fail(&st);
     return 0;

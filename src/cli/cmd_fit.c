@@ -249,9 +249,7 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         WS_ROW_EDGE_MAPS(&opt->edge_maps),
         WS_ROW_IMAGES(&opt->images),
         WS_ROW_MASKS(&opt->masks),
-        {"--bbox", WS_ARG_STRING, &opt->bbox, 0,
-         "the box the object is in; the fit keeps the edges the views agree on inside it "
-         "[from the scene where the views have no usable silhouette]"},
+        WS_ROW_BBOX(&opt->bbox),
         WS_ROW_CUTOFF(&opt->cutoff),
         {"--seed", WS_ARG_INT, &w.seed, 0, "random seed [0]"},
         WS_ROW_THREADS(&opt->threads),

@@ -401,7 +401,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
             fprintf(stderr, "wiresketch: warning: %s\n", warning);
     }
     char consensus[WS_CHECK_LINE];
-    if (ws_fit_consensus(o, &r->scene, r->targets, &r->consensus, consensus, st)) return st->code;
+    if (ws_fit_consensus(o->bbox, &r->scene, r->targets, &r->consensus, consensus, st)) return st->code;
     if (consensus[0] && speaks() && !o->quiet) printf("%s\n", consensus);
     int edges_init = !resume && !strcmp(o->init_curves, "edges");
     int hull_init = edges_init || (!resume && !strcmp(o->init_curves, "hull"));

@@ -37,20 +37,20 @@ int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char war
     return rc;
 }
 
-int ws_fit_consensus(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets,
-                     ws_edge_consensus *c, char line[WS_CHECK_LINE], ws_status *st) {
+int ws_fit_consensus(const char *bbox, const ws_scene *scene, ws_view_targets *targets, ws_edge_consensus *c,
+                     char line[WS_CHECK_LINE], ws_status *st) {
     memset(c, 0, sizeof *c);
     line[0] = 0;
     double box[6];
-    if (o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) return st->code;
-    if (!o->bbox) {
+    if (bbox && ws_roi_parse_bbox(bbox, box, st)) return st->code;
+    if (!bbox) {
         const ws_silhouette *sil;
         int empty, edge;
         if (ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, st)) return st->code;
         if (ws_check_silhouettes_usable(sil, scene->split[WS_TRAIN].n, &empty, &edge)) return WS_OK;
     }
     ws_roi roi;
-    if (ws_roi_find(scene, o->bbox ? box : NULL, &roi, st) ||
+    if (ws_roi_find(scene, bbox ? box : NULL, &roi, st) ||
         ws_edge_consensus_make(scene, &roi, WS_CONSENSUS_RESOLUTION, c, st))
         return st->code;
     snprintf(line, WS_CHECK_LINE, "%.400s; %d of its %ld grid points (spacing %.3g) lie on edges the train views "

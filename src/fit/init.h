@@ -38,12 +38,14 @@ int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char war
                        ws_status *st);
 
 /* Where the train views have no usable silhouette (geometry/check.h:
- * ws_check_silhouettes_usable), or the user gives a box (o->bbox), finds
- * the region of interest (geometry/roi.h) and the edges the views agree on
- * in it (objective/edge_consensus.h), and hands them to targets, whose
- * silhouettes and line targets are theirs from then on; line: one line
- * that says so ("" and c empty otherwise). c must outlive targets' use. */
-int ws_fit_consensus(const ws_fit_options *o, const ws_scene *scene, ws_view_targets *targets,
-                     ws_edge_consensus *c, char line[WS_CHECK_LINE], ws_status *st);
+ * ws_check_silhouettes_usable), or the user gives a box (bbox, as --bbox
+ * writes it; NULL: none), finds the region of interest (geometry/roi.h)
+ * and the edges the views agree on in it (objective/edge_consensus.h), and
+ * hands them to targets, whose silhouettes and line targets are theirs
+ * from then on; line: one line that says so ("" and c empty otherwise).
+ * c must outlive targets' use. The fit's targets and eval's are made
+ * here, so that eval's test loss is the fit's kind of number. */
+int ws_fit_consensus(const char *bbox, const ws_scene *scene, ws_view_targets *targets, ws_edge_consensus *c,
+                     char line[WS_CHECK_LINE], ws_status *st);
 
 #endif

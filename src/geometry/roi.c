@@ -145,6 +145,15 @@ int ws_roi_find(const ws_scene *scene, const double *user, ws_roi *roi, ws_statu
         box_line(roi, "--bbox");
         return WS_OK;
     }
+    if (scene->has_aabb) {
+        memcpy(roi->lo, scene->aabb[0], sizeof roi->lo);
+        memcpy(roi->hi, scene->aabb[1], sizeof roi->hi);
+        roi->source = WS_ROI_AABB;
+        char from[80]; /* the file is transforms.json or transforms_train.json */
+        snprintf(from, sizeof from, "the aabb of %.60s", ws_scene_file(scene, WS_TRAIN));
+        box_line(roi, from);
+        return WS_OK;
+    }
     int n, found = 0;
     const double *points = ws_scene_points(scene, &n);
     if (n > 0 && ws_roi_from_points(scene, points, n, roi, &found, st)) return st->code;

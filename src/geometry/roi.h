@@ -2,14 +2,16 @@
  * scene's world frame that holds the object and little else, found from
  * what the files give, in this order:
  *   1. the user's box (`fit --bbox x0,y0,z0,x1,y1,z1`);
- *   2. the sparse points (COLMAP's points3D) with their outliers removed:
+ *   2. the box the transforms file gives (instant-ngp's "aabb", scene.h),
+ *      as it is written;
+ *   3. the sparse points (COLMAP's points3D) with their outliers removed:
  *      the points seen by at least half of the train views (in front, in
  *      the frame), then those whose WS_ROI_NEIGHBOURS-th nearest neighbour
  *      lies within WS_ROI_DENSITY times the median of that distance (a
  *      reconstruction's points crowd along the object's edges; outliers
  *      lie alone), their bounding box grown by WS_ROI_MARGIN of its largest
- *      side on every side; when fewer than WS_ROI_MIN_POINTS remain, 3.;
- *   3. where the cameras look: the cube around the scene's centre (the
+ *      side on every side; when fewer than WS_ROI_MIN_POINTS remain, 4.;
+ *   4. where the cameras look: the cube around the scene's centre (the
  *      least-squares intersection of the optical axes, scene.h) whose half
  *      side is the radius of the largest ball around it that every train
  *      view sees whole (the object is in every view; the room around it
@@ -29,7 +31,7 @@
 #define WS_ROI_MAX_SAMPLE 4096 /* points the outlier test looks at (evenly spaced in the file's order) */
 #define WS_ROI_LINE 512
 
-typedef enum { WS_ROI_USER, WS_ROI_POINTS, WS_ROI_CAMERAS } ws_roi_source;
+typedef enum { WS_ROI_USER, WS_ROI_AABB, WS_ROI_POINTS, WS_ROI_CAMERAS } ws_roi_source;
 
 typedef struct {
     double lo[3], hi[3];
@@ -46,7 +48,7 @@ int ws_roi_parse_bbox(const char *text, double box[6], ws_status *st);
  * scene's centre is in no train view. */
 int ws_roi_find(const ws_scene *scene, const double *user, ws_roi *roi, ws_status *st);
 
-/* The sources one at a time (ws_roi_find's 2. and 3.); points: n x 3.
+/* The sources one at a time (ws_roi_find's 3. and 4.); points: n x 3.
  * ws_roi_from_points sets *found to 0 and leaves roi alone when fewer than
  * WS_ROI_MIN_POINTS pass; it fails only when out of memory. */
 int ws_roi_from_points(const ws_scene *scene, const double *points, int n, ws_roi *roi, int *found,

@@ -262,7 +262,7 @@ static int parse_frame(const ws_transforms *t, int index, const char *what, cons
 
 /* Parses SCENE/transforms_SPLIT.json into `split` (cameras, names, image
  * paths; no pixels yet). A missing file leaves the split empty. */
-static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_split *split,
+static int parse_split(ws_scene *scene, const char *dir, int s, const ws_scene_options *opt, ws_split *split,
                        double *angle_out, ws_status *st) {
     char path[WS_PATH_MAX];
     snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
@@ -295,6 +295,7 @@ static int parse_split(const char *dir, int s, const ws_scene_options *opt, ws_s
             rc = ws_camera_init(&v->cam, c2w, angle, opt->width, opt->height, what, st);
     }
     if (!rc) rc = unique_view_names(split, t, path, st);
+    if (!rc && s == WS_TRAIN) rc = ws_transforms_aabb(t, scene->aabb, &scene->has_aabb, st);
     ws_transforms_close(t);
     return rc;
 }
@@ -371,6 +372,7 @@ static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_opt
             rc = frame_camera(&in.lens, c2w, opt, what, v, st);
     }
     for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = unique_view_names(&scene->split[s], t, path, st);
+    if (!rc) rc = ws_transforms_aabb(t, scene->aabb, &scene->has_aabb, st);
     if (!rc) {
         const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
         scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);
@@ -795,7 +797,7 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
     }
     for (int s = 0; s < WS_NSPLITS && !nerfstudio && !colmap; s++) {
         double angle = 0;
-        if (parse_split(dir, s, opt, &scene->split[s], &angle, st)) {
+        if (parse_split(scene, dir, s, opt, &scene->split[s], &angle, st)) {
             ws_scene_free(scene);
             return st->code;
         }

@@ -25,6 +25,8 @@
  * train view else. A lens (render/lens.h) from camera_model (PINHOLE,
  * SIMPLE_PINHOLE, OPENCV, OPENCV_FISHEYE; none: OPENCV), instant-ngp's
  * is_fisheye, k1..k4, p1, p2, global or per frame.
+ * Either JSON layout's file (the train split's for NeRF-synthetic) may
+ * give the object's box as instant-ngp's "aabb" (has_aabb, aabb).
  *
  * COLMAP, when SCENE has neither transforms file: the sparse model at
  * SCENE/sparse/0, SCENE/sparse or SCENE (io/colmap.h; text or binary,
@@ -123,6 +125,9 @@ typedef struct {
     int masks_from_paths;  /* views whose mask is their frame's mask_path */
     int masks_from_dir;    /* views whose mask is in masks_dir */
     char masks_dir[WS_PATH_MAX]; /* the masks folder used; "" when none */
+    int has_aabb;          /* 1: the transforms file (nerfstudio's, or the train split's) has
+                              instant-ngp's "aabb" (io/transforms.h) */
+    double aabb[2][3];     /* that box, lo then hi, in the file's world frame */
     int npoints;           /* COLMAP: points3D, in the file's world frame */
     double *points;        /* npoints x 3; NULL for the other layouts */
 } ws_scene;

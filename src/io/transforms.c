@@ -128,6 +128,30 @@ const char *ws_transforms_file_path(const ws_transforms *t, int k) {
     return cJSON_IsString(fp) ? fp->valuestring : "";
 }
 
+int ws_transforms_aabb(const ws_transforms *t, double aabb[2][3], int *found, ws_status *st) {
+    const cJSON *box = cJSON_GetObjectItemCaseSensitive(t->root, "aabb");
+    *found = box != NULL;
+    if (!box) return WS_OK;
+    int ok = cJSON_IsArray(box) && cJSON_GetArraySize(box) == 2;
+    for (int i = 0; i < 2 && ok; i++) {
+        const cJSON *corner = cJSON_GetArrayItem(box, i);
+        ok = cJSON_IsArray(corner) && cJSON_GetArraySize(corner) == 3;
+        for (int a = 0; a < 3 && ok; a++) {
+            const cJSON *x = cJSON_GetArrayItem(corner, a);
+            ok = cJSON_IsNumber(x) && isfinite(x->valuedouble);
+            if (ok) aabb[i][a] = x->valuedouble;
+        }
+    }
+    if (!ok)
+        return ws_fail(st, WS_EINPUT, "%s: aabb is not two triples of finite numbers [[x0,y0,z0],[x1,y1,z1]]",
+                       t->path);
+    for (int a = 0; a < 3; a++)
+        if (!(aabb[0][a] < aabb[1][a]))
+            return ws_fail(st, WS_EINPUT, "%s: aabb is empty along %c (%g >= %g)", t->path, "xyz"[a], aabb[0][a],
+                           aabb[1][a]);
+    return WS_OK;
+}
+
 /* ---------------------------------------------------------------- splits */
 
 #define SPLIT_PERIOD 8

@@ -12,6 +12,7 @@
  *     k1..k4, p1, p2), each global or per frame (a frame's own value wins),
  *     and optional split lists train_filenames / val_filenames /
  *     test_filenames.
+ * Either kind may carry instant-ngp's "aabb", the object's box.
  * Files are read whole (at most 64 MiB) and kept parsed while open, so that
  * a frame is found by its index in frames[] at once. */
 #ifndef WS_TRANSFORMS_H
@@ -61,6 +62,13 @@ int ws_transforms_kind(const ws_transforms *t);        /* WS_TRANSFORMS_... */
 double ws_transforms_angle(const ws_transforms *t);    /* a split file's camera_angle_x */
 /* frame k's file_path, "" when it has none or it is not a string */
 const char *ws_transforms_file_path(const ws_transforms *t, int k);
+
+/* The file's "aabb" (instant-ngp: [[x0,y0,z0],[x1,y1,z1]], the object's box
+ * in the file's world frame; aabb_scale, a scale of instant-ngp's own
+ * grid, is no box and not read): *found = 0 when the file has none; else
+ * "PATH: aabb is not two triples of finite numbers [[x0,y0,z0],[x1,y1,z1]]"
+ * or "PATH: aabb is empty along y (1 >= 0.5)" when it is not a box. */
+int ws_transforms_aabb(const ws_transforms *t, double aabb[2][3], int *found, ws_status *st);
 
 /* Each frame's split (nerfstudio): by the split lists where the file has
  * any (a frame in none: -1; a file_path matched after any "./"), else by

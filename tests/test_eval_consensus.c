@@ -1,0 +1,84 @@
+/* slow test */
+/* test_eval_consensus.c: `eval --loss edges` on a capture whose train
+ * views have no usable silhouette (the cube in the box room, no masks; 224
+ * px and 48 train views, the fit's working size and the capture bed's
+ * views, at which the views' agreement is measured in
+ * test_edge_consensus.c) scores against the line targets the fit uses, the
+ * edges the views agree on in the region of interest (fit/init.h): it says
+ * so in one line on stderr, and its test loss ranks the ground truth below
+ * no curves and below the truth shifted by 5% of the object's size (eval
+ * without the consensus gave all three a loss of 1). */
+#define _XOPEN_SOURCE 700
+#include <cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "metrics/metrics.h"
+#include "render/curves.h"
+#include "test_util.h"
+
+static const char *bin, *tmp;
+
+/* `eval` of curves on the room scene: its loss (NAN when it failed) and,
+ * in err, what it wrote on stderr. */
+static double eval_loss(const char *what, const char *curves, char *err, size_t size) {
+    char out[1 << 14], errpath[400];
+    snprintf(errpath, sizeof errpath, "%s/stderr.txt", tmp);
+    int rc = run_cmd(out, sizeof out,
+                     "%s eval %s/room --curves %s --gt '' --gt-curves '' --loss edges --size 224 2>%s", bin, tmp,
+                     curves, errpath);
+    read_text(errpath, err, size);
+    cJSON *j = rc == 0 ? cJSON_Parse(out) : NULL;
+    const cJSON *loss = cJSON_GetObjectItem(j, "loss");
+    CHECK(cJSON_IsNumber(loss), "%s: exit %d: %s%s", what, rc, out, err);
+    double value = cJSON_IsNumber(loss) ? loss->valuedouble : NAN;
+    cJSON_Delete(j);
+    printf("%s: loss %.5f\n", what, value);
+    return value;
+}
+
+int main(void) {
+    bin = program_path();
+    tmp = test_tmpdir("eval_consensus");
+    char path[400], empty[400], shifted[400], err[4096];
+    CHECK(sh("%s scene cube --out %s/room --background room --size 224 --views-train 48 --views-val 0 "
+             "--views-test 4 >/dev/null",
+             bin, tmp),
+          "the room scene was not written");
+    /* the reference lines would score the drawing, which no curves cannot have */
+    snprintf(path, sizeof path, "%s/room/lines", tmp);
+    remove_tree(path);
+    snprintf(path, sizeof path, "%s/room/gt_curves.json", tmp);
+    snprintf(empty, sizeof empty, "%s/empty.json", tmp);
+    snprintf(shifted, sizeof shifted, "%s/shifted.json", tmp);
+    ws_curves gt = {0}, none = {0};
+    ws_status st;
+    int rc = ws_curves_load(path, &gt, &st);
+    if (!rc) {
+        none.thickness = gt.thickness;
+        none.overlap = gt.overlap;
+        rc = ws_curves_save(empty, &none, &st);
+    }
+    if (!rc) {
+        double lo[3], hi[3], side = 0;
+        ws_curves_bbox(&gt, lo, hi);
+        for (int a = 0; a < 3; a++) side = fmax(side, hi[a] - lo[a]);
+        for (int k = 0; k < gt.n * 4; k++) gt.P[3 * k] += 0.05 * side;
+        rc = ws_curves_save(shifted, &gt, &st);
+    }
+    CHECK(rc == WS_OK, "curves: %s", st.msg);
+    ws_curves_free(&gt);
+    if (rc) return check_summary();
+
+    double truth = eval_loss("the truth", path, err, sizeof err);
+    CHECK(strstr(err, "region of interest [") && strstr(err, "from where the cameras look") &&
+              strstr(err, "lie on edges the train views agree on, the lines the fit draws"),
+          "eval does not say that it scores against the edges the views agree on: %s", err);
+    double nothing = eval_loss("no curves", empty, err, sizeof err);
+    double moved = eval_loss("the truth shifted 5%", shifted, err, sizeof err);
+    CHECK(truth < nothing, "the truth (%.5g) does not beat no curves (%.5g)", truth, nothing);
+    CHECK(truth < moved, "the truth (%.5g) does not beat the 5%% shift (%.5g)", truth, moved);
+    return check_summary();
+}
