@@ -169,8 +169,10 @@ int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8
     return rc;
 }
 
-int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
-                            uint8_t *lines, uint8_t *keep, ws_status *st) {
+/* The drawing's two layers apart (H x W each): lines = 1 on the outline
+ * and contour pixels, keep = 1 where the curves are drawn. */
+static int evidence_layers(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
+                           uint8_t *lines, uint8_t *keep, ws_status *st) {
     const int W = cam->width, H = cam->height;
     const size_t n = (size_t)W * H;
     const double thin = WS_DRAWING_THIN_PX, margin = WS_DRAWING_CURVE_MARGIN_PX;
@@ -262,7 +264,7 @@ static int draw_view(const ws_line_evidence *e, const ws_hull_outline *outline, 
     const size_t n = (size_t)cam->width * cam->height;
     uint8_t *lines = ws_malloc(2 * n, "hull lines", st);
     if (!lines) return st->code;
-    int rc = ws_line_evidence_layers(e, outline, cam, lines, lines + n, st);
+    int rc = evidence_layers(e, outline, cam, lines, lines + n, st);
     for (size_t p = 0; !rc && p < n; p++) drawing[p] = lines[p] ? 0 : lines[n + p] ? curves[p] : 255;
     free(lines);
     return rc;
@@ -301,7 +303,7 @@ void ws_drawing_hull_free(ws_drawing_hull *d) {
 
 int ws_drawing_hull_layers(const ws_drawing_hull *d, const ws_camera *cam, uint8_t *lines, uint8_t *keep,
                            ws_status *st) {
-    return ws_line_evidence_layers(&d->evidence, &d->outline, cam, lines, keep, st);
+    return evidence_layers(&d->evidence, &d->outline, cam, lines, keep, st);
 }
 
 int ws_drawing_hull_render(void *ctx, const ws_camera *cam, const unsigned char *curves, unsigned char *drawing,

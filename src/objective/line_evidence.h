@@ -64,12 +64,6 @@ typedef struct ws_line_evidence {
 int ws_line_evidence_init(ws_line_evidence *e, const ws_scene_hull *hull, ws_status *st);
 void ws_line_evidence_free(ws_line_evidence *e);
 
-/* The drawing's two layers apart (H x W each, for a vector drawing:
- * io/export.h): lines = 1 on the outline and contour pixels, keep = 1
- * where the curves are drawn. */
-int ws_line_evidence_layers(const ws_line_evidence *e, const ws_hull_outline *outline, const ws_camera *cam,
-                            uint8_t *lines, uint8_t *keep, ws_status *st);
-
 /* support (cam->height x cam->width): 1 where a photo edge has the hull's
  * support in this view, else 0. */
 int ws_line_evidence_view(const ws_line_evidence *e, const ws_camera *cam, uint8_t *support, ws_status *st);
@@ -93,7 +87,9 @@ typedef struct {
 int ws_drawing_hull_make(ws_drawing_hull *d, const ws_scene *scene, ws_status *st);
 void ws_drawing_hull_free(ws_drawing_hull *d);
 
-/* ws_line_evidence_layers of d's evidence. */
+/* The drawing's two layers apart, from d's evidence (H x W each, for a
+ * vector drawing: io/export.h): lines = 1 on the outline and contour
+ * pixels, keep = 1 where the curves are drawn. */
 int ws_drawing_hull_layers(const ws_drawing_hull *d, const ws_camera *cam, uint8_t *lines, uint8_t *keep,
                            ws_status *st);
 
