@@ -46,6 +46,15 @@ static int every_view_masked(const ws_scene *sc) {
     return all;
 }
 
+/* Do two loads of one 32 x 32 scene hold the same masks? */
+static int same_masks(const ws_scene *a, const ws_scene *b) {
+    int same = 1;
+    for (int s = 0; s < WS_NSPLITS; s++)
+        for (int k = 0; k < a->split[s].n; k++)
+            same &= !memcmp(a->split[s].views[k].mask.data, b->split[s].views[k].mask.data, sizeof(float) * 32 * 32);
+    return same;
+}
+
 int main(void) {
     tmp = test_tmpdir("masks");
     char out[8192], colmap[400], ns[400], want[2048], line[1024];
@@ -68,11 +77,7 @@ int main(void) {
     CHECK(rc == 0 && every_view_masked(&n) && n.masks_from_paths == 10 && n.masks_from_dir == 0,
           "nerfstudio with mask_path: %s", rc ? st.msg : "");
     if (!rc) {
-        int same = 1;
-        for (int s = 0; s < WS_NSPLITS; s++)
-            for (int k = 0; k < n.split[s].n; k++)
-                same &= !memcmp(n.split[s].views[k].mask.data, c.split[s].views[k].mask.data, sizeof(float) * 32 * 32);
-        CHECK(same, "the COLMAP layout's masks are the nerfstudio layout's");
+        CHECK(same_masks(&n, &c), "the COLMAP layout's masks are the nerfstudio layout's");
         ws_scene_mask_line(&n, line, sizeof line);
         snprintf(want, sizeof want, "%s: masks for 10 of 10 views from the frames' mask_path", ns);
         CHECK(!strcmp(line, want), "nerfstudio mask line: %s", line);
@@ -92,11 +97,7 @@ int main(void) {
     rc = load(&e, colmap, elsewhere, &st);
     CHECK(rc == 0 && every_view_masked(&e) && e.masks_from_dir == 10, "--masks DIR: %s", rc ? st.msg : "");
     if (!rc) {
-        int same = 1;
-        for (int s = 0; s < WS_NSPLITS; s++)
-            for (int k = 0; k < e.split[s].n; k++)
-                same &= !memcmp(e.split[s].views[k].mask.data, c.split[s].views[k].mask.data, sizeof(float) * 32 * 32);
-        CHECK(same, "--masks DIR: the same masks");
+        CHECK(same_masks(&e, &c), "--masks DIR: the same masks");
         ws_scene_free(&e);
     }
     ws_scene_free(&c);

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "base/sort.h"
 #include "geometry/roi.h"
+#include "io/pointcloud.h"
 
 int ws_roi_parse_bbox(const char *text, double box[6], ws_status *st) {
     const char *s = text;
@@ -70,12 +71,10 @@ int ws_roi_from_points(const ws_scene *scene, const double *points, int n, ws_ro
         }
         ws_sort_doubles(kth + m, (size_t)m);
         const double limit = WS_ROI_DENSITY * WS_ROI_DENSITY * kth[m + m / 2];
-        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-        for (int i = 0; i < m; i++) {
-            if (!(kth[i] <= limit)) continue;
-            kept++;
-            for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], p[3 * i + a]), hi[a] = fmax(hi[a], p[3 * i + a]);
-        }
+        for (int i = 0; i < m; i++) /* the crowded points to the front of p */
+            if (kth[i] <= limit) memmove(p + 3 * kept++, p + 3 * i, sizeof *p * 3);
+        double lo[3], hi[3];
+        ws_points_bbox(p, kept, lo, hi);
         if (kept >= WS_ROI_MIN_POINTS) {
             double side = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
             for (int a = 0; a < 3; a++) {
