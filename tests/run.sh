@@ -3,8 +3,8 @@
 # TEST_JOBS at a time (default: the number of CPUs), adds up their
 # "N passed, N failed" lines, and ends with the total line. Programs whose
 # source (tests/NAME.c) holds the line "/* slow test */" start first, so
-# that the longest ones do not start last; those with "/* alone test */"
-# (they measure CPU time) run last, one at a time, with nothing beside them. A program's result line (and,
+# that the longest ones do not start last. A test asserts nothing about
+# time (timings belong to benchmarks). A program's result line (and,
 # when it failed, its failures) is printed as it ends.
 # A program that crashes or prints no summary counts as one failure.
 # `--args ARG` first passes ARG to every program (make test-scenes: the
@@ -26,12 +26,9 @@ trap 'rm -rf "$results"' EXIT
 
 slow=()
 rest=()
-alone=()
 for t in "$@"; do
     src="tests/$(basename "$t").c"
-    if grep -qxF '/* alone test */' "$src" 2>/dev/null; then
-        alone+=("$t")
-    elif grep -qxF '/* slow test */' "$src" 2>/dev/null; then
+    if grep -qxF '/* slow test */' "$src" 2>/dev/null; then
         slow+=("$t")
     else
         rest+=("$t")
@@ -73,10 +70,6 @@ for t in "${slow[@]}" "${rest[@]}"; do
     running=$((running + 1))
 done
 wait
-for t in "${alone[@]}"; do
-    run_one "$t"
-    cat "$results/$(basename "$t").report"
-done
 
 total_pass=0
 total_fail=0

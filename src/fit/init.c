@@ -53,8 +53,14 @@ int ws_fit_consensus(const char *bbox, const ws_scene *scene, ws_view_targets *t
     if (ws_roi_find(scene, bbox ? box : NULL, &roi, st) ||
         ws_edge_consensus_make(scene, &roi, WS_CONSENSUS_RESOLUTION, c, st))
         return st->code;
-    snprintf(line, WS_CHECK_LINE, "%.400s; %d of its %ld grid points (spacing %.3g) lie on edges the train views "
-             "agree on, the lines the fit draws", roi.line, c->n, c->tested, c->voxel);
+    if (c->hull.occupied)
+        snprintf(line, WS_CHECK_LINE, "%.400s; the photos' colours agree on %ld of its %ld grid cubes (spacing "
+                 "%.3g), and %d lie on edges the train views that see them agree on, the lines the fit draws",
+                 roi.line, c->hull.kept, c->tested, c->voxel, c->n);
+    else
+        snprintf(line, WS_CHECK_LINE, "%.400s; the photos' colours do not tell the object from the room (too few "
+                 "views, or one colour all round), and %d of its %ld grid points (spacing %.3g) lie on edges the "
+                 "train views agree on, the lines the fit draws", roi.line, c->n, c->tested, c->voxel);
     ws_view_targets_set_consensus(targets, c);
     return WS_OK;
 }

@@ -117,6 +117,8 @@ typedef struct {
     int nviews;
     const float *dist, *angle;
     double rho;               /* a grid cube's circumscribed radius */
+    const float *depth;       /* NULL, or nviews x H x W: the photo hull's nearest surface (photo_hull.h) */
+    double behind;            /* how far behind it a point still counts as seen */
     uint64_t cap[CAPS][WORDS]; /* the views of each cap, one bit each */
 } votes;
 
@@ -154,8 +156,9 @@ static uint8_t vote(const votes *x, const double p[3], int8_t dir[3]) {
         ws_camera_to_cam(cam, p, c);
         double d = ws_camera_project(cam, c, &u, &w);
         if (!(d > x->rho) || !(u >= 0 && u < cam->width && w >= 0 && w < cam->height)) continue;
-        seen[v / 64] |= 1ull << (v % 64);
         size_t at = ((size_t)v * cam->height + (size_t)w) * cam->width + (size_t)u;
+        if (x->depth && !(d <= x->depth[at] + x->behind)) continue; /* hidden by the object */
+        seen[v / 64] |= 1ull << (v % 64);
         float angle = x->angle[at];
         if (!(x->dist[at] <= WS_CONSENSUS_VOTE_PX + cam->focal * x->rho / (2 * d)) || isnan(angle)) continue;
         /* the plane through the camera and the image's edge line there:
@@ -249,9 +252,26 @@ static void keep_parts(uint8_t *keep, const int8_t *dir, const int n[3], long mi
     for (long k = 0; k < total; k++) keep[k] = keep[k] == 8;
 }
 
+/* keep, dir (grid n, x fastest): each grid point's vote, then the kept
+ * parts (keep_parts). */
+static void vote_grid(const votes *x, const ws_roi *roi, double voxel, const int n[3], uint8_t *keep, int8_t *dir,
+                      long *stack) {
+#pragma omp parallel for schedule(dynamic)
+    for (int z = 0; z < n[2]; z++)
+        for (int y = 0; y < n[1]; y++)
+            for (int i = 0; i < n[0]; i++) {
+                double p[3] = {roi->lo[0] + (i + 0.5) * voxel, roi->lo[1] + (y + 0.5) * voxel,
+                               roi->lo[2] + (z + 0.5) * voxel};
+                size_t k = ((size_t)z * n[1] + y) * n[0] + i;
+                keep[k] = vote(x, p, dir + 3 * k);
+            }
+    keep_parts(keep, dir, n, WS_CONSENSUS_MIN_PART, stack);
+}
+
 int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolution, ws_edge_consensus *c,
                            ws_status *st) {
     memset(c, 0, sizeof *c);
+    if (ws_photo_hull_make(scene, roi, resolution, &c->hull, st)) return st->code;
     c->roi = *roi;
     const ws_split *train = &scene->split[WS_TRAIN];
     double side = 0;
@@ -270,27 +290,30 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
     votes *x = rc ? NULL : ws_malloc(sizeof *x, "edge consensus", st);
     long *stack = x ? ws_malloc(sizeof *stack * (size_t)c->tested, "edge consensus", st) : NULL;
     if (!rc && !stack) rc = st->code;
+    const int nviews = train->n < WS_CONSENSUS_MAX_VIEWS ? train->n : WS_CONSENSUS_MAX_VIEWS;
+    float *depth = rc ? NULL : ws_malloc(hw * (size_t)(nviews ? nviews : 1) * sizeof *depth, "edge consensus", st);
+    if (!rc && !depth) rc = st->code;
+    for (int v = 0; !rc && v < nviews; v++)
+        rc = ws_photo_hull_project(&c->hull, &train->views[v].cam, depth + v * hw, NULL, st);
     if (!rc) {
-        *x = (votes){train, train->n < WS_CONSENSUS_MAX_VIEWS ? train->n : WS_CONSENSUS_MAX_VIEWS, dist, angle,
-                     c->voxel * sqrt(3.0) / 2, {{0}}};
+        *x = (votes){train, nviews, dist, angle, c->voxel * sqrt(3.0) / 2, depth,
+                     WS_PHOTO_HULL_DEPTH_TOL * c->hull.voxel, {{0}}};
         double centre[3];
         for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
         view_caps(x, centre);
-#pragma omp parallel for schedule(dynamic)
-        for (int z = 0; z < n[2]; z++)
-            for (int y = 0; y < n[1]; y++)
-                for (int i = 0; i < n[0]; i++) {
-                    double p[3] = {roi->lo[0] + (i + 0.5) * c->voxel, roi->lo[1] + (y + 0.5) * c->voxel,
-                                   roi->lo[2] + (z + 0.5) * c->voxel};
-                    size_t k = ((size_t)z * n[1] + y) * n[0] + i;
-                    keep[k] = vote(x, p, dir + 3 * k);
-                }
-        keep_parts(keep, dir, n, WS_CONSENSUS_MIN_PART, stack);
+        vote_grid(x, roi, c->voxel, n, keep, dir, stack);
+        for (long k = 0; k < c->tested; k++) c->n += keep[k];
+        if (c->n == 0) { /* the hull hides everything: the photos' colours did not tell the object */
+            ws_photo_hull_free(&c->hull);
+            x->depth = NULL;
+            vote_grid(x, roi, c->voxel, n, keep, dir, stack);
+            for (long k = 0; k < c->tested; k++) c->n += keep[k];
+        }
     }
     free(x);
     free(stack);
+    free(depth);
     if (!rc) {
-        for (long k = 0; k < c->tested; k++) c->n += keep[k];
         c->p = ws_malloc(sizeof *c->p * 3 * (size_t)(c->n ? c->n : 1), "edge consensus", st);
         if (!c->p) rc = st->code;
     }
@@ -314,6 +337,7 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
 }
 
 void ws_edge_consensus_free(ws_edge_consensus *c) {
+    ws_photo_hull_free(&c->hull);
     free(c->p);
     c->p = NULL;
     c->n = 0;
@@ -336,12 +360,18 @@ int ws_edge_consensus_near(const ws_edge_consensus *c, const ws_camera *cam, flo
 
 int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st) {
     const ws_camera *cam = &v->cam;
+    const size_t hw = (size_t)cam->width * cam->height;
     ws_image mask = {0};
-    if (ws_image_alloc(&mask, cam->width, cam->height, 1, st)) return st->code;
+    float *hull = ws_malloc(hw * sizeof *hull, "edge consensus", st);
+    if (!hull || ws_image_alloc(&mask, cam->width, cam->height, 1, st)) {
+        free(hull);
+        return st->code;
+    }
     int rc = ws_edge_consensus_near(c, cam, mask.data, st);
+    if (!rc && c->hull.occupied) rc = ws_photo_hull_project(&c->hull, cam, NULL, hull, st);
     if (!rc) {
-        for (size_t p = 0; p < (size_t)cam->width * cam->height; p++)
-            mask.data[p] = mask.data[p] <= WS_CONSENSUS_SILHOUETTE_PX ? 1.0f : 0.0f;
+        for (size_t p = 0; p < hw; p++)
+            mask.data[p] = mask.data[p] <= WS_CONSENSUS_SILHOUETTE_PX && (!c->hull.occupied || hull[p] > 0.5f);
         rc = ws_silhouette_make(&v->photo, &mask, s, st);
         /* the kept points are all there is of the object: a view says
          * what lies beyond its frame too (a band cut by the frame's edge
@@ -349,16 +379,27 @@ int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, w
         if (!rc) s->touches_border = 0;
     }
     ws_image_free(&mask);
+    free(hull);
     return rc;
 }
 
-int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *sil,
-                                  float *edge, ws_status *st) {
+int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, float *edge, ws_status *st) {
     const size_t hw = (size_t)v->cam.width * v->cam.height;
     float *near = ws_malloc(hw * sizeof *near, "edge consensus", st);
     int rc = near ? WS_OK : st->code;
     if (!rc) rc = ws_edge_consensus_near(c, &v->cam, near, st);
-    if (!rc) rc = ws_line_target(&v->photo, NULL, sil, NULL, edge, st);
+    ws_image mask = {0};
+    ws_silhouette sil = {0};
+    if (!rc && c->hull.occupied) {
+        if (!(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st)) &&
+            !(rc = ws_photo_hull_project(&c->hull, &v->cam, NULL, mask.data, st)))
+            rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
+    } else if (!rc) {
+        rc = ws_edge_consensus_silhouette(c, v, &sil, st);
+    }
+    if (!rc) rc = ws_line_target(&v->photo, NULL, &sil, NULL, edge, st);
+    ws_image_free(&mask);
+    ws_silhouette_free(&sil);
     if (!rc)
         for (size_t p = 0; p < hw; p++)
             if (!(near[p] <= WS_CONSENSUS_KEEP_PX)) edge[p] = 0;

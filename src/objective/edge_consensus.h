@@ -15,7 +15,15 @@
  *   A_v    = at each pixel, the direction of the photo's luminance
  *            gradient (3 x 3 Sobel) at the nearest edge pixel within
  *            WS_CONSENSUS_ORIENT_REACH pixels;
- *   p is near an edge in view v when v sees p (in front, in the frame) and
+ *   hull   = the photo hull of the region (geometry/photo_hull.h, on the
+ *            same grid): the object carved out by the photos' colours,
+ *            about a cube wider than it;
+ *   v sees p when p is in front of v, in the frame, and not behind the
+ *            hull's surface there (its depth at most the hull's nearest
+ *            plus WS_PHOTO_HULL_DEPTH_TOL cubes): an edge on the far side
+ *            of a solid is hidden from the views in front of it, and so
+ *            is judged by the views that can see it;
+ *   p is near an edge in view v when v sees p and
  *            D_v at the pixel p projects into is at most
  *            WS_CONSENSUS_VOTE_PX plus half the radius in pixels of p's
  *            cube's circumscribed ball (f rho / 2 d); the edge there, a
@@ -48,21 +56,29 @@
  * band about the edges a few pixels wide). For any camera:
  *   N   = the distance to the pixels the kept points project into (in
  *         front of it);
- *   silhouette: N <= WS_CONSENSUS_SILHOUETTE_PX: a band along the
- *         object's edges (hidden ones too), which the visual hull, the
+ *   silhouette: N <= WS_CONSENSUS_SILHOUETTE_PX where the hull covers
+ *         the pixel: a band along the object's edges (hidden ones too),
+ *         cut to the hull's outline (so a wire's band, as wide as the
+ *         tube's outlines and the background between them, keeps the
+ *         tube), which the visual hull, the
  *         silhouette term, the initial curves and the respawn read as they
  *         read a mask's (a solid's hull is then a frame of its edges);
  *         it never touches the frame's edge, so every view carves the
  *         hull beyond its frame (the kept points are all of the object);
- *   line target: ws_line_target of the photo with that silhouette and no
- *         mask (so a band's thin parts are drawn by their axes), kept where
- *         N <= WS_CONSENSUS_KEEP_PX and 0 elsewhere.
+ *   line target: ws_line_target of the photo with the hull's own mask
+ *         in cam as its silhouette (ws_photo_hull_project; so a wire's
+ *         tube is drawn by its axis, and a solid's faces, wide, by their
+ *         photo edges) and no mask, kept where N <= WS_CONSENSUS_KEEP_PX
+ *         and 0 elsewhere. Not with the band as silhouette: its thin parts
+ *         would draw the far side's edges, hidden behind the faces, by
+ *         their axes.
  * A background edge at any depth thus pulls no stroke: it is outside the
  * region, or the views do not agree on it. Deterministic: the vote of each
  * point is its own, gathered in grid order. The constants were chosen on
  * the box-room cube (docs/RESULTS.md, "Busy backgrounds without masks"). */
 #ifndef WS_EDGE_CONSENSUS_H
 #define WS_EDGE_CONSENSUS_H
+#include "geometry/photo_hull.h"
 #include "geometry/roi.h"
 #include "geometry/silhouette.h"
 #include "io/scene.h"
@@ -88,6 +104,8 @@ typedef struct {
     long tested;    /* grid points */
     int n;          /* kept points */
     double *p;      /* n x 3 */
+    ws_photo_hull hull; /* the region carved by the photos' colours: who sees a point, and the
+                           silhouettes' bound */
 } ws_edge_consensus;
 
 /* Votes over the train views of scene (photos loaded, all of the working
@@ -103,9 +121,7 @@ int ws_edge_consensus_near(const ws_edge_consensus *c, const ws_camera *cam, flo
 /* The silhouette of view v (its camera and photo) as above. */
 int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st);
 
-/* The line target of view v (edge: H x W) with sil, its silhouette as
- * ws_edge_consensus_silhouette makes it. */
-int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *sil,
-                                  float *edge, ws_status *st);
+/* The line target of view v (edge: H x W) as above. */
+int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, float *edge, ws_status *st);
 
 #endif
