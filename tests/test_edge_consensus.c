@@ -63,16 +63,15 @@ static double near_share(const float *a, const float *b, int W, int H) {
  * hull's pixels outside them; returns intersection over union. */
 static double hull_masks(const ws_photo_hull *h, const ws_scene *masked, int s, double *missed, double *extra) {
     double both = 0, only_hull = 0, only_mask = 0;
-    ws_status st;
     for (int v = 0; v < masked->split[s].n; v++) {
         const ws_view *view = &masked->split[s].views[v];
         const size_t hw = (size_t)view->cam.width * view->cam.height;
         float *m = malloc(hw * sizeof *m);
-        if (m && !ws_photo_hull_project(h, &view->cam, NULL, m, &st))
-            for (size_t p = 0; p < hw; p++) {
-                const int a = m[p] > 0.5f, b = view->mask.data[p] >= 0.5f;
-                both += a && b, only_hull += a && !b, only_mask += b && !a;
-            }
+        if (m) ws_photo_hull_project(h, &view->cam, NULL, m);
+        for (size_t p = 0; m && p < hw; p++) {
+            const int a = m[p] > 0.5f, b = view->mask.data[p] >= 0.5f;
+            both += a && b, only_hull += a && !b, only_mask += b && !a;
+        }
         free(m);
     }
     *missed = only_mask / fmax(1, both + only_mask);

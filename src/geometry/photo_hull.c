@@ -286,6 +286,12 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
     }
     if (!rc) rc = drop_flecks(h, surface, carve, st);
     for (size_t i = 0; !rc && i < total; i++) h->kept += h->occupied[i];
+    if (!rc) { /* what every projection splats: listed once */
+        h->nsurface = list_surface(h, surface);
+        long *fitted = realloc(surface, sizeof *surface * (size_t)(h->nsurface ? h->nsurface : 1));
+        h->surface = fitted ? fitted : surface;
+        surface = NULL;
+    }
     for (int v = 0; k.depth && v < k.nviews; v++) free(k.depth[v]);
     free(k.depth);
     free(k.order);
@@ -299,14 +305,10 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
 
 void ws_photo_hull_free(ws_photo_hull *h) {
     free(h->occupied);
+    free(h->surface);
     memset(h, 0, sizeof *h);
 }
 
-int ws_photo_hull_project(const ws_photo_hull *h, const ws_camera *cam, float *depth, float *mask, ws_status *st) {
-    const size_t total = (size_t)h->n[0] * h->n[1] * h->n[2];
-    long *surface = ws_malloc(total * sizeof *surface, "photo hull", st);
-    if (!surface) return st->code;
-    splat_cubes(h, surface, list_surface(h, surface), cam, depth, mask);
-    free(surface);
-    return WS_OK;
+void ws_photo_hull_project(const ws_photo_hull *h, const ws_camera *cam, float *depth, float *mask) {
+    splat_cubes(h, h->surface, h->nsurface, cam, depth, mask);
 }

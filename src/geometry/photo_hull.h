@@ -65,6 +65,8 @@ typedef struct {
     int n[3];           /* cubes along x, y, z */
     uint8_t *occupied;  /* n[0] n[1] n[2], x fastest: 1 = object */
     long kept;          /* occupied cubes */
+    long *surface;      /* the surface cubes' indices, in grid order */
+    long nsurface;
     int passes;         /* carving passes made */
 } ws_photo_hull;
 
@@ -76,6 +78,6 @@ void ws_photo_hull_free(ws_photo_hull *h);
 /* depth, mask (cam->height x cam->width; either may be NULL): the nearest
  * surface cube over each pixel as depth_v above (INFINITY where none), and
  * 1 where a cube covers the pixel, else 0: the object's mask in cam. */
-int ws_photo_hull_project(const ws_photo_hull *h, const ws_camera *cam, float *depth, float *mask, ws_status *st);
+void ws_photo_hull_project(const ws_photo_hull *h, const ws_camera *cam, float *depth, float *mask);
 
 #endif

@@ -274,11 +274,8 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
     if (ws_photo_hull_make(scene, roi, resolution, &c->hull, st)) return st->code;
     c->roi = *roi;
     const ws_split *train = &scene->split[WS_TRAIN];
-    double side = 0;
-    for (int a = 0; a < 3; a++) side = fmax(side, roi->hi[a] - roi->lo[a]);
-    c->voxel = side / resolution;
-    int n[3];
-    for (int a = 0; a < 3; a++) n[a] = (int)fmax(1, ceil((roi->hi[a] - roi->lo[a]) / c->voxel - 1e-9));
+    c->voxel = c->hull.voxel; /* the points vote on the hull's grid */
+    const int n[3] = {c->hull.n[0], c->hull.n[1], c->hull.n[2]};
     c->tested = (long)n[0] * n[1] * n[2];
     const size_t hw = (size_t)scene->width * scene->height;
     float *dist = ws_malloc(hw * (size_t)(train->n ? train->n : 1) * sizeof *dist, "edge consensus", st);
@@ -293,8 +290,7 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
     const int nviews = train->n < WS_CONSENSUS_MAX_VIEWS ? train->n : WS_CONSENSUS_MAX_VIEWS;
     float *depth = rc ? NULL : ws_malloc(hw * (size_t)(nviews ? nviews : 1) * sizeof *depth, "edge consensus", st);
     if (!rc && !depth) rc = st->code;
-    for (int v = 0; !rc && v < nviews; v++)
-        rc = ws_photo_hull_project(&c->hull, &train->views[v].cam, depth + v * hw, NULL, st);
+    for (int v = 0; !rc && v < nviews; v++) ws_photo_hull_project(&c->hull, &train->views[v].cam, depth + v * hw, NULL);
     if (!rc) {
         *x = (votes){train, nviews, dist, angle, c->voxel * sqrt(3.0) / 2, depth,
                      WS_PHOTO_HULL_DEPTH_TOL * c->hull.voxel, {{0}}};
@@ -368,7 +364,7 @@ int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, w
         return st->code;
     }
     int rc = ws_edge_consensus_near(c, cam, mask.data, st);
-    if (!rc && c->hull.occupied) rc = ws_photo_hull_project(&c->hull, cam, NULL, hull, st);
+    if (!rc && c->hull.occupied) ws_photo_hull_project(&c->hull, cam, NULL, hull);
     if (!rc) {
         for (size_t p = 0; p < hw; p++)
             mask.data[p] = mask.data[p] <= WS_CONSENSUS_SILHOUETTE_PX && (!c->hull.occupied || hull[p] > 0.5f);
@@ -391,9 +387,10 @@ int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, 
     ws_image mask = {0};
     ws_silhouette sil = {0};
     if (!rc && c->hull.occupied) {
-        if (!(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st)) &&
-            !(rc = ws_photo_hull_project(&c->hull, &v->cam, NULL, mask.data, st)))
+        if (!(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st))) {
+            ws_photo_hull_project(&c->hull, &v->cam, NULL, mask.data);
             rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
+        }
     } else if (!rc) {
         rc = ws_edge_consensus_silhouette(c, v, &sil, st);
     }
