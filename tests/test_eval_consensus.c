@@ -7,7 +7,11 @@
  * edges the views agree on in the region of interest (fit/init.h): it says
  * so in one line on stderr, and its test loss ranks the ground truth below
  * no curves and below the truth shifted by 5% of the object's size (eval
- * without the consensus gave all three a loss of 1). */
+ * without the consensus gave all three a loss of 1). The drawing a user
+ * gets of such a view (`export --svg`, as a fit's renders and report) is
+ * the curves alone, with a warning: the hull carved from silhouettes that
+ * hold most of the frame is the whole box, which hid 10 of the cube's 12
+ * edges. */
 #define _XOPEN_SOURCE 700
 #include <cJSON.h>
 #include <math.h>
@@ -69,6 +73,7 @@ int main(void) {
         rc = ws_curves_save(shifted, &gt, &st);
     }
     CHECK(rc == WS_OK, "curves: %s", st.msg);
+    const int gt_n = gt.n;
     ws_curves_free(&gt);
     if (rc) return check_summary();
 
@@ -80,5 +85,20 @@ int main(void) {
     double moved = eval_loss("the truth shifted 5%", shifted, err, sizeof err);
     CHECK(truth < nothing, "the truth (%.5g) does not beat no curves (%.5g)", truth, nothing);
     CHECK(truth < moved, "the truth (%.5g) does not beat the 5%% shift (%.5g)", truth, moved);
+
+    char svg[400], errpath[400];
+    snprintf(svg, sizeof svg, "%s/drawing.svg", tmp);
+    snprintf(errpath, sizeof errpath, "%s/stderr.txt", tmp);
+    int exported = sh("%s export %s --svg %s --scene %s/room 2>%s", bin, path, svg, tmp, errpath);
+    read_text(errpath, err, sizeof err);
+    CHECK(exported && strstr(err, "room: 46 of the 48 train views have no usable silhouette") &&
+              strstr(err, "so no hull outlines the object; the SVG is the curves alone"),
+          "export --svg does not say that the drawing is the curves alone: %s", err);
+    size_t size;
+    char *text = slurp(svg, &size);
+    int paths = 0;
+    for (const char *at = text; at && (at = strstr(at, "<path")); at++) paths++;
+    CHECK(paths == gt_n, "the SVG draws %d paths, not the truth's %d curves", paths, gt_n);
+    free(text);
     return check_summary();
 }

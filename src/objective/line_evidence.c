@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "objective/line_evidence.h"
+#include "geometry/check.h"
 #include "render/distance.h"
 
 /* The surface variation lambda_0 / (lambda_0 + lambda_1 + lambda_2) of m
@@ -281,6 +282,14 @@ int ws_drawing_hull_make(ws_drawing_hull *d, const ws_scene *scene, ws_status *s
         rc = ws_view_silhouette(&train->views[v], &d->sil[v], st);
         d->views[v] = (ws_hull_view){.cam = &train->views[v].cam, .sil = &d->sil[v]};
     }
+    /* Over a busy background without masks a silhouette is most of the
+     * frame; a hull carved from those is the whole box, whose outline is
+     * no line of the object and which hides every curve inside it. */
+    int empty, edge;
+    if (!rc && !ws_check_silhouettes_usable(d->sil, train->n, &empty, &edge))
+        rc = ws_fail(st, WS_EINPUT, "%s: %d of the %d train views have no usable silhouette (%d find no object, %d "
+                     "hold half the frame's edge or more), so no hull outlines the object", scene->dir,
+                     empty + edge, train->n, empty, edge);
     if (!rc) rc = ws_scene_hull_make(scene, WS_TRAIN, d->sil, WS_DRAWING_HULL_RESOLUTION, &d->hull, st);
     if (!rc) rc = ws_line_evidence_init(&d->evidence, &d->hull, st);
     double lo[3], hi[3];

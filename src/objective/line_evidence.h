@@ -83,7 +83,9 @@ typedef struct {
 } ws_drawing_hull;
 
 /* Needs the scene's photos loaded (the silhouettes are made here). Fails
- * as ws_scene_hull_make does. */
+ * as ws_scene_hull_make does, and with WS_EINPUT when the training views
+ * have no usable silhouette (geometry/check.h): their drawing is then the
+ * curves alone. */
 int ws_drawing_hull_make(ws_drawing_hull *d, const ws_scene *scene, ws_status *st);
 void ws_drawing_hull_free(ws_drawing_hull *d);
 
