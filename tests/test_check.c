@@ -559,8 +559,9 @@ static void test_nerfstudio_check(const char *bin) {
  * 36 px below the centre, where the centred square cut it (check named a
  * frame shift): the working views are crops around the object, one line
  * says so, and the scene is consistent; the box room without masks has no
- * usable silhouette (check says so, exit 1; fit warns and goes on), with
- * masks it is consistent; bad scene options get their one-line messages. */
+ * usable silhouette (check says so, exit 1; fit warns and goes on, and
+ * says that its silhouette term counts a third), with masks it is
+ * consistent; bad scene options get their one-line messages. */
 static void test_captures(const char *bin) {
     static char out[1 << 16];
     char dir[400], line[2048];
@@ -593,10 +594,11 @@ static void test_captures(const char *bin) {
               "check %s: exit %d: %s", scenes[k].name, rc, out);
     }
     snprintf(dir, sizeof dir, "%s/room", tmp);
-    int rc = run_cmd(out, sizeof out, "%s fit %s --out %s/room_fit --loss edges --size 64 --max-steps 1 --n-curves 3 --quiet",
+    int rc = run_cmd(out, sizeof out, "%s fit %s --out %s/room_fit --loss edges --size 64 --max-steps 1 --n-curves 3",
                      bin, dir, tmp);
     CHECK(rc == 0 && strstr(out, "wiresketch: warning: ") && strstr(out, "no usable silhouette") &&
-              strstr(out, "(a fit goes on with the edges the views agree on in the region of interest)"),
+              strstr(out, "(a fit goes on with the edges the views agree on in the region of interest)") &&
+              strstr(out, "; the silhouette term counts 0.333 of --silhouette-weight with these silhouettes\n"),
           "fit of a scene with no usable silhouette: exit %d: %s", rc, out);
     const struct {
         const char *options, *message;

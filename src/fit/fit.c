@@ -402,7 +402,9 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     }
     char consensus[WS_CHECK_LINE];
     if (ws_fit_consensus(o->bbox, &r->scene, r->targets, &r->consensus, consensus, st)) return st->code;
-    if (consensus[0] && speaks() && !o->quiet) printf("%s\n", consensus);
+    if (consensus[0] && speaks() && !o->quiet)
+        printf("%s; the silhouette term counts %.3g of --silhouette-weight with these silhouettes\n", consensus,
+               WS_CONSENSUS_SILHOUETTE_SHARE);
     int edges_init = !resume && !strcmp(o->init_curves, "edges");
     int hull_init = edges_init || (!resume && !strcmp(o->init_curves, "hull"));
     const ws_silhouette *sil;
@@ -431,6 +433,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     lo.aug_seed = o->seed; /* an augmentation bank follows the run's seed */
     lo.targets = r->targets;
     lo.hull = &r->hull;
+    if (consensus[0]) lo.silhouette_weight *= WS_CONSENSUS_SILHOUETTE_SHARE;
     size_t np = (size_t)r->s.curves.n * WS_CURVE_FLOATS;
     /* before the objective, whose CLIP model and buffers make the fit's peak */
     if (lo.lines_weight == 0) ws_view_targets_release_setup(r->targets);

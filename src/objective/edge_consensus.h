@@ -97,6 +97,14 @@
 #define WS_CONSENSUS_ALONG 0.7
 #define WS_CONSENSUS_SILHOUETTE_PX 1.5
 #define WS_CONSENSUS_KEEP_PX 3.0
+/* The share of --silhouette-weight a fit gives the silhouette term with
+ * these silhouettes: a band cut by the photo hull bounds the object less
+ * surely than a mask (the hull stands up to a cube inside the object where
+ * carving takes the cubes on its outline, as along the room cube's bottom
+ * edges, and pushes the curves there inside). Chosen on the capture bed's
+ * solids at seeds 0-2 (docs/RESULTS.md, "The silhouette term without
+ * masks"). */
+#define WS_CONSENSUS_SILHOUETTE_SHARE (1.0 / 3)
 
 typedef struct {
     ws_roi roi;
