@@ -222,7 +222,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
         WS_ROW_WEIGHTS(&opt->loss.weights_path),
         WS_ROW_EDGES_WEIGHT(&w.edges_weight),
         {"--silhouette-weight", WS_ARG_DOUBLE, &opt->loss.silhouette_weight, 0,
-         "weight of the silhouette term over the training views [0; 3 with --loss edges]"},
+         "weight of the silhouette term over the training views (a third of it counts where they have no usable "
+         "silhouette) [0; 3 with --loss edges]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
         {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10; 24 with --loss edges]"},
         {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30; 5 with --loss edges]"},
