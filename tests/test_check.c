@@ -605,7 +605,7 @@ static void test_captures(const char *bin) {
     } bad[] = {
         {"--size 64x", "wiresketch: --size: '64x' is not N or WxH"},
         {"--principal 3", "wiresketch: --principal: '3' is not DX,DY"},
-        {"--background grey", "wiresketch: --background: 'grey' is not black, white or room"},
+        {"--background grey", "wiresketch: --background: 'grey' is not black, white, room or floor"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         rc = run_cmd(out, sizeof out, "%s scene cube --out %s/never %s", bin, tmp, bad[k].options);

@@ -16,6 +16,7 @@
 #include "synth/solids.h"
 #include "synth/synth.h"
 #include "io/pointcloud.h"
+#include "metrics/metrics.h"
 
 static const char *tmp;
 
@@ -370,15 +371,57 @@ static void test_wire_shapes(void) {
     }
 }
 
+/* The worst difference, over the background pixels (mask 0) of train
+ * view 1 of the masked room scene in dir (96 x 72 frames, principal point
+ * (58, 30)), between its photo and the room with its floor at floor_z as
+ * ws_room_render sees it; *object and *background count the pixels (mask
+ * > 1/2, mask 0); INFINITY when something could not be read. */
+static double room_difference(const char *dir, double floor_z, long *object, long *background) {
+    ws_status st;
+    ws_scene sc;
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 72;
+    *object = *background = 0;
+    if (ws_scene_load(&sc, dir, &so, &st)) return INFINITY;
+    const ws_view *v = &sc.split[WS_TRAIN].views[1];
+    ws_camera cam;
+    ws_image photo = {0}, mask = {0}, room = {0};
+    char path[700];
+    snprintf(path, sizeof path, "%s/masks/train/r_1.png", dir);
+    int rc = ws_camera_init_pinhole(&cam, v->cam.c2w, 0.5 * 72 / tan(atan(18.0 / 50.0)), 58, 30, 96, 72, "cam", &st) ||
+             ws_image_read(v->image_path, 0, 0, (const float[3]){0, 0, 0}, &photo, &st) ||
+             ws_image_read(path, 0, 0, (const float[3]){0, 0, 0}, &mask, &st) ||
+             ws_room_render(&cam, sc.center, floor_z, 3, &room, &st);
+    double worst = rc ? INFINITY : 0;
+    for (size_t p = 0; !rc && p < (size_t)96 * 72; p++) {
+        if (mask.data[p] > 0.5) {
+            ++*object;
+            continue;
+        }
+        if (mask.data[p] > 0) continue; /* partly covered */
+        ++*background;
+        for (int c = 0; c < 3; c++)
+            worst = fmax(worst, fabs(photo.data[c * 96 * 72 + p] - room.data[c * 96 * 72 + p]));
+    }
+    ws_image_free(&photo);
+    ws_image_free(&mask);
+    ws_image_free(&room);
+    ws_scene_free(&sc);
+    return worst;
+}
+
 /* The capture test bed's options (nerfstudio, 96 x 72, the principal point
  * (10, -6) px off the centre, the box room, masks): the file lists that
  * principal point and a mask_path per frame; the photo is the same with
  * masks or without (to a grey level: the masks' photo is composited from
  * two renders); where a mask says background (no ray of the
  * pixel hits the object) the photo is the room as ws_room_render sees it,
- * to a grey level; a floor point has one colour from any camera (the room
- * is one 3D room in every view) and the floor has a pattern; bad options
- * get their one-line messages. */
+ * to a grey level; with --background floor the same, with the room's floor
+ * at the cube's lowest corner (and not the room around a stand); a floor
+ * point has one colour from any camera (the room is one 3D room in every
+ * view) and the floor has a pattern; bad options get their one-line
+ * messages. */
 static void test_room(void) {
     ws_status st;
     ws_synth_options opt;
@@ -423,30 +466,28 @@ static void test_room(void) {
         CHECK(0, "room scene: %s", st.msg);
         return;
     }
-    const ws_view *v = &sc.split[WS_TRAIN].views[1];
-    ws_camera cam;
-    ws_image photo = {0}, mask = {0}, room = {0};
-    snprintf(pb, sizeof pb, "%s/masks/train/r_1.png", a);
-    rc = ws_camera_init_pinhole(&cam, v->cam.c2w, 0.5 * 72 / tan(atan(18.0 / 50.0)), 58, 30, 96, 72, "cam", &st) ||
-         ws_image_read(v->image_path, 0, 0, (const float[3]){0, 0, 0}, &photo, &st) ||
-         ws_image_read(pb, 0, 0, (const float[3]){0, 0, 0}, &mask, &st) ||
-         ws_room_render(&cam, sc.center, 3, &room, &st);
-    CHECK(rc == 0 && v->mask.data, "room view: %s", st.msg);
-    long background = 0, object = 0;
-    double worst = 0;
-    for (size_t p = 0; !rc && p < (size_t)96 * 72; p++) {
-        if (mask.data[p] > 0.5) {
-            object++;
-            continue;
-        }
-        if (mask.data[p] > 0) continue; /* partly covered */
-        background++;
-        for (int c = 0; c < 3; c++)
-            worst = fmax(worst, fabs(photo.data[c * 96 * 72 + p] - room.data[c * 96 * 72 + p]));
-    }
-    CHECK(!rc && object > 100 && background > 1000 && worst <= 0.5 / 255 + 1e-6,
+    long object, background;
+    double worst = room_difference(a, sc.center[2] - WS_ROOM_FLOOR, &object, &background);
+    CHECK(object > 100 && background > 1000 && worst <= 0.5 / 255 + 1e-6,
           "room photo: %ld object and %ld background pixels, worst difference from the room %g", object,
           background, worst);
+    /* --background floor: the same room, its floor under the cube's lowest corner */
+    char c[512];
+    snprintf(c, sizeof c, "%s/floor_masks", tmp);
+    opt.on_floor = opt.masks = 1;
+    rc = ws_synth_write("cube", c, &opt, &st);
+    opt.on_floor = opt.masks = 0;
+    CHECK(rc == 0, "floor scene: %s", st.msg);
+    ws_curves gt = {0};
+    double lo[3] = {0, 0, 0}, hi[3];
+    snprintf(pa, sizeof pa, "%s/gt_curves.json", c);
+    if (!rc && !ws_curves_load(pa, &gt, &st)) ws_curves_bbox(&gt, lo, hi);
+    ws_curves_free(&gt);
+    double on_floor = rc ? INFINITY : room_difference(c, lo[2], &object, &background);
+    double on_stand = rc ? 0 : room_difference(c, sc.center[2] - WS_ROOM_FLOOR, &object, &background);
+    CHECK(on_floor <= 0.5 / 255 + 1e-6 && on_stand > 0.1 && lo[2] < sc.center[2] - 0.3,
+          "floor photo: worst difference %g from the room with its floor at the cube's lowest point %g, %g from "
+          "the room around a stand", on_floor, lo[2], on_stand);
     const double floor_point[3] = {sc.center[0] - 2.3, sc.center[1] + 1.7, sc.center[2] - WS_ROOM_FLOOR};
     const double from[2][3] = {{sc.center[0] + 1, sc.center[1], sc.center[2] + 0.5},
                                {sc.center[0] - 1, sc.center[1] + 2, sc.center[2] + 3}};
@@ -454,17 +495,14 @@ static void test_room(void) {
     for (int k = 0; k < 2; k++) {
         double dir[3];
         for (int i = 0; i < 3; i++) dir[i] = floor_point[i] - from[k][i];
-        ws_room_colour(sc.center, from[k], dir, rgb[k]);
+        ws_room_colour(sc.center, floor_point[2], from[k], dir, rgb[k]);
     }
     const double dir_next[3] = {floor_point[0] + 1 - from[0][0], floor_point[1] - from[0][1],
                                 floor_point[2] - from[0][2]};
-    ws_room_colour(sc.center, from[0], dir_next, next);
+    ws_room_colour(sc.center, floor_point[2], from[0], dir_next, next);
     CHECK(!memcmp(rgb[0], rgb[1], sizeof rgb[0]) && memcmp(rgb[0], next, sizeof next),
           "a floor point: %g %g %g from one camera, %g %g %g from another; the next tile %g %g %g", rgb[0][0],
           rgb[0][1], rgb[0][2], rgb[1][0], rgb[1][1], rgb[1][2], next[0], next[1], next[2]);
-    ws_image_free(&photo);
-    ws_image_free(&mask);
-    ws_image_free(&room);
     ws_scene_free(&sc);
     opt.principal[0] = 48;
     rc = ws_synth_write("cube", b, &opt, &st);
@@ -479,7 +517,8 @@ static void test_room(void) {
           "principal point in a NeRF-synthetic scene: %s", st.msg);
     opt.principal[0] = opt.principal[1] = 0;
     rc = ws_synth_write("torus", b, &opt, &st);
-    CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "torus: --background room and --masks are for the wire objects and solids"),
+    CHECK(rc == WS_EUSAGE &&
+              !strcmp(st.msg, "torus: --background room or floor and --masks are for the wire objects and solids"),
           "a smooth object in the room: %s", st.msg);
 }
 

@@ -12,10 +12,12 @@
  * --principal DX,DY, --layout and --lens k1,k2,p1,p2 (NULL: none). */
 static int read_words(const char *background, const char *size, const char *principal, const char *layout,
                       const char *lens, ws_synth_options *opt, ws_status *st) {
-    if (strcmp(background, "black") && strcmp(background, "white") && strcmp(background, "room"))
-        return ws_fail(st, WS_EUSAGE, "--background: '%s' is not black, white or room", background);
+    if (strcmp(background, "black") && strcmp(background, "white") && strcmp(background, "room") &&
+        strcmp(background, "floor"))
+        return ws_fail(st, WS_EUSAGE, "--background: '%s' is not black, white, room or floor", background);
     opt->white_background = !strcmp(background, "white");
-    opt->room = !strcmp(background, "room");
+    opt->on_floor = !strcmp(background, "floor");
+    opt->room = opt->on_floor || !strcmp(background, "room");
     int w, h, used = 0;
     if (sscanf(size, "%dx%d%n", &w, &h, &used) == 2 && !size[used]) {
         opt->width = w;
@@ -53,7 +55,8 @@ int cmd_scene(int argc, char **argv) {
         {"--size", WS_ARG_STRING, &size, 0, "image side N, or width x height WxH (nerfstudio and colmap layouts), pixels [224]"},
         {"--seed", WS_ARG_INT, &seed, 0, "seed of the camera placement [0]"},
         {"--background", WS_ARG_STRING, &background, 0,
-         "black, white, or room (a box room of patterned walls and floor far around the object) [black]"},
+         "black, white, room (a box room of patterned walls and floor far around the object) or floor (the same "
+         "room, the object standing on its floor as on a table) [black]"},
         {"--masks", WS_ARG_FLAG, &opt.masks, 0, "also write masks/SPLIT/<image>.png (white = object) and, nerf and nerfstudio layouts, each frame's mask_path"},
         {"--principal", WS_ARG_STRING, &principal, 0,
          "the principal point DX, DY pixels right of and below the image centre, nerfstudio and colmap layouts [0,0]"},

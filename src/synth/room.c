@@ -14,7 +14,8 @@ static void floor_colour(double a, double b, float rgb[3]) {
     for (int k = 0; k < 3; k++) rgb[k] = c[k];
 }
 
-static void wall_colour(int wall, double a, double b, float rgb[3]) {
+/* b_floor: the floor's height on a wall's b axis (the skirting runs along it). */
+static void wall_colour(int wall, double a, double b, double b_floor, float rgb[3]) {
     static const float tone[4][2][3] = {{{0.80f, 0.78f, 0.62f}, {0.66f, 0.60f, 0.45f}},
                                         {{0.45f, 0.62f, 0.72f}, {0.30f, 0.45f, 0.58f}},
                                         {{0.70f, 0.72f, 0.70f}, {0.52f, 0.55f, 0.50f}},
@@ -24,7 +25,7 @@ static void wall_colour(int wall, double a, double b, float rgb[3]) {
     static const float picture[3][3] = {{0.20f, 0.45f, 0.25f}, {0.85f, 0.75f, 0.30f}, {0.25f, 0.25f, 0.55f}};
     const double s = a / period[wall];
     const float *c = tone[wall][(s - floor(s)) < 0.5];
-    if (b < -WS_ROOM_FLOOR + 0.4) c = skirting;
+    if (b < b_floor + 0.4) c = skirting;
     for (int p = 0; p < 3; p++) { /* pictures: a dark frame around a canvas */
         const double pa = -4.5 + 4.0 * p + wall, pb = 0.8 + 0.6 * ((p + wall) % 2), half_a = 1.0, half_b = 0.7;
         const double da = fabs(a - pa), db = fabs(b - pb);
@@ -39,8 +40,9 @@ static void ceiling_colour(double a, double b, float rgb[3]) {
     for (int k = 0; k < 3; k++) rgb[k] = v;
 }
 
-void ws_room_colour(const double center[3], const double origin[3], const double dir[3], float rgb[3]) {
-    const double lo[3] = {center[0] - WS_ROOM_HALF, center[1] - WS_ROOM_HALF, center[2] - WS_ROOM_FLOOR};
+void ws_room_colour(const double center[3], double floor_z, const double origin[3], const double dir[3],
+                    float rgb[3]) {
+    const double lo[3] = {center[0] - WS_ROOM_HALF, center[1] - WS_ROOM_HALF, floor_z};
     const double hi[3] = {center[0] + WS_ROOM_HALF, center[1] + WS_ROOM_HALF, center[2] + WS_ROOM_HALF};
     for (int a = 0; a < 3; a++)
         if (!(origin[a] > lo[a] && origin[a] < hi[a])) {
@@ -66,10 +68,11 @@ void ws_room_colour(const double center[3], const double origin[3], const double
     else if (face == 5)
         ceiling_colour(p[0], p[1], rgb);
     else /* walls 0 .. 3: x low, x high, y low, y high; along the other horizontal axis */
-        wall_colour(face, face < 2 ? p[1] : p[0], p[2], rgb);
+        wall_colour(face, face < 2 ? p[1] : p[0], p[2], floor_z - center[2], rgb);
 }
 
-int ws_room_render(const ws_camera *cam, const double center[3], int supersample, ws_image *img, ws_status *st) {
+int ws_room_render(const ws_camera *cam, const double center[3], double floor_z, int supersample, ws_image *img,
+                   ws_status *st) {
     if (supersample < 1 || supersample > 16)
         return ws_fail(st, WS_EINTERNAL, "room: supersampling %d is not in [1, 16]", supersample);
     const int W = cam->width, H = cam->height, ss = supersample;
@@ -87,7 +90,7 @@ int ws_room_render(const ws_camera *cam, const double center[3], int supersample
                     for (int k = 0; k < 3; k++)
                         dir[k] = cam->c2w[k][0] * D[0] + cam->c2w[k][1] * D[1] + cam->c2w[k][2] * D[2];
                     float rgb[3];
-                    ws_room_colour(center, origin, dir, rgb);
+                    ws_room_colour(center, floor_z, origin, dir, rgb);
                     for (int k = 0; k < 3; k++) sum[k] += rgb[k];
                 }
             for (int k = 0; k < 3; k++) img->data[k * plane + (size_t)i * W + j] = (float)(sum[k] / (ss * ss));

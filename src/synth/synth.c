@@ -67,7 +67,7 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->seed = 0;
     opt->white_background = 0;
     opt->width = opt->height = 0;
-    opt->room = opt->masks = 0;
+    opt->room = opt->on_floor = opt->masks = 0;
     opt->principal[0] = opt->principal[1] = 0;
     opt->nerfstudio = 0;
     opt->colmap = 0;
@@ -781,12 +781,33 @@ typedef struct {
     const ws_synth_object *tubes;
     const ws_solid *solid;
     const ws_smooth *smooth;
+    double floor_z; /* the room's floor (room.h) */
 } scene_object;
 
+/* The height of the room's floor: WS_ROOM_FLOOR below the centre, or with
+ * opt->on_floor the object's lowest point (a solid's lowest corner, a wire
+ * object's lowest curve point less its tube radius). */
+static double room_floor(const ws_synth_options *opt, const ws_solid *solid, const ws_synth_object *tubes,
+                         const double center[3]) {
+    if (!opt->on_floor) return center[2] - WS_ROOM_FLOOR;
+    double lowest = INFINITY;
+    if (solid) {
+        for (int k = 0; k < 9 * solid->ntri; k += 3) lowest = fmin(lowest, solid->corner[k + 2]);
+        return lowest;
+    }
+    for (int ci = 0; ci < tubes->curves.n; ci++)
+        for (int k = 0; k <= 256; k++) {
+            double p[3];
+            ws_curve_point(&tubes->curves, ci, k / 256.0, p);
+            lowest = fmin(lowest, p[2]);
+        }
+    return lowest - tubes->curves.thickness;
+}
+
 /* The background of a view: one colour v, or the room around `center`. */
-static int view_background(const ws_synth_options *opt, const ws_camera *cam, const double center[3], float v,
-                           ws_image *img, ws_status *st) {
-    if (opt->room && v < 0) return ws_room_render(cam, center, SUPERSAMPLE, img, st);
+static int view_background(const ws_synth_options *opt, const ws_camera *cam, const double center[3],
+                           double floor_z, float v, ws_image *img, ws_status *st) {
+    if (opt->room && v < 0) return ws_room_render(cam, center, floor_z, SUPERSAMPLE, img, st);
     if (ws_image_alloc(img, cam->width, cam->height, 3, st)) return st->code;
     for (size_t k = 0; k < (size_t)3 * cam->width * cam->height; k++) img->data[k] = v;
     return WS_OK;
@@ -807,13 +828,14 @@ static int pinhole_view(const scene_object *obj, const ws_camera *cam, const dou
                         const ws_synth_options *opt, ws_image *img, ws_image *mask, ws_status *st) {
     ws_image background = {0}, white = {0};
     const float colour = opt->room ? -1.0f : (float)opt->white_background;
-    int rc = view_background(opt, cam, center, opt->masks ? 0.0f : colour, &background, st) ||
+    int rc = view_background(opt, cam, center, obj->floor_z, opt->masks ? 0.0f : colour, &background, st) ||
              render_object(obj, cam, &background, img, NULL, st);
     if (!rc && opt->masks) {
         ws_image_free(&background);
         const size_t plane = (size_t)cam->width * cam->height;
-        rc = view_background(opt, cam, center, 1.0f, &white, st) || render_object(obj, cam, &white, mask, NULL, st) ||
-             view_background(opt, cam, center, colour, &background, st);
+        rc = view_background(opt, cam, center, obj->floor_z, 1.0f, &white, st) ||
+             render_object(obj, cam, &white, mask, NULL, st) ||
+             view_background(opt, cam, center, obj->floor_z, colour, &background, st);
         for (size_t k = 0; k < 3 * plane && !rc; k++) /* mask: white - black, the background's share */
             mask->data[k] -= img->data[k];
         for (size_t k = 0; k < 3 * plane && !rc; k++) img->data[k] += background.data[k] * mask->data[k];
@@ -1066,7 +1088,8 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     if (smooth && (opt->colmap || opt->lens[0] || opt->lens[1] || opt->lens[2] || opt->lens[3]))
         return ws_fail(st, WS_EUSAGE, "%s: --lens and --layout colmap are for the wire objects and solids", name);
     if (smooth && (opt->room || opt->masks))
-        return ws_fail(st, WS_EUSAGE, "%s: --background room and --masks are for the wire objects and solids", name);
+        return ws_fail(st, WS_EUSAGE, "%s: --background room or floor and --masks are for the wire objects and solids",
+                       name);
     ws_synth_object obj = {0};
     ws_solid sol = {0};
     ws_smooth smo = {0};
@@ -1074,8 +1097,9 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         : solid ? ws_solid_make(&sol, name, OBJECT_CENTER, st)
                 : ws_synth_object_make(&obj, name, st))
         return st->code;
-    const scene_object what = {solid || smooth ? NULL : &obj, solid ? &sol : NULL, smooth ? &smo : NULL};
     const double *center = smooth ? smo.center : solid ? sol.center : obj.center;
+    const scene_object what = {solid || smooth ? NULL : &obj, solid ? &sol : NULL, smooth ? &smo : NULL,
+                               smooth ? 0 : room_floor(opt, solid ? &sol : NULL, &obj, center)};
     char path[WS_PATH_MAX];
     int total = opt->views[WS_TRAIN] + opt->views[WS_VAL] + opt->views[WS_TEST];
     double(*c2w)[4][4] = ws_malloc(sizeof *c2w * total, "camera matrices", st);

@@ -43,6 +43,8 @@ typedef struct {
     uint64_t seed;         /* camera placement [0] */
     int white_background;  /* 1: the object on white instead of black [0] */
     int room;              /* 1: the object in a box room instead (room.h) [0] */
+    int on_floor;          /* 1 (with room): the room's floor under the object's lowest
+                              point, the object standing on it, not far below [0] */
     int masks;             /* 1: also DIR/masks/SPLIT/r_K.png (white = object; named after
                               the image, as the loader's masks folder: scene.h) and, in the
                               JSON layouts, each frame's mask_path [0] */
