@@ -197,7 +197,7 @@ int main(void) {
         ws_silhouette sil = {0}, msil = {0};
         const ws_view *mv = &with_masks.split[WS_TRAIN].views[v];
         rc = ws_edge_consensus_silhouette(&c, &views->views[v], &sil, &st) ||
-             ws_edge_consensus_line_target(&c, &views->views[v], mine, &st) ||
+             ws_edge_consensus_line_target(&c, &views->views[v], &sil, mine, &st) ||
              ws_view_silhouette(mv, &msil, &st) || ws_line_target(&mv->photo, &mv->mask, &msil, NULL, truth, &st) ||
              ws_thin_edges(views->views[v].photo.data, SIZE, SIZE, raw, &st);
         CHECK(rc == WS_OK, "test view %d: %s", v, st.msg);

@@ -379,22 +379,19 @@ int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, w
     return rc;
 }
 
-int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, float *edge, ws_status *st) {
+int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *band,
+                                  float *edge, ws_status *st) {
     const size_t hw = (size_t)v->cam.width * v->cam.height;
     float *near = ws_malloc(hw * sizeof *near, "edge consensus", st);
     int rc = near ? WS_OK : st->code;
     if (!rc) rc = ws_edge_consensus_near(c, &v->cam, near, st);
     ws_image mask = {0};
     ws_silhouette sil = {0};
-    if (!rc && c->hull.occupied) {
-        if (!(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st))) {
-            ws_photo_hull_project(&c->hull, &v->cam, NULL, mask.data);
-            rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
-        }
-    } else if (!rc) {
-        rc = ws_edge_consensus_silhouette(c, v, &sil, st);
+    if (!rc && c->hull.occupied && !(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st))) {
+        ws_photo_hull_project(&c->hull, &v->cam, NULL, mask.data);
+        rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
     }
-    if (!rc) rc = ws_line_target(&v->photo, NULL, &sil, NULL, edge, st);
+    if (!rc) rc = ws_line_target(&v->photo, NULL, c->hull.occupied ? &sil : band, NULL, edge, st);
     ws_image_free(&mask);
     ws_silhouette_free(&sil);
     if (!rc)

@@ -129,7 +129,10 @@ int ws_edge_consensus_near(const ws_edge_consensus *c, const ws_camera *cam, flo
 /* The silhouette of view v (its camera and photo) as above. */
 int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st);
 
-/* The line target of view v (edge: H x W) as above. */
-int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, float *edge, ws_status *st);
+/* The line target of view v (edge: H x W) as above. band: the view's
+ * silhouette as ws_edge_consensus_silhouette makes it (view_targets.h
+ * keeps it), the line target's silhouette when the hull is empty. */
+int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *band,
+                                  float *edge, ws_status *st);
 
 #endif

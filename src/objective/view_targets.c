@@ -75,7 +75,7 @@ static int fill_line(void *ctx, int split, int view, float *slot, ws_status *st)
         return WS_OK;
     }
     if (make_silhouette(t, split, view, st)) return st->code;
-    if (t->consensus) return ws_edge_consensus_line_target(t->consensus, v, slot, st);
+    if (t->consensus) return ws_edge_consensus_line_target(t->consensus, v, &t->sil[split][view], slot, st);
     uint8_t *support = NULL;
     if (t->evidence && (!(support = ws_malloc(t->line.floats_per_view, "line support", st)) ||
                         ws_line_evidence_view(t->evidence, &v->cam, support, st))) {
