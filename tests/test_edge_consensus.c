@@ -17,7 +17,9 @@
  *     projects, in the train and test views, to about the masked scene's
  *     masks (the cube's faces change brightness with the view, which a
  *     colour test against all the views would carve away), and carves
- *     the same cubes with 1 thread and with 2. */
+ *     the same cubes with 1 thread and with 2;
+ *   - no support plane is found under the cube (geometry/support_plane.h):
+ *     the room's floor lies outside the region. */
 #define _XOPEN_SOURCE 700
 #include <math.h>
 #include <stdio.h>
@@ -169,6 +171,8 @@ int main(void) {
     CHECK(rc == WS_OK, "consensus: %s", st.msg);
     printf("consensus: %d of %ld grid points kept\n", c.n, c.tested);
     CHECK(c.n > 0 && c.n < c.tested / 50, "consensus: %d of %ld grid points kept", c.n, c.tested);
+    CHECK(!c.support.found, "a support under the cube on its stand, %.0f%% of the region (the floor is far below)",
+          100 * c.support.share);
     /* the photo hull against the masks */
     for (int s = 0; s < WS_NSPLITS; s += WS_TEST) {
         double missed, extra, iou = hull_masks(&c.hull, &with_masks, s, &missed, &extra);

@@ -61,6 +61,13 @@ int ws_fit_consensus(const char *bbox, const ws_scene *scene, ws_view_targets *t
         snprintf(line, WS_CHECK_LINE, "%.400s; the photos' colours do not tell the object from the room (too few "
                  "views, or one colour all round), and %d of its %ld grid points (spacing %.3g) lie on edges the "
                  "train views agree on, the lines the fit draws", roi.line, c->n, c->tested, c->voxel);
+    if (c->support.found) {
+        const size_t used = strlen(line);
+        snprintf(line + used, WS_CHECK_LINE - used, "; the object stands on a flat support across (%.2f, %.2f, %.2f) "
+                 "that fills %.0f%% of the region: the %ld cubes of air the colours left on it were carved, and its own "
+                 "lines left out", c->support.normal[0], c->support.normal[1], c->support.normal[2],
+                 100 * c->support.share, c->support.carved);
+    }
     ws_view_targets_set_consensus(targets, c);
     return WS_OK;
 }

@@ -285,22 +285,29 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
         rc = carve_passes(h, &k, surface, carve, st);
     }
     if (!rc) rc = drop_flecks(h, surface, carve, st);
-    for (size_t i = 0; !rc && i < total; i++) h->kept += h->occupied[i];
-    if (!rc) { /* what every projection splats: listed once */
-        h->nsurface = list_surface(h, surface);
-        long *fitted = realloc(surface, sizeof *surface * (size_t)(h->nsurface ? h->nsurface : 1));
-        h->surface = fitted ? fitted : surface;
-        surface = NULL;
-    }
+    free(surface);
+    if (!rc) rc = ws_photo_hull_update(h, st); /* what every projection splats: listed once */
     for (int v = 0; k.depth && v < k.nviews; v++) free(k.depth[v]);
     free(k.depth);
     free(k.order);
     free(k.npartners);
     free(k.towards);
-    free(surface);
     free(carve);
     if (rc) ws_photo_hull_free(h);
     return rc;
+}
+
+int ws_photo_hull_update(ws_photo_hull *h, ws_status *st) {
+    const size_t total = (size_t)h->n[0] * h->n[1] * h->n[2];
+    long *surface = ws_malloc(total * sizeof *surface, "photo hull", st);
+    if (!surface) return st->code;
+    h->kept = 0;
+    for (size_t i = 0; i < total; i++) h->kept += h->occupied[i];
+    free(h->surface);
+    h->nsurface = list_surface(h, surface);
+    long *fitted = realloc(surface, sizeof *surface * (size_t)(h->nsurface ? h->nsurface : 1));
+    h->surface = fitted ? fitted : surface;
+    return WS_OK;
 }
 
 void ws_photo_hull_free(ws_photo_hull *h) {

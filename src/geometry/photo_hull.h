@@ -75,6 +75,11 @@ typedef struct {
 int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution, ws_photo_hull *h, ws_status *st);
 void ws_photo_hull_free(ws_photo_hull *h);
 
+/* After a caller has emptied cubes of h->occupied (geometry/support_plane.h
+ * carves the air over a support): counts kept again and lists the surface
+ * again. Fails only when out of memory. */
+int ws_photo_hull_update(ws_photo_hull *h, ws_status *st);
+
 /* depth, mask (cam->height x cam->width; either may be NULL): the nearest
  * surface cube over each pixel as depth_v above (INFINITY where none), and
  * 1 where a cube covers the pixel, else 0: the object's mask in cam. */

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/sym3.h"
 #include "objective/edge_consensus.h"
 #include "objective/line_target.h"
 #include "render/distance.h"
@@ -76,37 +77,6 @@ static int edge_maps(const ws_split *train, float *dist, float *angle, ws_status
     return rc;
 }
 
-/* The unit eigenvector t of the smallest eigenvalue of the symmetric m
- * (xx, yy, zz, xy, xz, yz), by cyclic Jacobi rotations: the direction most
- * nearly perpendicular to the normals m sums the outer products of. */
-static void least_direction(const double m[6], double t[3]) {
-    double a[3][3] = {{m[0], m[3], m[4]}, {m[3], m[1], m[5]}, {m[4], m[5], m[2]}};
-    double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    for (int sweep = 0; sweep < 8; sweep++)
-        for (int p = 0; p < 2; p++)
-            for (int q = p + 1; q < 3; q++) {
-                if (!(fabs(a[p][q]) > 1e-15 * (fabs(a[p][p]) + fabs(a[q][q])))) continue;
-                double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-                double tt = (theta >= 0 ? 1 : -1) / (fabs(theta) + sqrt(theta * theta + 1));
-                double c = 1 / sqrt(tt * tt + 1), s = tt * c;
-                for (int k = 0; k < 3; k++) {
-                    double akp = a[k][p], akq = a[k][q];
-                    a[k][p] = c * akp - s * akq, a[k][q] = s * akp + c * akq;
-                }
-                for (int k = 0; k < 3; k++) {
-                    double apk = a[p][k], aqk = a[q][k];
-                    a[p][k] = c * apk - s * aqk, a[q][k] = s * apk + c * aqk;
-                }
-                for (int k = 0; k < 3; k++) {
-                    double vkp = v[k][p], vkq = v[k][q];
-                    v[k][p] = c * vkp - s * vkq, v[k][q] = s * vkp + c * vkq;
-                }
-            }
-    int best = 0;
-    for (int k = 1; k < 3; k++)
-        if (a[k][k] < a[best][best]) best = k;
-    for (int k = 0; k < 3; k++) t[k] = v[k][best];
-}
 
 #define WORDS ((WS_CONSENSUS_MAX_VIEWS + 63) / 64)
 #define CAPS 26
@@ -189,7 +159,7 @@ static uint8_t vote(const votes *x, const double p[3], int8_t dir[3]) {
             m[0] += n[0] * n[0], m[1] += n[1] * n[1], m[2] += n[2] * n[2];
             m[3] += n[0] * n[1], m[4] += n[0] * n[2], m[5] += n[1] * n[2];
         }
-        least_direction(m, t);
+        ws_sym3_least_eigenvector(m, t);
     }
     for (int k = 0; k < 3; k++) dir[k] = (int8_t)lrint(127 * t[k]);
     for (int h = 0; h < nhit; h++) {
@@ -268,12 +238,28 @@ static void vote_grid(const votes *x, const ws_roi *roi, double voxel, const int
     keep_parts(keep, dir, n, WS_CONSENSUS_MIN_PART, stack);
 }
 
+/* keep: the points on a support's own lines (support_plane.h) dropped. */
+static void off_support(const ws_support_plane *s, const ws_roi *roi, double voxel, const int n[3], uint8_t *keep) {
+    if (!s->found) return;
+    for (long k = 0; k < (long)n[0] * n[1] * n[2]; k++) {
+        if (!keep[k]) continue;
+        const long x = k % n[0], y = k / n[0] % n[1], z = k / ((long)n[0] * n[1]);
+        const double p[3] = {roi->lo[0] + (x + 0.5) * voxel, roi->lo[1] + (y + 0.5) * voxel,
+                             roi->lo[2] + (z + 0.5) * voxel};
+        if (ws_support_plane_holds(s, p)) keep[k] = 0;
+    }
+}
+
 int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolution, ws_edge_consensus *c,
                            ws_status *st) {
     memset(c, 0, sizeof *c);
-    if (ws_photo_hull_make(scene, roi, resolution, &c->hull, st)) return st->code;
-    c->roi = *roi;
     const ws_split *train = &scene->split[WS_TRAIN];
+    if (ws_photo_hull_make(scene, roi, resolution, &c->hull, st) ||
+        ws_support_plane_find(&c->hull, train, &c->support, st) || ws_support_plane_carve(&c->support, &c->hull, st)) {
+        ws_edge_consensus_free(c);
+        return st->code;
+    }
+    c->roi = *roi;
     c->voxel = c->hull.voxel; /* the points vote on the hull's grid */
     const int n[3] = {c->hull.n[0], c->hull.n[1], c->hull.n[2]};
     c->tested = (long)n[0] * n[1] * n[2];
@@ -298,11 +284,13 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
         for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
         view_caps(x, centre);
         vote_grid(x, roi, c->voxel, n, keep, dir, stack);
+        off_support(&c->support, roi, c->voxel, n, keep);
         for (long k = 0; k < c->tested; k++) c->n += keep[k];
         if (c->n == 0) { /* the hull hides everything: the photos' colours did not tell the object */
             ws_photo_hull_free(&c->hull);
             x->depth = NULL;
             vote_grid(x, roi, c->voxel, n, keep, dir, stack);
+            off_support(&c->support, roi, c->voxel, n, keep);
             for (long k = 0; k < c->tested; k++) c->n += keep[k];
         }
     }
@@ -334,6 +322,7 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
 
 void ws_edge_consensus_free(ws_edge_consensus *c) {
     ws_photo_hull_free(&c->hull);
+    ws_support_plane_free(&c->support);
     free(c->p);
     c->p = NULL;
     c->n = 0;

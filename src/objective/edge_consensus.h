@@ -17,7 +17,9 @@
  *            WS_CONSENSUS_ORIENT_REACH pixels;
  *   hull   = the photo hull of the region (geometry/photo_hull.h, on the
  *            same grid): the object carved out by the photos' colours,
- *            about a cube wider than it;
+ *            about a cube wider than it, with the air that carving left
+ *            on a support the object stands on carved too
+ *            (geometry/support_plane.h);
  *   v sees p when p is in front of v, in the frame, and not behind the
  *            hull's surface there (its depth at most the hull's nearest
  *            plus WS_PHOTO_HULL_DEPTH_TOL cubes): an edge on the far side
@@ -51,7 +53,8 @@
  *            to its 26 neighbours and from a weak one only to those within
  *            acos(WS_CONSENSUS_ALONG) of its t: an edge of the object is a
  *            line of grid points along t, while chance agreement with a
- *            background's parallel lines scatters or fills blobs.
+ *            background's parallel lines scatters or fills blobs; less the
+ *            points on a support's own lines (ws_support_plane_holds).
  * The kept points are the object's edges as the views agree on them (a
  * band about the edges a few pixels wide). For any camera:
  *   N   = the distance to the pixels the kept points project into (in
@@ -80,6 +83,7 @@
 #define WS_EDGE_CONSENSUS_H
 #include "geometry/photo_hull.h"
 #include "geometry/roi.h"
+#include "geometry/support_plane.h"
 #include "geometry/silhouette.h"
 #include "io/scene.h"
 #include "nn/base/status.h"
@@ -114,6 +118,7 @@ typedef struct {
     double *p;      /* n x 3 */
     ws_photo_hull hull; /* the region carved by the photos' colours: who sees a point, and the
                            silhouettes' bound */
+    ws_support_plane support; /* the flat support the object stands on, when the region holds one */
 } ws_edge_consensus;
 
 /* Votes over the train views of scene (photos loaded, all of the working
