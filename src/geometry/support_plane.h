@@ -69,8 +69,9 @@ typedef struct {
     double top;       /* n . x of the top of the air left on it */
     long carved;      /* cubes of that air carved */
     uint8_t *foot;    /* the hull's grid, x fastest: 1 = the object's foot */
-    int n[3];
-    double lo[3], voxel;
+    int n[3];         /* that grid: cubes along x, y, z, */
+    double lo[3];     /* its lowest corner */
+    double voxel;     /* and its spacing */
 } ws_support_plane;
 
 /* Looks for a support in h, the photo hull of train's views. Fails only
