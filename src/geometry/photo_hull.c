@@ -187,19 +187,19 @@ static int cube_agrees(const ws_photo_hull *h, long i, const carving *k, sightin
     return pairs < WS_PHOTO_HULL_MIN_VIEWS || agree >= WS_PHOTO_HULL_AGREE * pairs;
 }
 
-/* Drops the 26-connected parts smaller than WS_PHOTO_HULL_PART of the
- * largest. label, stack: scratch of a long per cube. */
-static int drop_flecks(ws_photo_hull *h, long *label, long *stack, ws_status *st) {
+long *ws_photo_hull_parts(const ws_photo_hull *h, const uint8_t *among, long *label, long *stack, long *nparts,
+                          ws_status *st) {
     const size_t total = (size_t)h->n[0] * h->n[1] * h->n[2];
-    long parts = 0, largest = 0, *size = NULL;
-    for (size_t i = 0; i < total; i++) label[i] = -1;
+    long parts = 0, *size = NULL;
+    for (size_t i = 0; i < total; i++) label[i] = h->occupied[i] && (!among || among[i]) ? (long)total : -1; /* total: not labelled yet */
     for (size_t seed = 0; seed < total; seed++) {
-        if (!h->occupied[seed] || label[seed] >= 0) continue;
+        if (label[seed] != (long)total) continue; /* not a member, or labelled already */
         if ((parts & (parts - 1)) == 0) { /* 0, 1, 2, 4, ...: full */
             long *grown = realloc(size, sizeof *grown * (size_t)(parts ? 2 * parts : 1));
             if (!grown) {
                 free(size);
-                return ws_fail(st, WS_ENOMEM, "photo hull: out of memory");
+                ws_fail(st, WS_ENOMEM, "photo hull: out of memory");
+                return NULL;
             }
             size = grown;
         }
@@ -215,14 +215,25 @@ static int drop_flecks(ws_photo_hull *h, long *label, long *stack, ws_status *st
                     for (int dx = -1; dx <= 1; dx++) {
                         if (!occupied_at(h, x + dx, y + dy, z + dz)) continue;
                         const size_t j = cube_index(h, x + dx, y + dy, z + dz);
-                        if (label[j] >= 0) continue;
+                        if (label[j] != (long)total) continue;
                         label[j] = parts;
                         stack[top++] = (long)j;
                     }
         }
         size[parts++] = count;
-        if (count > largest) largest = count;
     }
+    *nparts = parts;
+    if (!size && !(size = malloc(sizeof *size))) ws_fail(st, WS_ENOMEM, "photo hull: out of memory");
+    return size;
+}
+
+/* Drops the 26-connected parts smaller than WS_PHOTO_HULL_PART of the
+ * largest. label, stack: scratch of a long per cube. */
+static int drop_flecks(ws_photo_hull *h, long *label, long *stack, ws_status *st) {
+    const size_t total = (size_t)h->n[0] * h->n[1] * h->n[2];
+    long parts, largest = 0, *size = ws_photo_hull_parts(h, NULL, label, stack, &parts, st);
+    if (!size) return st->code;
+    for (long k = 0; k < parts; k++) largest = size[k] > largest ? size[k] : largest;
     for (size_t i = 0; i < total; i++)
         if (h->occupied[i] && size[label[i]] < WS_PHOTO_HULL_PART * largest) h->occupied[i] = 0;
     free(size);

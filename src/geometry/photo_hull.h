@@ -80,6 +80,14 @@ void ws_photo_hull_free(ws_photo_hull *h);
  * again. Fails only when out of memory. */
 int ws_photo_hull_update(ws_photo_hull *h, ws_status *st);
 
+/* The 26-connected parts of the occupied cubes (those of them marked in
+ * among, when not NULL; a byte per cube): label[i] (a long per cube) the
+ * part of cube i, numbered in grid order of their first cubes, -1 for the
+ * cubes left out; stack: scratch of a long per cube. Returns the parts'
+ * sizes (*nparts of them; the caller frees), NULL when out of memory. */
+long *ws_photo_hull_parts(const ws_photo_hull *h, const uint8_t *among, long *label, long *stack, long *nparts,
+                          ws_status *st);
+
 /* depth, mask (cam->height x cam->width; either may be NULL): the nearest
  * surface cube over each pixel as depth_v above (INFINITY where none), and
  * 1 where a cube covers the pixel, else 0: the object's mask in cam. */

@@ -64,44 +64,6 @@ static long fullest_layer(const double *height, long ntops, double voxel, double
     return best;
 }
 
-/* part: for each occupied cube above the height `above` along n, the
- * label of its 26-connected part among those cubes (-1 for the rest);
- * stack (the grid's size): the walk's stack from its start, and the size
- * of part k at stack[total - 1 - k] (a part holds a cube, so they never
- * meet). Returns the largest part's size. */
-static long parts_above(const ws_photo_hull *h, const double n[3], double above, long *part, long *stack) {
-    const long total = (long)h->n[0] * h->n[1] * h->n[2];
-    for (long i = 0; i < total; i++) {
-        double p[3];
-        cube_centre(h, i, p);
-        part[i] = h->occupied[i] && dot3(n, p) > above ? total : -1; /* total: not labelled yet */
-    }
-    long nparts = 0, *size = stack + total; /* sizes fill the stack's top, growing down */
-    for (long i = 0; i < total; i++) {
-        if (part[i] != total) continue;
-        long top = 0, count = 0;
-        stack[top++] = i;
-        part[i] = nparts;
-        while (top > 0) {
-            const long c = stack[--top], x = c % h->n[0], y = c / h->n[0] % h->n[1], z = c / ((long)h->n[0] * h->n[1]);
-            count++;
-            for (int dz = -1; dz <= 1; dz++)
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
-                        const long xx = x + dx, yy = y + dy, zz = z + dz;
-                        if (xx < 0 || yy < 0 || zz < 0 || xx >= h->n[0] || yy >= h->n[1] || zz >= h->n[2]) continue;
-                        const long q = (zz * h->n[1] + yy) * h->n[0] + xx;
-                        if (part[q] == total) part[q] = nparts, stack[top++] = q;
-                    }
-        }
-        *--size = count;
-        nparts++;
-    }
-    long largest = 0;
-    for (long k = 0; k < nparts; k++) largest = stack[total - 1 - k] > largest ? stack[total - 1 - k] : largest;
-    return largest;
-}
-
 int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_support_plane *s, ws_status *st) {
     memset(s, 0, sizeof *s);
     if (!h->occupied || h->nsurface == 0 || train->n == 0) return WS_OK;
@@ -198,14 +160,25 @@ int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_supp
     memcpy(s->lo, h->lo, sizeof s->lo);
     s->voxel = h->voxel;
     const double above = s->top + WS_SUPPORT_MARGIN * h->voxel;
-    long *part = ws_malloc(total * sizeof *part, "support plane", st);
-    long *stack = part ? ws_malloc(total * sizeof *stack, "support plane", st) : NULL;
-    if (!stack) {
+    /* the parts of the hull above the air: the object's, and what is left
+     * of pillars of air */
+    uint8_t *above_air = ws_malloc(total, "support plane", st);
+    long *part = above_air ? ws_malloc(total * sizeof *part, "support plane", st) : NULL;
+    long *stack = part ? ws_malloc(total * sizeof *stack, "support plane", st) : NULL, nparts = 0, *size = NULL;
+    for (size_t i = 0; stack && i < total; i++) {
+        double p[3];
+        cube_centre(h, (long)i, p);
+        above_air[i] = dot3(n, p) > above;
+    }
+    if (stack) size = ws_photo_hull_parts(h, above_air, part, stack, &nparts, st);
+    free(above_air);
+    free(stack);
+    if (!size) {
         free(part);
         return st->code;
     }
-    const long largest = parts_above(h, n, above, part, stack);
-    long feet = 0;
+    long largest = 0, feet = 0;
+    for (long k = 0; k < nparts; k++) largest = size[k] > largest ? size[k] : largest;
     for (size_t i = 0; i < total; i++) {
         if (!h->occupied[i]) continue;
         double p[3];
@@ -213,10 +186,10 @@ int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_supp
         const double z = dot3(n, p);
         if (z <= s->floor + h->voxel / 2 || z > above) continue;
         const long end = walk(h, p, n, above);
-        if (end >= 0 && stack[(long)total - 1 - part[end]] >= WS_SUPPORT_PART * largest) s->foot[i] = 1, feet++;
+        if (end >= 0 && size[part[end]] >= WS_SUPPORT_PART * largest) s->foot[i] = 1, feet++;
     }
     free(part);
-    free(stack);
+    free(size);
     /* the object stands above the layer's air, or the layer is no support
      * (a box's top face) */
     s->found = feet > 0;

@@ -222,31 +222,35 @@ static void keep_parts(uint8_t *keep, const int8_t *dir, const int n[3], long mi
     for (long k = 0; k < total; k++) keep[k] = keep[k] == 8;
 }
 
+/* p: the centre of grid point k (x fastest) of the grid of spacing voxel
+ * (n cubes along each axis) from roi->lo. */
+static void grid_point(const ws_roi *roi, double voxel, const int n[3], long k, double p[3]) {
+    const long x = k % n[0], y = k / n[0] % n[1], z = k / ((long)n[0] * n[1]);
+    p[0] = roi->lo[0] + (x + 0.5) * voxel;
+    p[1] = roi->lo[1] + (y + 0.5) * voxel;
+    p[2] = roi->lo[2] + (z + 0.5) * voxel;
+}
+
 /* keep, dir (grid n, x fastest): each grid point's vote, then the kept
- * parts (keep_parts). */
-static void vote_grid(const votes *x, const ws_roi *roi, double voxel, const int n[3], uint8_t *keep, int8_t *dir,
-                      long *stack) {
+ * parts (keep_parts) less the points on a support's own lines
+ * (support_plane.h). */
+static void vote_grid(const votes *x, const ws_roi *roi, double voxel, const int n[3], const ws_support_plane *support,
+                      uint8_t *keep, int8_t *dir, long *stack) {
 #pragma omp parallel for schedule(dynamic)
     for (int z = 0; z < n[2]; z++)
         for (int y = 0; y < n[1]; y++)
             for (int i = 0; i < n[0]; i++) {
-                double p[3] = {roi->lo[0] + (i + 0.5) * voxel, roi->lo[1] + (y + 0.5) * voxel,
-                               roi->lo[2] + (z + 0.5) * voxel};
-                size_t k = ((size_t)z * n[1] + y) * n[0] + i;
+                const long k = ((long)z * n[1] + y) * n[0] + i;
+                double p[3];
+                grid_point(roi, voxel, n, k, p);
                 keep[k] = vote(x, p, dir + 3 * k);
             }
+    const long total = (long)n[0] * n[1] * n[2];
     keep_parts(keep, dir, n, WS_CONSENSUS_MIN_PART, stack);
-}
-
-/* keep: the points on a support's own lines (support_plane.h) dropped. */
-static void off_support(const ws_support_plane *s, const ws_roi *roi, double voxel, const int n[3], uint8_t *keep) {
-    if (!s->found) return;
-    for (long k = 0; k < (long)n[0] * n[1] * n[2]; k++) {
-        if (!keep[k]) continue;
-        const long x = k % n[0], y = k / n[0] % n[1], z = k / ((long)n[0] * n[1]);
-        const double p[3] = {roi->lo[0] + (x + 0.5) * voxel, roi->lo[1] + (y + 0.5) * voxel,
-                             roi->lo[2] + (z + 0.5) * voxel};
-        if (ws_support_plane_holds(s, p)) keep[k] = 0;
+    for (long k = 0; support->found && k < total; k++) {
+        double p[3];
+        grid_point(roi, voxel, n, k, p);
+        if (keep[k] && ws_support_plane_holds(support, p)) keep[k] = 0;
     }
 }
 
@@ -283,14 +287,12 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
         double centre[3];
         for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
         view_caps(x, centre);
-        vote_grid(x, roi, c->voxel, n, keep, dir, stack);
-        off_support(&c->support, roi, c->voxel, n, keep);
+        vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack);
         for (long k = 0; k < c->tested; k++) c->n += keep[k];
         if (c->n == 0) { /* the hull hides everything: the photos' colours did not tell the object */
             ws_photo_hull_free(&c->hull);
             x->depth = NULL;
-            vote_grid(x, roi, c->voxel, n, keep, dir, stack);
-            off_support(&c->support, roi, c->voxel, n, keep);
+            vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack);
             for (long k = 0; k < c->tested; k++) c->n += keep[k];
         }
     }
@@ -305,11 +307,7 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
         int m = 0;
         for (long k = 0; k < c->tested; k++) {
             if (!keep[k]) continue;
-            long x = k % n[0], y = k / n[0] % n[1], z = k / ((long)n[0] * n[1]);
-            c->p[3 * m] = roi->lo[0] + (x + 0.5) * c->voxel;
-            c->p[3 * m + 1] = roi->lo[1] + (y + 0.5) * c->voxel;
-            c->p[3 * m + 2] = roi->lo[2] + (z + 0.5) * c->voxel;
-            m++;
+            grid_point(roi, c->voxel, n, k, c->p + 3 * m++);
         }
     }
     free(dist);
