@@ -22,9 +22,10 @@
  *            the most tops; the normal n is then the least eigenvector of
  *            the scatter of those tops (the plane fitted to them), turned
  *            towards u, and the slice found again across n (twice);
- *   found  = the layer's tops cover at least WS_SUPPORT_SHARE of the
- *            grid's cross-section across n, and the hull stands above the
- *            layer's air somewhere (the object on it);
+ *   found  = the tops within WS_SUPPORT_REACH cubes of the layer cover
+ *            at least WS_SUPPORT_SHARE of the grid's cross-section across
+ *            n, and the hull stands above the layer's air somewhere (the
+ *            object on it: some cube is foot, below);
  *   floor, top = the WS_SUPPORT_LOW and WS_SUPPORT_HIGH quantiles of the
  *            heights n . x of the tops within WS_SUPPORT_REACH cubes of the
  *            layer: the support's surface (where carving went down to it,
@@ -37,7 +38,7 @@
  *            a chair's legs), not a pillar of air the colours left;
  *   air    = the other occupied cubes in that slab: carved
  *            (ws_support_plane_carve), so that the views see the support
- *            where it is, the object's base edges included.
+ *            where it is.
  * A point on the support (height n . x at most top + WS_SUPPORT_MARGIN
  * cubes) further than WS_SUPPORT_NEAR cubes from the foot is the
  * support's own (a tile's grout line, the grain of a table) and draws no
