@@ -2,7 +2,8 @@
  * models text and binary, lenses), made by `wiresketch scene`:
  * - the same scene through an OPENCV lens as nerfstudio, binary COLMAP
  *   and text COLMAP loads to the same photos (within a grey level) and
- *   cameras (within 1e-9), and COLMAP's points3D are there;
+ *   cameras (within 1e-9), and to the same sparse points (COLMAP's
+ *   points3D, nerfstudio's ply_file_path);
  * - JPEG images load within a few grey levels of the PNG ones, a
  *   progressive JPEG decodes as its baseline twin, and PNG's size limit
  *   holds;
@@ -10,7 +11,8 @@
  *   pinhole scene's;
  * - each bad input against its exact one-line message: a truncated and a
  *   CMYK JPEG, an unknown camera model, an image id with no file, NaN in
- *   points3D, a truncated binary model, lens values that fold the image. */
+ *   points3D, a truncated binary model, lens values that fold the image,
+ *   a nerfstudio ply_file_path that is no file name or holds NaN. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -155,9 +157,12 @@ static void test_formats(void) {
     CHECK(compare(&ns, &pin, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && cameras < 1e-9,
           "lens vs pinhole: photos max %g mean %g, cameras %g", photos, mean, cameras);
     printf("lens undone vs pinhole: max %.4f mean %.5f\n", photos, mean);
-    int n;
-    const double *points = ws_scene_points(&cb, &n);
-    CHECK(n == 2000 && points && ws_scene_points(&ns, &n) == NULL && n == 0, "points3D kept");
+    int n, m;
+    const double *points = ws_scene_points(&cb, &n), *ply = ws_scene_points(&ns, &m);
+    double worst = n == m && points && ply ? 0 : INFINITY;
+    for (int k = 0; k < 3 * n && n == m && points && ply; k++) worst = fmax(worst, fabs(points[k] - ply[k]));
+    CHECK(n == 2000 && worst == 0, "the sparse points: %d in points3D.bin, %d in sparse_pc.ply, %g apart", n, m,
+          worst);
     ws_scene_free(&ns);
     ws_scene_free(&cb);
     ws_scene_free(&ct);
@@ -265,6 +270,9 @@ static void test_refusals(void) {
          "T/bad/sparse/0/images.bin: truncated (8 images do not fit in its 200 bytes)"},
         {"cb", "head -c 100 sparse/0/points3D.bin > x && mv x sparse/0/points3D.bin",
          "T/bad/sparse/0/points3D.bin: truncated (2000 points do not fit in its 100 bytes)"},
+        {"ns", "sed -i 's/\"ply_file_path\":[^,]*,/\"ply_file_path\": 7,/' transforms.json",
+         "T/bad/transforms.json: ply_file_path is not a file name"},
+        {"ns", "sed -i '9s/^[^ ]*/nan/' sparse_pc.ply", "T/bad/sparse_pc.ply: vertex row 1 has a non-finite coordinate"},
         {"ct", "sed -i 's/ -0.25 [^ ]* / -0.9 0 /' sparse/0/cameras.txt",
          "T/bad/sparse/0/cameras.txt: line 3: camera 1: lens distortion folds the image (the "
          "distorted radius stops growing at 34 px from the principal point, inside the frame, whose "

@@ -1,7 +1,9 @@
 /* test_roi_aabb.c: the region of interest from a transforms file's
  * instant-ngp "aabb" (io/transforms.h, geometry/roi.h). On a small cube in
  * the box room (nerfstudio and NeRF-synthetic layouts, cameras only):
- *   - without an aabb the box comes from where the cameras look;
+ *   - without an aabb the box comes from the nerfstudio file's sparse
+ *     points (ply_file_path, which `scene` writes as ns-process-data
+ *     does), and without those from where the cameras look;
  *   - with one, the region of interest is that box exactly, its line says
  *     "aabb", and --bbox still wins over it;
  *   - aabb_scale alone is no box (it is not read);
@@ -27,22 +29,27 @@ static int load_cameras(ws_scene *scene, const char *dir, ws_status *st) {
     return ws_scene_load(scene, dir, &so, st);
 }
 
-/* Rewrites `path` with `keys` ("\"aabb\": ..., ") right after its opening
- * brace; 0 on success. */
-static int add_keys(const char *path, const char *keys) {
+/* Rewrites `path` with `insert` put `keep` characters after the start of
+ * the first `anchor` in it, in place of the `cut` characters there; 0 on
+ * success. */
+static int splice(const char *path, const char *anchor, size_t keep, size_t cut, const char *insert) {
     FILE *f = fopen(path, "rb");
     if (!f) return 1;
     static char text[1 << 20];
     size_t n = fread(text, 1, sizeof text - 1, f);
     fclose(f);
     text[n] = 0;
-    char *brace = strchr(text, '{');
-    if (!brace || !(f = fopen(path, "wb"))) return 1;
-    fwrite(text, 1, (size_t)(brace + 1 - text), f);
-    fputs(keys, f);
-    fputs(brace + 1, f);
+    char *at = strstr(text, anchor);
+    if (!at || !(f = fopen(path, "wb"))) return 1;
+    fwrite(text, 1, (size_t)(at + keep - text), f);
+    fputs(insert, f);
+    fputs(at + keep + cut, f);
     return fclose(f) != 0;
 }
+
+/* Rewrites `path` with `keys` ("\"aabb\": ..., ") right after its opening
+ * brace; 0 on success. */
+static int add_keys(const char *path, const char *keys) { return splice(path, "{", 1, 0, keys); }
 
 /* Copies src to dst byte for byte; 0 on success. */
 static int copy_file(const char *src, const char *dst) {
@@ -108,13 +115,36 @@ static void layout(const char *tmp, const char *name, int nerfstudio, const char
     if (rc) return;
     CHECK(copy_file(path, saved) == 0, "%s: could not copy %s", name, path);
 
-    /* no aabb: where the cameras look */
+    /* no aabb: the sparse points of a nerfstudio file (ply_file_path),
+     * else where the cameras look */
+    const ws_roi_source without = nerfstudio ? WS_ROI_POINTS : WS_ROI_CAMERAS;
     ws_scene scene = {0};
     ws_roi roi;
     rc = load_cameras(&scene, dir, &st) || ws_roi_find(&scene, NULL, &roi, &st);
-    CHECK(rc == WS_OK && !scene.has_aabb && roi.source == WS_ROI_CAMERAS, "%s without an aabb: %s (source %d)",
+    CHECK(rc == WS_OK && !scene.has_aabb && roi.source == without, "%s without an aabb: %s (source %d)",
           name, st.msg, roi.source);
     ws_scene_free(&scene);
+    if (nerfstudio) {
+        const char *key = "\"ply_file_path\"";
+        CHECK(copy_file(saved, path) == 0 && splice(path, key, 0, strlen(key), "\"ply_file_PATH\"") == 0,
+              "could not write %s", path);
+        rc = load_cameras(&scene, dir, &st) || ws_roi_find(&scene, NULL, &roi, &st);
+        CHECK(rc == WS_OK && roi.source == WS_ROI_CAMERAS, "%s without its sparse points: %s (source %d)", name,
+              st.msg, roi.source);
+        ws_scene_free(&scene);
+        /* a ply_file_path that names no file: the cameras' box, and its line says why */
+        char ply[400], away[400], why[600];
+        snprintf(ply, sizeof ply, "%s/sparse_pc.ply", dir);
+        snprintf(away, sizeof away, "%s/sparse_pc.away", dir);
+        snprintf(why, sizeof why, "every train view sees whole); the sparse points %s (ply_file_path) are not there",
+                 ply);
+        CHECK(copy_file(saved, path) == 0 && rename(ply, away) == 0, "could not move %s", ply);
+        rc = load_cameras(&scene, dir, &st) || ws_roi_find(&scene, NULL, &roi, &st);
+        CHECK(rc == WS_OK && roi.source == WS_ROI_CAMERAS && strstr(roi.line, why),
+              "%s with its sparse points gone: %s (source %d): %s", name, st.msg, roi.source, roi.line);
+        ws_scene_free(&scene);
+        CHECK(rename(away, ply) == 0, "could not move %s back", ply);
+    }
 
     const double lo[3] = {-0.75, -0.5, -0.25}, hi[3] = {0.75, 0.625, 1.5};
     with_keys(dir, file, saved, "\"aabb\": [[-0.75, -0.5, -0.25], [0.75, 0.625, 1.5]], ", NULL, lo, hi);
@@ -124,7 +154,7 @@ static void layout(const char *tmp, const char *name, int nerfstudio, const char
     /* aabb_scale alone: no box */
     CHECK(copy_file(saved, path) == 0 && add_keys(path, "\"aabb_scale\": 16, ") == 0, "could not write %s", path);
     rc = load_cameras(&scene, dir, &st) || ws_roi_find(&scene, NULL, &roi, &st);
-    CHECK(rc == WS_OK && !scene.has_aabb && roi.source == WS_ROI_CAMERAS, "%s with aabb_scale: %s (source %d)",
+    CHECK(rc == WS_OK && !scene.has_aabb && roi.source == without, "%s with aabb_scale: %s (source %d)",
           name, st.msg, roi.source);
     ws_scene_free(&scene);
 

@@ -42,12 +42,15 @@ static void test_nerfstudio_round_trip(void) {
     ws_transforms_camera cam = {300, 310, 150.5, 99.25, 288, 224, {.fisheye = 0}};
     cam.lens.k[0] = 0.05, cam.lens.k[1] = -0.02, cam.lens.k[2] = 0.001, cam.lens.p[0] = 0.001, cam.lens.p[1] = -0.002;
     ws_status st;
-    int rc = ws_transforms_write_nerfstudio(path, &cam, frames, 3, &st);
+    int rc = ws_transforms_write_nerfstudio(path, &cam, "sparse_pc.ply", frames, 3, &st);
     CHECK(rc == 0, "write: %s", st.msg);
     ws_transforms *t = NULL;
     rc = ws_transforms_open(&t, path, WS_TRANSFORMS_NERFSTUDIO, &st);
     CHECK(rc == 0 && ws_transforms_count(t) == 3, "open: %s", st.msg);
     if (rc) return;
+    const char *ply;
+    CHECK(ws_transforms_ply_file(t, &ply, &st) == 0 && ply && !strcmp(ply, "sparse_pc.ply"), "ply_file_path: %s",
+          ply ? ply : "none");
     int split_of[3];
     CHECK(ws_transforms_splits(t, split_of, &st) == 0 && split_of[0] == WS_TRAIN && split_of[1] == WS_TRAIN &&
               split_of[2] == WS_TEST,
@@ -108,9 +111,12 @@ static void test_split_file(void) {
     ws_transforms_camera cam = {200, 200, 100, 100, 200, 200, {.fisheye = 0}};
     cam.lens.fisheye = 1, cam.lens.k[0] = 0.01, cam.lens.k[3] = 0.001;
     ws_transforms_camera c;
-    rc = ws_transforms_write_nerfstudio(path, &cam, &frame, 1, &st) ||
-         ws_transforms_open(&t, path, WS_TRANSFORMS_NERFSTUDIO, &st) || ws_transforms_camera_read(t, 0, "f", &c, &st);
+    const char *ply = "";
+    rc = ws_transforms_write_nerfstudio(path, &cam, NULL, &frame, 1, &st) ||
+         ws_transforms_open(&t, path, WS_TRANSFORMS_NERFSTUDIO, &st) || ws_transforms_camera_read(t, 0, "f", &c, &st) ||
+         ws_transforms_ply_file(t, &ply, &st);
     CHECK(rc == 0 && c.lens.fisheye && c.lens.k[0] == 0.01 && c.lens.k[3] == 0.001, "fisheye: %s", rc ? st.msg : "");
+    CHECK(rc == 0 && ply == NULL, "a file without ply_file_path names one: %s", ply ? ply : "");
     ws_transforms_close(t);
 }
 

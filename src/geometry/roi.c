@@ -128,9 +128,13 @@ int ws_roi_from_cameras(const ws_scene *scene, ws_roi *roi, ws_status *st) {
     }
     for (int a = 0; a < 3; a++) roi->lo[a] = scene->center[a] - radius, roi->hi[a] = scene->center[a] + radius;
     roi->source = WS_ROI_CAMERAS;
-    char from[200];
-    snprintf(from, sizeof from, "where the cameras look (the ball of radius %.3g around (%.3g, %.3g, %.3g) that "
-             "every train view sees whole)", radius, scene->center[0], scene->center[1], scene->center[2]);
+    char from[WS_ROI_LINE - 100];
+    int used = snprintf(from, sizeof from, "where the cameras look (the ball of radius %.3g around (%.3g, %.3g, "
+                        "%.3g) that every train view sees whole)", radius, scene->center[0], scene->center[1],
+                        scene->center[2]);
+    if (scene->points_missing[0] && used > 0 && (size_t)used < sizeof from)
+        snprintf(from + used, sizeof from - used, "; the sparse points %.200s (ply_file_path) are not there",
+                 scene->points_missing);
     box_line(roi, from);
     return WS_OK;
 }

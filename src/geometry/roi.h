@@ -4,7 +4,8 @@
  *   1. the user's box (`fit --bbox x0,y0,z0,x1,y1,z1`);
  *   2. the box the transforms file gives (instant-ngp's "aabb", scene.h),
  *      as it is written;
- *   3. the sparse points (COLMAP's points3D) with their outliers removed:
+ *   3. the sparse points (COLMAP's points3D, or the PLY a nerfstudio file
+ *      names as ply_file_path; scene.h) with their outliers removed:
  *      the points seen by at least half of the train views (in front, in
  *      the frame), then those whose WS_ROI_NEIGHBOURS-th nearest neighbour
  *      lies within WS_ROI_DENSITY times the median of that distance (a
@@ -15,7 +16,8 @@
  *      least-squares intersection of the optical axes, scene.h) whose half
  *      side is the radius of the largest ball around it that every train
  *      view sees whole (the object is in every view; the room around it
- *      is not in the ball).
+ *      is not in the ball); its line names a nerfstudio file's sparse
+ *      points when they were named but not there.
  * A box room's walls and floor (synth/room.h) lie outside every one of
  * these for the capture bed's scenes: the cameras stand 4 from the centre
  * and see a ball of radius about 1.1 there, the object is about 1.5 wide. */

@@ -8,8 +8,10 @@
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/outfile.h"
 #include "nn/base/bytes.h"
 #include "io/pointcloud.h"
 
@@ -316,6 +318,15 @@ void ws_pointcloud_free(ws_pointcloud *pc) {
     free(pc->xyz);
     pc->xyz = NULL;
     pc->n = 0;
+}
+
+int ws_pointcloud_save_ply(const char *path, const double *xyz, int n, ws_status *st) {
+    ws_outfile f;
+    if (ws_outfile_open(&f, path, st)) return st->code;
+    fprintf(f.fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty double x\nproperty double y\n"
+                  "property double z\nend_header\n", n);
+    for (int k = 0; k < n; k++) fprintf(f.fp, "%.17g %.17g %.17g\n", xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
+    return ws_outfile_commit(&f, st);
 }
 
 void ws_points_bbox(const double *xyz, int n, double lo[3], double hi[3]) {

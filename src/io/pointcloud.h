@@ -1,5 +1,6 @@
-/* pointcloud.h: point clouds read from PLY files (the ground truth of
- * METHOD.md section 1, gt_points.ply) and their bounding boxes.
+/* pointcloud.h: point clouds read from and written to PLY files (the ground
+ * truth of METHOD.md section 1, gt_points.ply; nerfstudio's sparse points,
+ * its ply_file_path) and their bounding boxes.
  *
  * The reader takes ascii, binary_little_endian and binary_big_endian PLY
  * with any scalar type for x, y, z (char .. double, also int8 .. float64).
@@ -26,6 +27,11 @@ typedef struct {
  * coordinates, counts that do not fit the file). */
 int ws_pointcloud_load_ply(const char *path, ws_pointcloud *pc, ws_status *st);
 void ws_pointcloud_free(ws_pointcloud *pc);
+
+/* Writes n points (x y z each) as an ASCII PLY file of double x, y, z, to a
+ * temporary name renamed into place (base/outfile.h), with 17 significant
+ * digits, so that the reader above gives back the same doubles. */
+int ws_pointcloud_save_ply(const char *path, const double *xyz, int n, ws_status *st);
 
 /* Axis-aligned bounding box of n points (n >= 1). */
 void ws_points_bbox(const double *xyz, int n, double lo[3], double hi[3]);

@@ -16,6 +16,7 @@
 #include <unistd.h>
 #include "base/paths.h"
 #include "io/colmap.h"
+#include "io/pointcloud.h"
 #include "io/scene.h"
 #include "io/transforms.h"
 #include "io/undistort.h"
@@ -340,6 +341,30 @@ static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_s
     return WS_OK;
 }
 
+/* nerfstudio's sparse points (ply_file_path, relative to the scene's
+ * folder), kept as a COLMAP scene keeps its points3D. A file that is not
+ * there leaves the scene without points (scene.h: points_missing): they
+ * only place the region of interest, which the cameras place too, and a
+ * transforms.json copied away from its capture without them should still
+ * load; a file that is there must be a point cloud. */
+static int sparse_points(ws_scene *scene, const ws_transforms *t, const char *dir, ws_status *st) {
+    const char *name;
+    if (ws_transforms_ply_file(t, &name, st)) return st->code;
+    if (!name) return WS_OK;
+    char path[WS_PATH_MAX];
+    if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path)
+        return ws_fail(st, WS_EINPUT, "%s/%s: ply_file_path is too long", dir, WS_TRANSFORMS_FILE);
+    if (access(path, F_OK) != 0 && errno == ENOENT) {
+        snprintf(scene->points_missing, sizeof scene->points_missing, "%s", path);
+        return WS_OK;
+    }
+    ws_pointcloud pc;
+    if (ws_pointcloud_load_ply(path, &pc, st)) return st->code;
+    scene->points = pc.xyz; /* the scene keeps them */
+    scene->npoints = pc.n;
+    return WS_OK;
+}
+
 static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_options *opt,
                             ws_status *st) {
     char path[WS_PATH_MAX];
@@ -373,6 +398,7 @@ static int parse_nerfstudio(ws_scene *scene, const char *dir, const ws_scene_opt
     }
     for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = unique_view_names(&scene->split[s], t, path, st);
     if (!rc) rc = ws_transforms_aabb(t, scene->aabb, &scene->has_aabb, st);
+    if (!rc) rc = sparse_points(scene, t, dir, st);
     if (!rc) {
         const ws_camera *first = &scene->split[WS_TRAIN].views[0].cam;
         scene->camera_angle_x = 2 * atan(0.5 * first->width / first->focal);

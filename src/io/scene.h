@@ -128,8 +128,11 @@ typedef struct {
     int has_aabb;          /* 1: the transforms file (nerfstudio's, or the train split's) has
                               instant-ngp's "aabb" (io/transforms.h) */
     double aabb[2][3];     /* that box, lo then hi, in the file's world frame */
-    int npoints;           /* COLMAP: points3D, in the file's world frame */
-    double *points;        /* npoints x 3; NULL for the other layouts */
+    int npoints;           /* COLMAP's points3D, or nerfstudio's ply_file_path, in the file's
+                              world frame */
+    double *points;        /* npoints x 3; NULL when the scene has none */
+    char points_missing[WS_PATH_MAX]; /* the ply_file_path a nerfstudio file names when no
+                                         such file is there; "" otherwise */
 } ws_scene;
 
 void ws_scene_options_default(ws_scene_options *opt);
@@ -152,8 +155,9 @@ const char *ws_scene_file(const ws_scene *scene, int s);
  * 64 views from DIR"), "" when no view has a mask file. */
 void ws_scene_mask_line(const ws_scene *scene, char *line, size_t size);
 
-/* The scene's sparse points (COLMAP's points3D, as the file has them,
- * outliers included): *n of them, x y z each; NULL with *n = 0 when the
+/* The scene's sparse points (COLMAP's points3D, or the PLY file a
+ * nerfstudio file names as ply_file_path, as the file has them, outliers
+ * included): *n of them, x y z each; NULL with *n = 0 when the
  * scene has none. */
 const double *ws_scene_points(const ws_scene *scene, int *n);
 

@@ -152,6 +152,16 @@ int ws_transforms_aabb(const ws_transforms *t, double aabb[2][3], int *found, ws
     return WS_OK;
 }
 
+int ws_transforms_ply_file(const ws_transforms *t, const char **name, ws_status *st) {
+    const cJSON *ply = cJSON_GetObjectItemCaseSensitive(t->root, "ply_file_path");
+    *name = NULL;
+    if (!ply) return WS_OK;
+    if (!cJSON_IsString(ply) || !ply->valuestring[0])
+        return ws_fail(st, WS_EINPUT, "%s: ply_file_path is not a file name", t->path);
+    *name = ply->valuestring;
+    return WS_OK;
+}
+
 /* ---------------------------------------------------------------- splits */
 
 #define SPLIT_PERIOD 8
@@ -424,7 +434,7 @@ int ws_transforms_write_split(const char *path, double camera_angle_x, const dou
     return rc;
 }
 
-int ws_transforms_write_nerfstudio(const char *path, const ws_transforms_camera *cam,
+int ws_transforms_write_nerfstudio(const char *path, const ws_transforms_camera *cam, const char *ply_file_path,
                                    const ws_transforms_frame *frames, int n, ws_status *st) {
     const ws_lens *l = &cam->lens;
     const double values[6] = {l->k[0], l->k[1], l->k[2], l->k[3], l->p[0], l->p[1]};
@@ -445,6 +455,7 @@ int ws_transforms_write_nerfstudio(const char *path, const ws_transforms_camera 
              cJSON_AddNumberToObject(root, "w", cam->w) && cJSON_AddNumberToObject(root, "h", cam->h);
     for (int k = 0; k < nkeys && ok; k++)
         if (k < 4 || values[order[k]] != 0) ok = cJSON_AddNumberToObject(root, lens_keys[order[k]], values[order[k]]) != NULL;
+    if (ok && ply_file_path) ok = cJSON_AddStringToObject(root, "ply_file_path", ply_file_path) != NULL;
     ok = ok && set_split_lists(root, names, split_of, NULL, n) && add_frames(root, frames, n);
     int rc = ok ? write_root(path, root, 0, st) : ws_fail(st, WS_ENOMEM, "%s: out of memory building the JSON", path);
     cJSON_Delete(root);

@@ -70,6 +70,12 @@ const char *ws_transforms_file_path(const ws_transforms *t, int k);
  * or "PATH: aabb is empty along y (1 >= 0.5)" when it is not a box. */
 int ws_transforms_aabb(const ws_transforms *t, double aabb[2][3], int *found, ws_status *st);
 
+/* The file's "ply_file_path" (nerfstudio's sparse points, as ns-process-data
+ * writes them: a PLY file relative to the scene's folder, in the file's
+ * world frame): *name NULL when the file has none; fails with "PATH:
+ * ply_file_path is not a file name" when it is not a non-empty string. */
+int ws_transforms_ply_file(const ws_transforms *t, const char **name, ws_status *st);
+
 /* Each frame's split (nerfstudio): by the split lists where the file has
  * any (a frame in none: -1; a file_path matched after any "./"), else by
  * ws_transforms_split_rule. split_of holds ws_transforms_count entries. */
@@ -96,8 +102,9 @@ int ws_transforms_write_split(const char *path, double camera_angle_x, const dou
 
 /* Writes a nerfstudio file: the global intrinsics and lens of `cam`
  * (camera_model OPENCV with k1, k2, p1, p2, and k3, k4 where not 0;
- * OPENCV_FISHEYE with k1..k4), the split lists, and the n frames. */
-int ws_transforms_write_nerfstudio(const char *path, const ws_transforms_camera *cam,
+ * OPENCV_FISHEYE with k1..k4), ply_file_path where not NULL, the split
+ * lists, and the n frames. */
+int ws_transforms_write_nerfstudio(const char *path, const ws_transforms_camera *cam, const char *ply_file_path,
                                    const ws_transforms_frame *frames, int n, ws_status *st);
 
 /* The changes ws_transforms_rewrite makes to an open file's n frames. */

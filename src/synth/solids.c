@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "base/outfile.h"
+#include "io/pointcloud.h"
 #include "nn/base/rng.h"
 #include "synth/solids.h"
 
@@ -417,13 +417,11 @@ int ws_solid_write_points(const ws_solid *s, const char *path, int n, uint64_t s
         cross3(e1, e2, c);
         cum[k + 1] = cum[k] + 0.5 * sqrt(dot3(c, c));
     }
-    ws_outfile f;
-    if (ws_outfile_open(&f, path, st)) {
+    double *points = ws_malloc(sizeof *points * 3 * (size_t)n, "surface points", st);
+    if (!points) {
         free(cum);
         return st->code;
     }
-    fprintf(f.fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty double x\nproperty double y\n"
-                  "property double z\nend_header\n", n);
     ws_rng rng;
     ws_rng_seed(&rng, seed);
     for (int k = 0; k < n; k++) {
@@ -435,10 +433,10 @@ int ws_solid_write_points(const ws_solid *s, const char *path, int n, uint64_t s
         }
         double r1 = sqrt(ws_rng_uniform(&rng)), r2 = ws_rng_uniform(&rng);
         const double *A = s->corner + 9 * lo, *B = A + 3, *C = A + 6;
-        double p[3];
-        for (int x = 0; x < 3; x++) p[x] = (1 - r1) * A[x] + r1 * (1 - r2) * B[x] + r1 * r2 * C[x];
-        fprintf(f.fp, "%.9g %.9g %.9g\n", p[0], p[1], p[2]);
+        for (int x = 0; x < 3; x++) points[3 * k + x] = (1 - r1) * A[x] + r1 * (1 - r2) * B[x] + r1 * r2 * C[x];
     }
     free(cum);
-    return ws_outfile_commit(&f, st);
+    int rc = ws_pointcloud_save_ply(path, points, n, st);
+    free(points);
+    return rc;
 }

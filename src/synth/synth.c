@@ -16,6 +16,7 @@
 #include "base/outfile.h"
 #include "base/paths.h"
 #include "io/colmap.h"
+#include "io/pointcloud.h"
 #include "io/transforms.h"
 #include "io/undistort.h"
 #include "nn/base/rng.h"
@@ -46,6 +47,7 @@ static const double OBJECT_CENTER[3] = {0.3, -0.2, 0.5};
  * Gaussian noise of this fraction of the object's size, and outliers (this
  * fraction of all points) uniform in a box three times the object's */
 #define SPARSE_POINTS 2000
+#define SPARSE_PLY "sparse_pc.ply" /* nerfstudio's name for them */
 #define SPARSE_NOISE 0.005
 #define SPARSE_OUTLIERS 0.1
 #define AMBIENT 0.3
@@ -642,37 +644,8 @@ static void view_frames(const ws_synth_options *opt, int first, int last, double
         }
 }
 
-/* The camera files of a NeRF-synthetic or nerfstudio scene (io/transforms.h):
- * transforms_SPLIT.json of each split that has views, or one
- * transforms.json with the intrinsics and lens. */
-static int write_transforms(const char *dir, const ws_synth_options *opt, const double center[3],
-                            double (*c2w)[4][4], int total, ws_status *st) {
-    char path[WS_PATH_MAX];
-    ws_transforms_frame *frames = ws_malloc(sizeof *frames * total, "transforms frames", st);
-    char(*paths)[2][64] = frames ? ws_malloc(sizeof *paths * total, "transforms frames", st) : NULL;
-    int rc = paths ? WS_OK : st->code;
-    ws_camera cam;
-    ws_lens lens;
-    if (!rc && opt->nerfstudio) {
-        snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
-        view_frames(opt, WS_TRAIN, WS_TEST, c2w, frames, paths);
-        if (!(rc = synth_camera(opt, c2w[0], path, &cam, st)) && !(rc = synth_lens(opt, &cam, &lens, st))) {
-            const ws_transforms_camera intrinsics = {cam.focal, cam.focal, cam.cx, cam.cy, cam.width, cam.height, lens};
-            rc = ws_transforms_write_nerfstudio(path, &intrinsics, frames, total, st);
-        }
-    }
-    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++]) {
-        if (!opt->views[s]) continue;
-        snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
-        view_frames(opt, s, s, c2w + first, frames, paths);
-        rc = ws_transforms_write_split(path, CAMERA_ANGLE_X, center, frames, opt->views[s], st);
-    }
-    free(frames);
-    free(paths);
-    return rc;
-}
-
-/* COLMAP's sparse points of the object: SPARSE_POINTS in all, along the
+/* The object's sparse points (COLMAP's points3D, nerfstudio's
+ * sparse_pc.ply): SPARSE_POINTS in all, along the
  * curves (uniform in each curve's parameter) with Gaussian noise, and a
  * fraction of outliers in a box around them; seeded by opt->seed. */
 static void sparse_points(const ws_curves *curves, const ws_synth_options *opt, double *points,
@@ -697,6 +670,46 @@ static void sparse_points(const ws_curves *curves, const ws_synth_options *opt, 
         ws_curve_point(curves, (int)ws_rng_below(&rng, (uint64_t)curves->n), ws_rng_uniform(&rng), p);
         for (int i = 0; i < 3; i++) p[i] += SPARSE_NOISE * size * ws_rng_normal(&rng);
     }
+}
+
+/* The camera files of a NeRF-synthetic or nerfstudio scene (io/transforms.h):
+ * transforms_SPLIT.json of each split that has views, or one
+ * transforms.json with the intrinsics and lens and, as ns-process-data
+ * writes them, the object's sparse points (sparse_pc.ply, COLMAP's). */
+static int write_transforms(const char *dir, const ws_synth_options *opt, const double center[3],
+                            double (*c2w)[4][4], int total, const ws_curves *curves, ws_status *st) {
+    char path[WS_PATH_MAX];
+    ws_transforms_frame *frames = ws_malloc(sizeof *frames * total, "transforms frames", st);
+    char(*paths)[2][64] = frames ? ws_malloc(sizeof *paths * total, "transforms frames", st) : NULL;
+    int rc = paths ? WS_OK : st->code;
+    ws_camera cam;
+    ws_lens lens;
+    if (!rc && opt->nerfstudio) {
+        snprintf(path, sizeof path, "%s/" WS_TRANSFORMS_FILE, dir);
+        view_frames(opt, WS_TRAIN, WS_TEST, c2w, frames, paths);
+        char ply[WS_PATH_MAX];
+        snprintf(ply, sizeof ply, "%s/" SPARSE_PLY, dir);
+        double *points = ws_malloc(sizeof *points * 3 * SPARSE_POINTS, ply, st);
+        if (!points) rc = st->code;
+        if (!rc) {
+            sparse_points(curves, opt, points, SPARSE_POINTS);
+            rc = ws_pointcloud_save_ply(ply, points, SPARSE_POINTS, st);
+        }
+        free(points);
+        if (!rc && !(rc = synth_camera(opt, c2w[0], path, &cam, st)) && !(rc = synth_lens(opt, &cam, &lens, st))) {
+            const ws_transforms_camera intrinsics = {cam.focal, cam.focal, cam.cx, cam.cy, cam.width, cam.height, lens};
+            rc = ws_transforms_write_nerfstudio(path, &intrinsics, SPARSE_PLY, frames, total, st);
+        }
+    }
+    for (int s = 0, first = 0; s < WS_NSPLITS && !rc && !opt->nerfstudio; first += opt->views[s++]) {
+        if (!opt->views[s]) continue;
+        snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
+        view_frames(opt, s, s, c2w + first, frames, paths);
+        rc = ws_transforms_write_split(path, CAMERA_ANGLE_X, center, frames, opt->views[s], st);
+    }
+    free(frames);
+    free(paths);
+    return rc;
 }
 
 /* SCENE/sparse/0 (one camera, every view, the sparse points) and
@@ -989,7 +1002,7 @@ static int remove_scene_files(int fd, const char *where, int (*is_scene_file)(co
 
 static int is_top_file(const char *name) {
     static const char *const files[] = {"gt_curves.json", "gt_points.ply", "train_list.txt", "val_list.txt",
-                                        "test_list.txt"};
+                                        "test_list.txt", SPARSE_PLY};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++)
         if (!strcmp(name, files[k])) return 1;
     for (int s = 0; s < WS_NSPLITS; s++)
@@ -1135,7 +1148,7 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
         rc = write_views(dir, &what, center, opt, c2w, total, st);
     }
     const ws_curves *gt = solid ? &sol.edges : &obj.curves;
-    if (!rc) rc = opt->colmap ? write_colmap(dir, opt, c2w, gt, st) : write_transforms(dir, opt, center, c2w, total, st);
+    if (!rc) rc = opt->colmap ? write_colmap(dir, opt, c2w, gt, st) : write_transforms(dir, opt, center, c2w, total, gt, st);
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     if (!rc && !smooth) rc = ws_curves_save(path, gt, st);
     snprintf(path, sizeof path, "%s/gt_points.ply", dir);
