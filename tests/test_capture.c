@@ -12,7 +12,8 @@
  * - each bad input against its exact one-line message: a truncated and a
  *   CMYK JPEG, an unknown camera model, an image id with no file, NaN in
  *   points3D, a truncated binary model, lens values that fold the image,
- *   a nerfstudio ply_file_path that is no file name or holds NaN. */
+ *   a nerfstudio ply_file_path that is no file name, leaves the scene's
+ *   folder, or holds NaN. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -273,6 +274,8 @@ static void test_refusals(void) {
         {"ns", "sed -i 's/\"ply_file_path\":[^,]*,/\"ply_file_path\": 7,/' transforms.json",
          "T/bad/transforms.json: ply_file_path is not a file name"},
         {"ns", "sed -i '9s/^[^ ]*/nan/' sparse_pc.ply", "T/bad/sparse_pc.ply: vertex row 1 has a non-finite coordinate"},
+        {"ns", "sed -i 's|\"ply_file_path\":[^,]*,|\"ply_file_path\": \"../ns/sparse_pc.ply\",|' transforms.json",
+         "T/bad/transforms.json: ply_file_path '../ns/sparse_pc.ply' leaves the scene directory ('..')"},
         {"ct", "sed -i 's/ -0.25 [^ ]* / -0.9 0 /' sparse/0/cameras.txt",
          "T/bad/sparse/0/cameras.txt: line 3: camera 1: lens distortion folds the image (the "
          "distorted radius stops growing at 34 px from the principal point, inside the frame, whose "

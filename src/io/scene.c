@@ -349,11 +349,13 @@ static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_s
  * load; a file that is there must be a point cloud. */
 static int sparse_points(ws_scene *scene, const ws_transforms *t, const char *dir, ws_status *st) {
     const char *name;
+    char what[WS_PATH_MAX + 32], path[WS_PATH_MAX];
+    snprintf(what, sizeof what, "%s/" WS_TRANSFORMS_FILE, dir);
     if (ws_transforms_ply_file(t, &name, st)) return st->code;
     if (!name) return WS_OK;
-    char path[WS_PATH_MAX];
+    if (check_scene_path(name, "ply_file_path", what, st)) return st->code;
     if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path)
-        return ws_fail(st, WS_EINPUT, "%s/%s: ply_file_path is too long", dir, WS_TRANSFORMS_FILE);
+        return ws_fail(st, WS_EINPUT, "%s: ply_file_path is too long", what);
     if (access(path, F_OK) != 0 && errno == ENOENT) {
         snprintf(scene->points_missing, sizeof scene->points_missing, "%s", path);
         return WS_OK;
