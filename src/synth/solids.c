@@ -7,7 +7,6 @@
  * convention; the boxes are padded by a pixel so that they hold whatever
  * that convention is. */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "io/pointcloud.h"
