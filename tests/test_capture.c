@@ -13,7 +13,12 @@
  *   CMYK JPEG, an unknown camera model, an image id with no file, NaN in
  *   points3D, a truncated binary model, lens values that fold the image,
  *   a nerfstudio ply_file_path that is no file name, leaves the scene's
- *   folder, or holds NaN. */
+ *   folder, or holds NaN;
+ * - a small object in a large frame (a wide lens): loaded as every command
+ *   loads it (geometry/roi.h ws_roi_load_scene), each working view zooms
+ *   onto the sparse points' box, shows the whole object larger than the
+ *   largest crop does, and magnifies nothing; the COLMAP twin zooms the
+ *   same way, and the crop line says so. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,7 +27,10 @@
 #include <jpeglib.h>
 #include "check.h"
 #include "test_util.h"
+#include "geometry/roi.h"
 #include "io/image.h"
+#include "io/pointcloud.h"
+#include "io/scene_crops.h"
 #include "io/scene.h"
 #include "scene_load.h"
 
@@ -297,6 +305,90 @@ static void test_refusals(void) {
           "fold message: %s", out);
 }
 
+/* The extent in working pixels (the larger of width and height) of the
+ * object's points in view v, and the least distance of any of them to the
+ * view's border (negative: one is outside). */
+static void object_in_view(const ws_view *v, const ws_pointcloud *pc, int size, double *extent, double *inside) {
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    *inside = INFINITY;
+    for (int k = 0; k < pc->n; k++) {
+        double c[3], uv[2];
+        ws_camera_to_cam(&v->cam, &pc->xyz[3 * k], c);
+        ws_camera_project(&v->cam, c, &uv[0], &uv[1]);
+        for (int i = 0; i < 2; i++) {
+            lo[i] = fmin(lo[i], uv[i]), hi[i] = fmax(hi[i], uv[i]);
+            *inside = fmin(*inside, fmin(uv[i], size - uv[i]));
+        }
+    }
+    *extent = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+}
+
+static void test_zoom(void) {
+    char out[4096], ns[300], cm[300], path[1024], line[2048];
+    snprintf(ns, sizeof ns, "%s/zoom_ns", tmp);
+    snprintf(cm, sizeof cm, "%s/zoom_colmap", tmp);
+    int rc = run_cmd(out, sizeof out,
+                     "%s scene cube --layout nerfstudio --width 192 --height 144 --fov 70 --background room "
+                     "--views-train 6 --views-val 1 --views-test 1 --out %s && %s scene cube --layout colmap "
+                     "--width 192 --height 144 --fov 70 --background room --views-train 6 --views-val 1 "
+                     "--views-test 1 --out %s",
+                     bin, ns, bin, cm);
+    CHECK(rc == 0, "zoom scenes: %s", out);
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 48;
+    ws_scene zoomed, twin, whole;
+    ws_status st;
+    ws_pointcloud pc = {0};
+    snprintf(path, sizeof path, "%s/gt_points.ply", ns);
+    if (rc || ws_pointcloud_load_ply(path, &pc, &st) || ws_roi_load_scene(&zoomed, ns, &so, NULL, NULL, NULL, &st)) {
+        CHECK(0, "zoomed scene: %s", rc ? out : st.msg);
+        ws_pointcloud_free(&pc);
+        return;
+    }
+    CHECK(zoomed.zoomed == 8, "%d of 8 views zoomed", zoomed.zoomed);
+    if (!ws_scene_load(&whole, ns, &so, &st)) {
+        double worst_gain = INFINITY, worst_inside = INFINITY;
+        int smallest = 144, largest = 0;
+        for (int s = 0; s < WS_NSPLITS; s++)
+            for (int k = 0; k < zoomed.split[s].n; k++) {
+                const ws_view *z = &zoomed.split[s].views[k], *w = &whole.split[s].views[k];
+                double ez, ew, iz, iw;
+                object_in_view(z, &pc, 48, &ez, &iz);
+                object_in_view(w, &pc, 48, &ew, &iw);
+                worst_gain = fmin(worst_gain, ez / ew);
+                worst_inside = fmin(worst_inside, iz);
+                smallest = z->crop[2] < smallest ? z->crop[2] : smallest;
+                largest = z->crop[2] > largest ? z->crop[2] : largest;
+            }
+        CHECK(worst_gain > 1.3, "the object is only %.2f times as large zoomed", worst_gain);
+        CHECK(worst_inside > 0, "the object leaves a zoomed view by %.2f px", -worst_inside);
+        CHECK(smallest >= 48 && largest < 144, "zoomed crops %d to %d px of a 144 px frame", smallest, largest);
+        ws_scene_free(&whole);
+    } else {
+        CHECK(0, "whole scene: %s", st.msg);
+    }
+    if (!ws_roi_load_scene(&twin, cm, &so, NULL, NULL, NULL, &st)) {
+        double photos, mean, cameras;
+        int same = compare(&zoomed, &twin, &photos, &mean, &cameras) == 0;
+        for (int s = 0; s < WS_NSPLITS && same; s++)
+            for (int k = 0; k < zoomed.split[s].n; k++)
+                same &= !memcmp(zoomed.split[s].views[k].crop, twin.split[s].views[k].crop, sizeof(int[4]));
+        CHECK(same && cameras < 1e-9 && photos <= 1.0 / 255 + 1e-6,
+              "the COLMAP twin zooms the same way: crops %s, cameras %g, photos %g", same ? "equal" : "differ",
+              cameras, photos);
+        ws_scene_free(&twin);
+    } else {
+        CHECK(0, "COLMAP twin: %s", st.msg);
+    }
+    ws_scene_crop_line(&zoomed, line, sizeof line);
+    snprintf(path, sizeof path, "%s: the working views are crops of their frames zoomed onto the region of interest "
+             "(8 of 8 views zoomed, ", ns);
+    CHECK(!strncmp(line, path, strlen(path)), "crop line: %s", line);
+    ws_scene_free(&zoomed);
+    ws_pointcloud_free(&pc);
+}
+
 int main(void) {
     char cwd[256]; /* the scenes are made from inside tmp */
     if (program_path()[0] != '/' && getcwd(cwd, sizeof cwd))
@@ -307,5 +399,6 @@ int main(void) {
     test_formats();
     test_jpeg();
     test_refusals();
+    test_zoom();
     return check_summary();
 }

@@ -558,7 +558,9 @@ static void test_nerfstudio_check(const char *bin) {
 /* Captures as `scene` makes them: a tall frame (64 x 128) whose object lies
  * 36 px below the centre, where the centred square cut it (check named a
  * frame shift): the working views are crops around the object, one line
- * says so, and the scene is consistent; the box room without masks has no
+ * says so, and the scene is consistent; in the 96 x 72 frames some crops
+ * zoom onto the sparse points' box, down to the working size (the tall
+ * frame's 64 px crop is that already); the box room without masks has no
  * usable silhouette (check says so, exit 1; fit warns and goes on, and
  * says that its silhouette term counts a third), with masks it is
  * consistent; bad scene options get their one-line messages. */
@@ -575,13 +577,13 @@ static void test_captures(const char *bin) {
          0},
         {"room", "--size 96x72 --background room --views-train 12 --views-val 3 --views-test 3",
          "/transforms.json: no usable silhouette: 12 of the 12 train views find no object (12 hold 50% or more of "
-         "the frame's edge, where the background colour is read, as over a busy background; 0 none; 94.4% of the "
+         "the frame's edge, where the background colour is read, as over a busy background; 0 none; 96.1% of the "
          "frame on average); give a mask per frame (mask_path, white = object) to check the cameras\n",
          1},
         {"room_masks", "--size 96x72 --background room --masks --principal 6,-4 --views-train 12 --views-val 3 "
                        "--views-test 3",
-         ": the working views are the 72 x 72 crops of the 96 x 72 frames around the object's projection (18 of 18 "
-         "views, up to 6 px off the frame's centre)\n",
+         ": the working views are crops of their frames zoomed onto the region of interest (7 of 18 views zoomed, "
+         "64 to 72 px across, up to 8 px off the frame's centre)\n",
          0},
     };
     for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
@@ -606,6 +608,7 @@ static void test_captures(const char *bin) {
         {"--size 64x", "wiresketch: --size: '64x' is not N or WxH"},
         {"--principal 3", "wiresketch: --principal: '3' is not DX,DY"},
         {"--background grey", "wiresketch: --background: 'grey' is not black, white, room or floor"},
+        {"--fov 5", "wiresketch: --fov: 5 is not in [10, 120] degrees"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         rc = run_cmd(out, sizeof out, "%s scene cube --out %s/never %s", bin, tmp, bad[k].options);

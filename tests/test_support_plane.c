@@ -25,7 +25,6 @@
 #include "geometry/support_plane.h"
 #include "metrics/metrics.h"
 #include "objective/edge_consensus.h"
-#include "scene_load.h"
 #include "synth/synth.h"
 #include "test_util.h"
 
@@ -81,8 +80,13 @@ int main(void) {
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     ws_scene scene = {0};
     ws_curves gt = {0};
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = SIZE;
+    ws_roi roi; /* loaded as a fit loads it */
+    ws_status roi_st;
     int rc = ws_synth_write("cube", dir, &syn, &st);
-    if (!rc) rc = load_scene_at(&scene, dir, SIZE, &st);
+    if (!rc) rc = ws_roi_load_scene(&scene, dir, &so, NULL, &roi, &roi_st, &st);
     if (!rc) rc = ws_curves_load(path, &gt, &st);
     CHECK(rc == WS_OK, "setup: %s", st.msg);
     if (rc) return check_summary();
@@ -93,7 +97,7 @@ int main(void) {
     ws_view_targets *targets = NULL;
     ws_edge_consensus c = {0};
     char line[WS_CHECK_LINE];
-    rc = ws_view_targets_create(&targets, &scene, &st) || ws_fit_consensus(NULL, &scene, targets, &c, line, &st);
+    rc = ws_view_targets_create(&targets, &scene, &st) || ws_fit_consensus(&roi, &roi_st, &scene, targets, &c, line, &st);
     CHECK(rc == WS_OK, "consensus: %s", st.msg);
     if (rc) return check_summary();
     printf("%s\n", line);

@@ -34,7 +34,7 @@ options() {
 row() { # name, made, dir
     out=$("$bin" check "$3" 2>/dev/null)
     rc=$?
-    verdict=$(printf '%s\n' "$out" | grep -v '^split\|^train\|^val\|^test\|^$\|the working views are' | head -1 |
+    verdict=$(printf '%s\n' "$out" | grep -v '^split\|^train\|^val\|^test\|^$\|the working views are\|: masks for ' | head -1 |
         sed "s|^$3/||" | cut -c1-90)
     crop=$(printf '%s\n' "$out" | grep -o 'up to [0-9]* px off' | head -1)
     focal=$(printf '%s\n' "$out" | sed '/^$/q' | awk '$1 == "train" || $1 == "val" || $1 == "test" { printf "%s%s %s", sep, $1, $5; sep = ", " }' | head -1)

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "cli/cli_view.h"
+#include "geometry/roi.h"
 
 
 int ws_cli_require(const char *value, const char *option, ws_status *st) {
@@ -48,7 +49,7 @@ int ws_cli_load_split(const char *dir, int size, int load_images, const char *ba
     opt.load_images = load_images;
     if (background && ws_cli_background(background, opt.background, &opt.background_auto, st))
         return st->code;
-    if (ws_scene_load(scene, dir, &opt, st)) return st->code;
+    if (ws_roi_load_scene(scene, dir, &opt, NULL, NULL, NULL, st)) return st->code;
     if (scene->split[*split].n == 0) {
         ws_scene_free(scene);
         return ws_fail(st, WS_EINPUT, "%s: no %s split (transforms_%s.json)", dir, split_name,

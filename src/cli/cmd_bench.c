@@ -13,6 +13,7 @@
 #include "cli/cli_loss.h"
 #include "cli/commands.h"
 #include "base/runtime.h"
+#include "geometry/roi.h"
 
 static const struct {
     const char *name;
@@ -44,7 +45,7 @@ int ws_cli_bench_scene(ws_cli_bench *ctx, ws_status *st) {
     if (ctx->have_scene) return WS_OK;
     ws_scene_options so;
     ws_scene_options_default(&so);
-    if (ws_scene_load(&ctx->scene, ctx->scene_dir, &so, st)) return st->code;
+    if (ws_roi_load_scene(&ctx->scene, ctx->scene_dir, &so, NULL, NULL, NULL, st)) return st->code;
     ctx->have_scene = 1;
     return WS_OK;
 }

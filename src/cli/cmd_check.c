@@ -21,6 +21,7 @@
 #include "io/scene_crops.h"
 #include "metrics/quality.h"
 #include "objective/view_targets.h"
+#include "geometry/roi.h"
 
 static void print_table(const ws_scene *scene, const ws_check_report *r) {
     char vs[16] = "vs -";
@@ -103,7 +104,7 @@ int cmd_check(int argc, char **argv) {
     opt.masks_dir = masks;
     ws_view_targets *targets = NULL;
     const ws_silhouette *sil[WS_NSPLITS];
-    int rc = ws_scene_load(&scene, pos[0], &opt, &st) || ws_view_targets_create(&targets, &scene, &st);
+    int rc = ws_roi_load_scene(&scene, pos[0], &opt, NULL, NULL, NULL, &st) || ws_view_targets_create(&targets, &scene, &st);
     for (int s = 0; s < WS_NSPLITS && !rc; s++) rc = ws_view_targets_silhouettes(targets, s, &sil[s], &st);
     ws_check_report r;
     if (rc || ws_check_scene(&scene, sil, resolution, &r, &st)) {

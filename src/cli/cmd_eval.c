@@ -136,13 +136,13 @@ static int score_drawings(const ws_scene *scene, int split, const ws_curves *cur
 }
 
 /* The loss's view targets, made as the fit makes them: where the train
- * views have no usable silhouette (or with bbox), the edges the views agree
+ * views have no usable silhouette (or with --bbox), the edges the views agree
  * on in the region of interest (fit/init.h), whose line goes to stderr
  * (stdout is the JSON); else the photos' own, as the loss would make them. */
-static int loss_targets(const char *bbox, const ws_scene *scene, ws_view_targets **targets, ws_edge_consensus *c,
-                        ws_status *st) {
+static int loss_targets(const ws_roi *roi, const ws_status *roi_st, const ws_scene *scene, ws_view_targets **targets,
+                        ws_edge_consensus *c, ws_status *st) {
     char line[WS_CHECK_LINE];
-    if (ws_view_targets_create(targets, scene, st) || ws_fit_consensus(bbox, scene, *targets, c, line, st))
+    if (ws_view_targets_create(targets, scene, st) || ws_fit_consensus(roi, roi_st, scene, *targets, c, line, st))
         return st->code;
     if (line[0]) fprintf(stderr, "%s\n", line);
     return WS_OK;
@@ -174,12 +174,16 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
     int rc = ws_curves_load(curves_path, &curves, st);
     if (!rc && curves.n == 0 && ((gt_points && *gt_points) || (gt_curves && *gt_curves)))
         rc = ws_fail(st, WS_EINPUT, "%s: no curves to measure against the ground truth", curves_path);
-    if (!rc) rc = ws_scene_load(&scene, scene_dir, &sopt, st);
+    double box[6];
+    ws_roi roi;
+    ws_status roi_st;
+    if (!rc && bbox) rc = ws_roi_parse_bbox(bbox, box, st);
+    if (!rc) rc = ws_roi_load_scene(&scene, scene_dir, &sopt, bbox ? box : NULL, &roi, &roi_st, st);
     char masks_line[1024]; /* stdout is the JSON */
     if (!rc) ws_scene_mask_line(&scene, masks_line, sizeof masks_line);
     if (!rc && masks_line[0]) fprintf(stderr, "%s\n", masks_line);
     if (!rc) rc = ws_curves_sample(&curves, &g, st);
-    if (!rc && lo) rc = loss_targets(bbox, &scene, &line_targets, &consensus, st);
+    if (!rc && lo) rc = loss_targets(&roi, &roi_st, &scene, &line_targets, &consensus, st);
     with_targets.targets = line_targets;
     if (!rc && lo) rc = ws_objective_create(&obj, &scene, &with_targets, so, curves.n, st);
     if (!rc && lo) rc = ws_objective_split_mean(obj, &curves, split, NULL, &mean, st);
@@ -203,7 +207,7 @@ static int evaluate_sketch(const char *scene_dir, const char *curves_path, const
         ws_status photo_st;
         ws_status_clear(&photo_st);
         sopt.load_images = 1;
-        if (ws_scene_load(&photos, scene_dir, &sopt, &photo_st)) {
+        if (ws_roi_load_scene(&photos, scene_dir, &sopt, bbox ? box : NULL, NULL, NULL, &photo_st)) {
             fprintf(stderr, "wiresketch: warning: %s; the ground truth's coverage of the photos is not measured\n",
                     photo_st.msg);
             coverage = 0;

@@ -11,6 +11,7 @@
 #include "cli/cli_view.h"
 #include "cli/commands.h"
 #include "objective/ranking.h"
+#include "geometry/roi.h"
 
 int cmd_rank(int argc, char **argv) {
     const char *split_name = "test", *loss_name = "auto", *gt_path = NULL, *edge_maps = NULL;
@@ -62,7 +63,7 @@ int cmd_rank(int argc, char **argv) {
     ws_objective *obj = NULL;
     double table[16][WS_RANK_COUNT];
     int rc = ws_curves_load(gt_path ? gt_path : gt_default, &gt, &st);
-    if (!rc) rc = ws_scene_load(&scene, pos[0], &so, &st);
+    if (!rc) rc = ws_roi_load_scene(&scene, pos[0], &so, NULL, NULL, NULL, &st);
     if (!rc) rc = ws_objective_create(&obj, &scene, &lo, &splat, ws_rank_curves(&gt), &st);
     for (int k = 0; k < thick.n && !rc; k++) rc = ws_rank_losses(obj, split, &gt, thick.v[k], 0, table[k], &st);
     if (!rc) {

@@ -47,6 +47,8 @@ int cmd_scene(int argc, char **argv) {
     const char *out = NULL, *background = "black", *layout = "nerf", *lens = NULL, *size = "224",
                *principal = "0,0";
     int seed = 0;
+    const double default_fov = opt.angle * 180 / M_PI; /* in radians the default stays exact */
+    double fov = default_fov;
     const ws_arg args[] = {
         {"--out", WS_ARG_STRING, &out, 0, "directory to write the scene into (required)"},
         {"--views-train", WS_ARG_INT, &opt.views[WS_TRAIN], 0, "train views [48]"},
@@ -68,6 +70,9 @@ int cmd_scene(int argc, char **argv) {
         {"--jpeg", WS_ARG_FLAG, &opt.jpeg, 0, "images as JPEG (quality 95), not PNG"},
         {"--width", WS_ARG_INT, &opt.width, 0, "image width, nerfstudio layout [--size]"},
         {"--height", WS_ARG_INT, &opt.height, 0, "image height, nerfstudio layout [--size]"},
+        {"--fov", WS_ARG_DOUBLE, &fov, 0,
+         "the field of view across the image's shorter side, degrees, in [10, 120]; wider: a smaller object in the "
+         "frame [39.6]"},
     };
     const ws_command_spec spec = {
         "scene NAME --out DIR [options]   (NAME: trefoil, chair, spring, flat, cube, dodecahedron, nut, torus, vase, animal)",
@@ -98,6 +103,11 @@ int cmd_scene(int argc, char **argv) {
         ws_fail(&st, WS_EUSAGE, "--seed: %d is negative", seed);
         return ws_cli_fail(&st);
     }
+    if (!(fov >= 10 && fov <= 120)) {
+        ws_fail(&st, WS_EUSAGE, "--fov: %g is not in [10, 120] degrees", fov);
+        return ws_cli_fail(&st);
+    }
+    if (fov != default_fov) opt.angle = fov * M_PI / 180;
     if (read_words(background, size, principal, layout, lens, &opt, &st)) return ws_cli_fail(&st);
     opt.seed = (uint64_t)seed;
     if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);

@@ -48,6 +48,8 @@ typedef struct {
     ws_respawn *respawn;      /* NULL when --respawn-every is 0 (and not --init edges) */
     ws_line_evidence evidence; /* the hull's contours and creases, which the line targets keep */
     ws_edge_consensus consensus; /* the edges the views agree on, where they have no silhouette */
+    ws_roi roi;               /* the region of interest the scene was loaded zoomed onto */
+    ws_status roi_st;         /* why there is none (the scene's centre is in no train view), else clear */
     ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
                                * the respawn and hidden-line removal (empty when none of them is on) */
     double start;             /* ws_seconds() when this process began fitting */
@@ -369,7 +371,10 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     so.edge_maps_dir = o->edge_maps;
     so.images_dir = o->images;
     so.masks_dir = o->masks;
-    if (ws_scene_load(&r->scene, o->scene_dir, &so, st) || check_checkpoint_size(r, argv, argc, st) ||
+    double box[6];
+    if ((o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) ||
+        ws_roi_load_scene(&r->scene, o->scene_dir, &so, o->bbox ? box : NULL, &r->roi, &r->roi_st, st) ||
+        check_checkpoint_size(r, argv, argc, st) ||
         ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
@@ -401,7 +406,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
             fprintf(stderr, "wiresketch: warning: %s\n", warning);
     }
     char consensus[WS_CHECK_LINE];
-    if (ws_fit_consensus(o->bbox, &r->scene, r->targets, &r->consensus, consensus, st)) return st->code;
+    if (ws_fit_consensus(&r->roi, &r->roi_st, &r->scene, r->targets, &r->consensus, consensus, st)) return st->code;
     if (consensus[0] && speaks() && !o->quiet)
         printf("%s; the silhouette term counts %.3g of --silhouette-weight with these silhouettes\n", consensus,
                WS_CONSENSUS_SILHOUETTE_SHARE);

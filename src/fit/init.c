@@ -3,7 +3,6 @@
 #include <string.h>
 #include "fit/init.h"
 #include "geometry/check.h"
-#include "geometry/roi.h"
 
 int ws_fit_init_curves(const ws_fit_options *o, const ws_scene *scene, const ws_scene_hull *hull, ws_rng *rng,
                        ws_curves *c, ws_status *st) {
@@ -37,30 +36,29 @@ int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char war
     return rc;
 }
 
-int ws_fit_consensus(const char *bbox, const ws_scene *scene, ws_view_targets *targets, ws_edge_consensus *c,
-                     char line[WS_CHECK_LINE], ws_status *st) {
+int ws_fit_consensus(const ws_roi *roi, const ws_status *roi_st, const ws_scene *scene, ws_view_targets *targets,
+                     ws_edge_consensus *c, char line[WS_CHECK_LINE], ws_status *st) {
     memset(c, 0, sizeof *c);
     line[0] = 0;
-    double box[6];
-    if (bbox && ws_roi_parse_bbox(bbox, box, st)) return st->code;
-    if (!bbox) {
+    if (roi_st->code || roi->source != WS_ROI_USER) {
         const ws_silhouette *sil;
         int empty, edge;
         if (ws_view_targets_silhouettes(targets, WS_TRAIN, &sil, st)) return st->code;
         if (ws_check_silhouettes_usable(sil, scene->split[WS_TRAIN].n, &empty, &edge)) return WS_OK;
     }
-    ws_roi roi;
-    if (ws_roi_find(scene, bbox ? box : NULL, &roi, st) ||
-        ws_edge_consensus_make(scene, &roi, WS_CONSENSUS_RESOLUTION, c, st))
+    if (roi_st->code) {
+        *st = *roi_st;
         return st->code;
+    }
+    if (ws_edge_consensus_make(scene, roi, WS_CONSENSUS_RESOLUTION, c, st)) return st->code;
     if (c->hull.occupied)
         snprintf(line, WS_CHECK_LINE, "%.400s; the photos' colours agree on %ld of its %ld grid cubes (spacing "
                  "%.3g), and %d lie on edges the train views that see them agree on, the lines the fit draws",
-                 roi.line, c->hull.kept, c->tested, c->voxel, c->n);
+                 roi->line, c->hull.kept, c->tested, c->voxel, c->n);
     else
         snprintf(line, WS_CHECK_LINE, "%.400s; the photos' colours do not tell the object from the room (too few "
                  "views, or one colour all round), and %d of its %ld grid points (spacing %.3g) lie on edges the "
-                 "train views agree on, the lines the fit draws", roi.line, c->n, c->tested, c->voxel);
+                 "train views agree on, the lines the fit draws", roi->line, c->n, c->tested, c->voxel);
     if (c->support.found) {
         const size_t used = strlen(line);
         snprintf(line + used, WS_CHECK_LINE - used, "; the object stands on a flat support across (%.2f, %.2f, %.2f) "

@@ -16,6 +16,7 @@
 #define WS_FIT_INIT_H
 #include "fit/fit_options.h"
 #include "geometry/check.h"
+#include "geometry/roi.h"
 #include "geometry/surface.h"
 #include "io/scene.h"
 #include "nn/base/rng.h"
@@ -38,14 +39,16 @@ int ws_fit_check_scene(const ws_scene *scene, ws_view_targets *targets, char war
                        ws_status *st);
 
 /* Where the train views have no usable silhouette (geometry/check.h:
- * ws_check_silhouettes_usable), or the user gives a box (bbox, as --bbox
- * writes it; NULL: none), finds the region of interest (geometry/roi.h)
- * and the edges the views agree on in it (objective/edge_consensus.h), and
- * hands them to targets, whose silhouettes and line targets are theirs
- * from then on; line: one line that says so ("" and c empty otherwise).
- * c must outlive targets' use. The fit's targets and eval's are made
- * here, so that eval's test loss is the fit's kind of number. */
-int ws_fit_consensus(const char *bbox, const ws_scene *scene, ws_view_targets *targets, ws_edge_consensus *c,
-                     char line[WS_CHECK_LINE], ws_status *st);
+ * ws_check_silhouettes_usable), or the user gave the box (roi's source
+ * WS_ROI_USER), takes the region of interest the scene was loaded with
+ * (geometry/roi.h ws_roi_load_scene: roi, or the failure roi_st holds)
+ * and finds the edges the views agree on in it
+ * (objective/edge_consensus.h), and hands them to targets, whose
+ * silhouettes and line targets are theirs from then on; line: one line
+ * that says so ("" and c empty otherwise). c must outlive targets' use.
+ * The fit's targets and eval's are made here, so that eval's test loss is
+ * the fit's kind of number. */
+int ws_fit_consensus(const ws_roi *roi, const ws_status *roi_st, const ws_scene *scene, ws_view_targets *targets,
+                     ws_edge_consensus *c, char line[WS_CHECK_LINE], ws_status *st);
 
 #endif

@@ -162,3 +162,24 @@ int ws_roi_find(const ws_scene *scene, const double *user, ws_roi *roi, ws_statu
     if (n > 0 && ws_roi_from_points(scene, points, n, roi, &found, st)) return st->code;
     return found ? WS_OK : ws_roi_from_cameras(scene, roi, st);
 }
+
+int ws_roi_load_scene(ws_scene *scene, const char *dir, const ws_scene_options *opt, const double *user,
+                      ws_roi *roi, ws_status *roi_st, ws_status *st) {
+    ws_scene_options first = *opt;
+    first.defer_images = 1;
+    if (ws_scene_load(scene, dir, &first, st)) return st->code;
+    ws_roi found;
+    ws_status why;
+    ws_status_clear(&why);
+    const int have = ws_roi_find(scene, user, &found, &why) == WS_OK;
+    if (roi) *roi = found;
+    if (roi_st) *roi_st = why;
+    if (!have && why.code != WS_EINPUT) { /* out of memory, not a scene without a region */
+        ws_scene_free(scene);
+        *st = why;
+        return st->code;
+    }
+    const double box[6] = {found.lo[0], found.lo[1], found.lo[2], found.hi[0], found.hi[1], found.hi[2]};
+    /* where the cameras look is a guess, not the object's place: no zoom */
+    return ws_scene_zoom(scene, have && found.source != WS_ROI_CAMERAS ? box : NULL, opt, st);
+}

@@ -50,6 +50,21 @@ int ws_roi_parse_bbox(const char *text, double box[6], ws_status *st);
  * scene's centre is in no train view. */
 int ws_roi_find(const ws_scene *scene, const double *user, ws_roi *roi, ws_status *st);
 
+/* Loads the scene in dir (io/scene.h) with every working view of a
+ * nerfstudio or COLMAP scene zoomed onto its region of interest
+ * (ws_scene_zoom; user as for ws_roi_find) when that region places the
+ * object (the user's box, the file's aabb or the sparse points; where the
+ * cameras look is only a guess, and zooms nothing), so that a small object
+ * in a large frame fills the working view; every command that loads a
+ * scene loads it so, and crops it the same way. The region is found on the
+ * views' first crops (around the scene's centre, before the zoom), and
+ * *roi receives it when not NULL. When it cannot be found (the scene's
+ * centre is in no train view) the views stay unzoomed and *roi_st (when
+ * not NULL; else ignored) holds the failure, for whoever needs the region
+ * to report; it is cleared otherwise. Fails as ws_scene_load does. */
+int ws_roi_load_scene(ws_scene *scene, const char *dir, const ws_scene_options *opt, const double *user,
+                      ws_roi *roi, ws_status *roi_st, ws_status *st);
+
 /* The sources one at a time (ws_roi_find's 3. and 4.); points: n x 3.
  * ws_roi_from_points sets *found to 0 and leaves roi alone when fewer than
  * WS_ROI_MIN_POINTS pass; it fails only when out of memory. */

@@ -44,6 +44,7 @@ void ws_scene_options_default(ws_scene_options *opt) {
     opt->background[0] = opt->background[1] = opt->background[2] = 0.0f;
     opt->background_auto = 0;
     opt->load_images = 1;
+    opt->defer_images = 0;
     opt->edge_maps_dir = NULL;
     opt->images_dir = NULL;
     opt->masks_dir = NULL;
@@ -316,14 +317,15 @@ static int frame_camera(const ws_lens *lens, const double c2w[4][4], const ws_sc
     v->file_width = lens->width;
     v->file_height = lens->height;
     v->lens = *lens;
-    return ws_view_crop(lens->fx, lens->fy, lens->cx, lens->cy, lens->width, lens->height, c2w, NULL, opt->width,
-                        opt->height, what, v->crop, &v->cam, st);
+    return ws_view_crop(lens->fx, lens->fy, lens->cx, lens->cy, lens->width, lens->height, c2w, NULL, NULL,
+                        opt->width, opt->height, what, v->crop, &v->cam, st);
 }
 
 /* Each cropped view's crop moved around the object's projection: the
- * centre the cameras look at (a nerfstudio or COLMAP scene; the pinhole
- * intrinsics the view's images are undistorted to are v->lens's). */
-static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_status *st) {
+ * centre the cameras look at, or zoomed onto the object's box when box is
+ * not NULL (a nerfstudio or COLMAP scene; the pinhole intrinsics the view's
+ * images are undistorted to are v->lens's). */
+static int crop_around_object(ws_scene *scene, const double box[6], const ws_scene_options *opt, ws_status *st) {
     double center[3];
     axes_center(scene, center);
     for (int s = 0; s < WS_NSPLITS; s++)
@@ -334,9 +336,11 @@ static int crop_around_object(ws_scene *scene, const ws_scene_options *opt, ws_s
             double c2w[4][4];
             memcpy(c2w, v->cam.c2w, sizeof c2w);
             snprintf(what, sizeof what, "%s/%s: frame %d", scene->dir, ws_scene_file(scene, s), v->frame);
-            if (ws_view_crop(l->fx, l->fy, l->cx, l->cy, l->width, l->height, c2w, center, opt->width, opt->height,
-                             what, v->crop, &v->cam, st))
+            const int largest = v->crop[2]; /* before the zoom, the crop is the largest */
+            if (ws_view_crop(l->fx, l->fy, l->cx, l->cy, l->width, l->height, c2w, center, box, opt->width,
+                             opt->height, what, v->crop, &v->cam, st))
                 return st->code;
+            scene->zoomed += box && v->crop[2] < largest;
         }
     return WS_OK;
 }
@@ -793,6 +797,15 @@ static int check_distances(ws_scene *scene, ws_status *st) {
     return WS_OK;
 }
 
+/* The masks and photos of every view, loaded (frees the scene on failure). */
+static int load_images(ws_scene *scene, const ws_scene_options *opt, ws_status *st) {
+    if (find_masks(scene, opt, st) || load_photos(scene, opt, st)) {
+        ws_scene_free(scene);
+        return st->code;
+    }
+    return WS_OK;
+}
+
 int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt, ws_status *st) {
     memset(scene, 0, sizeof *scene);
     if (opt->width <= 0 || opt->height <= 0)
@@ -818,7 +831,7 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
     if (nerfstudio || colmap) {
         scene->layout = nerfstudio ? WS_LAYOUT_NERFSTUDIO : WS_LAYOUT_COLMAP;
         if ((nerfstudio ? parse_nerfstudio(scene, dir, opt, st) : parse_colmap(scene, dir, folder, opt, st)) ||
-            crop_around_object(scene, opt, st)) {
+            crop_around_object(scene, NULL, opt, st)) {
             ws_scene_free(scene);
             return st->code;
         }
@@ -831,10 +844,15 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
         }
         if (s == WS_TRAIN) scene->camera_angle_x = angle;
     }
-    if (opt->load_images && (find_masks(scene, opt, st) || load_photos(scene, opt, st))) {
+    axes_center(scene, scene->center);
+    if (check_distances(scene, st)) return st->code;
+    return opt->load_images && !opt->defer_images ? load_images(scene, opt, st) : WS_OK;
+}
+
+int ws_scene_zoom(ws_scene *scene, const double box[6], const ws_scene_options *opt, ws_status *st) {
+    if (box && scene->layout != WS_LAYOUT_NERF_SYNTHETIC && crop_around_object(scene, box, opt, st)) {
         ws_scene_free(scene);
         return st->code;
     }
-    axes_center(scene, scene->center);
-    return check_distances(scene, st);
+    return opt->load_images ? load_images(scene, opt, st) : WS_OK;
 }

@@ -17,8 +17,9 @@
  * aspect. The working view is the crop of the image whose aspect makes its
  * pixels square at the working size (fl_x / fl_y times the working aspect:
  * the largest square for fl_x = fl_y and a square working size) around the
- * object's projection (io/view_crop.h), resampled to the working size, with
- * the intrinsics carried along.
+ * object's projection (io/view_crop.h), zoomed onto the object's box by
+ * ws_scene_zoom, resampled to the working size, with the intrinsics
+ * carried along.
  * Splits: train_filenames / val_filenames / test_filenames where the file
  * has them (frames in none are left out); otherwise frame k (in file
  * order) is a test view when k % 8 == 0, a val view when k % 8 == 4, and a
@@ -105,6 +106,7 @@ typedef struct {
     int background_auto;   /* 1: instead, each image's own background: the median
                               of its border pixels (composited on black) */
     int load_images;       /* 0: cameras only (e.g. for render) */
+    int defer_images;      /* 1: the image files are found but not read: ws_scene_zoom reads them */
     const char *edge_maps_dir; /* NULL, or the directory of every view's edge map */
     const char *images_dir;    /* COLMAP: NULL (SCENE/images), or where the images are */
     const char *masks_dir;     /* NULL (nerfstudio and COLMAP: SCENE/masks where it exists),
@@ -133,6 +135,8 @@ typedef struct {
     double *points;        /* npoints x 3; NULL when the scene has none */
     char points_missing[WS_PATH_MAX]; /* the ply_file_path a nerfstudio file names when no
                                          such file is there; "" otherwise */
+    int zoomed;            /* views whose crop zooms onto the object's box (ws_scene_zoom):
+                              smaller than their frame's largest crop */
 } ws_scene;
 
 void ws_scene_options_default(ws_scene_options *opt);
@@ -144,6 +148,13 @@ void ws_scene_options_default(ws_scene_options *opt);
  * has no single answer and the centroid of each axis' point nearest the
  * mean camera position is used instead. */
 int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt, ws_status *st);
+/* The second half of a load that zooms (geometry/roi.h ws_roi_load_scene):
+ * a scene loaded with opt.defer_images (or without images) gets every
+ * nerfstudio or COLMAP view's crop zoomed onto the object's box (lo then
+ * hi; io/view_crop.h; NULL: the crops stay), then, when opt->load_images,
+ * its masks and photos, cut by those crops. A NeRF-synthetic scene's views
+ * stay whole. Frees the scene on failure. */
+int ws_scene_zoom(ws_scene *scene, const double box[6], const ws_scene_options *opt, ws_status *st);
 void ws_scene_free(ws_scene *scene);
 
 /* The transforms file (in scene->dir) that lists split s's frames:

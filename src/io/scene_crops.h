@@ -7,7 +7,10 @@
 
 /* "" when every view is its whole frame; else e.g. "SCENE: the working
  * views are the 216 x 216 crops of the 288 x 216 frames around the object's
- * projection (64 of 64 views, up to 36 px off the frame's centre)". */
+ * projection (64 of 64 views, up to 36 px off the frame's centre)", or
+ * "SCENE: the working views are crops of their frames zoomed onto the
+ * region of interest (64 of 64 views zoomed, 301 to 355 px across, up to
+ * 120 px off the frame's centre)" (scene.h: zoomed). */
 void ws_scene_crop_line(const ws_scene *scene, char *line, size_t size);
 
 #endif

@@ -75,6 +75,7 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->colmap = 0;
     opt->jpeg = 0;
     for (int i = 0; i < 4; i++) opt->lens[i] = 0;
+    opt->angle = CAMERA_ANGLE_X;
 }
 
 /* The image size of a scene, and the camera of view c2w: focal length from
@@ -89,7 +90,7 @@ static int synth_camera(const ws_synth_options *opt, const double c2w[4][4], con
                         ws_camera *cam, ws_status *st) {
     int w, h;
     image_size(opt, &w, &h);
-    return ws_camera_init_pinhole(cam, c2w, 0.5 * (w < h ? w : h) / tan(0.5 * CAMERA_ANGLE_X),
+    return ws_camera_init_pinhole(cam, c2w, 0.5 * (w < h ? w : h) / tan(0.5 * opt->angle),
                                   0.5 * w + opt->principal[0], 0.5 * h + opt->principal[1], w, h, what, st);
 }
 
@@ -705,7 +706,7 @@ static int write_transforms(const char *dir, const ws_synth_options *opt, const 
         if (!opt->views[s]) continue;
         snprintf(path, sizeof path, "%s/%s", dir, ws_transforms_split_files[s]);
         view_frames(opt, s, s, c2w + first, frames, paths);
-        rc = ws_transforms_write_split(path, CAMERA_ANGLE_X, center, frames, opt->views[s], st);
+        rc = ws_transforms_write_split(path, opt->angle, center, frames, opt->views[s], st);
     }
     free(frames);
     free(paths);

@@ -57,6 +57,9 @@ typedef struct {
     int jpeg;              /* 1: the images as JPEG (quality 95), else PNG [0] */
     double lens[4];        /* k1, k2, p1, p2 of the OPENCV lens the views are seen
                               through (nerfstudio and COLMAP layouts) [0] */
+    double angle;          /* the field of view across the image's shorter side, radians
+                              [Blender's default camera: 0.691]; wider: a smaller object in
+                              the frame, as in a phone's photo */
 } ws_synth_options;
 
 typedef struct {
