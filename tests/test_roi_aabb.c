@@ -8,7 +8,10 @@
  *     "aabb", and --bbox still wins over it;
  *   - aabb_scale alone is no box (it is not read);
  *   - an aabb that is not two triples of finite numbers, or is empty along
- *     an axis, fails the load with its one-line message. */
+ *     an axis, fails the load with its one-line message;
+ *   - a region that cannot be found (a train view blind to where the
+ *     cameras look, no points) does not fail the load every command makes
+ *     (ws_roi_load_scene): it is kept for whoever needs the region. */
 #define _XOPEN_SOURCE 700
 #include <stdio.h>
 #include <stdlib.h>
@@ -131,6 +134,31 @@ static void layout(const char *tmp, const char *name, int nerfstudio, const char
         rc = load_cameras(&scene, dir, &st) || ws_roi_find(&scene, NULL, &roi, &st);
         CHECK(rc == WS_OK && roi.source == WS_ROI_CAMERAS, "%s without its sparse points: %s (source %d)", name,
               st.msg, roi.source);
+        ws_scene_free(&scene);
+        /* no sparse points and a train view that does not see where the
+         * cameras look: no region; the scene still loads as every command
+         * loads it, unzoomed, and the failure waits for whoever needs the
+         * region (a fit without masks); --bbox gives one */
+        const char *frames = "\"frames\":\t[{";
+        CHECK(copy_file(saved, path) == 0 && splice(path, key, 0, strlen(key), "\"ply_file_PATH\"") == 0 &&
+                  splice(path, frames, strlen(frames), 0, "\"cx\": 400, ") == 0,
+              "could not write %s", path);
+        ws_scene_options so;
+        ws_scene_options_default(&so);
+        so.width = so.height = SIZE;
+        so.load_images = 0;
+        ws_status roi_st;
+        char blind[600];
+        snprintf(blind, sizeof blind, "%s: train view 0 does not see the point the cameras look at, so the cameras "
+                 "give no region of interest (give one with --bbox)", path);
+        rc = ws_roi_load_scene(&scene, dir, &so, NULL, &roi, &roi_st, &st);
+        CHECK(rc == WS_OK && roi_st.code == WS_EINPUT && !strcmp(roi_st.msg, blind) && scene.zoomed == 0,
+              "%s, a view blind to the centre: %s; the region's failure: %s", name, st.msg, roi_st.msg);
+        ws_scene_free(&scene);
+        const double user[6] = {-0.5, -0.5, -0.5, 0.5, 0.5, 0.5};
+        rc = ws_roi_load_scene(&scene, dir, &so, user, &roi, &roi_st, &st);
+        CHECK(rc == WS_OK && roi_st.code == WS_OK && roi.source == WS_ROI_USER,
+              "%s, a view blind to the centre, with --bbox: %s (source %d)", name, st.msg, roi.source);
         ws_scene_free(&scene);
         /* a ply_file_path that names no file: the cameras' box, and its line says why */
         char ply[400], away[400], why[600];
