@@ -308,8 +308,6 @@ static int parse_split(ws_scene *scene, const char *dir, int s, const ws_scene_o
  * with pinhole intrinsics (see scene.h). The working view is a crop
  * around the object (io/view_crop.h). */
 
-static void axes_center(const ws_scene *scene, double center[3]);
-
 /* The working view's crop and camera (io/view_crop.h), first around the
  * frame's centre: crop_around_object moves it once every camera is known. */
 static int frame_camera(const ws_lens *lens, const double c2w[4][4], const ws_scene_options *opt,
@@ -322,12 +320,10 @@ static int frame_camera(const ws_lens *lens, const double c2w[4][4], const ws_sc
 }
 
 /* Each cropped view's crop moved around the object's projection: the
- * centre the cameras look at, or zoomed onto the object's box when box is
- * not NULL (a nerfstudio or COLMAP scene; the pinhole intrinsics the view's
- * images are undistorted to are v->lens's). */
+ * centre the cameras look at (scene->center), or zoomed onto the object's
+ * box when box is not NULL (a nerfstudio or COLMAP scene; the pinhole
+ * intrinsics the view's images are undistorted to are v->lens's). */
 static int crop_around_object(ws_scene *scene, const double box[6], const ws_scene_options *opt, ws_status *st) {
-    double center[3];
-    axes_center(scene, center);
     for (int s = 0; s < WS_NSPLITS; s++)
         for (int k = 0; k < scene->split[s].n; k++) {
             ws_view *v = &scene->split[s].views[k];
@@ -337,7 +333,7 @@ static int crop_around_object(ws_scene *scene, const double box[6], const ws_sce
             memcpy(c2w, v->cam.c2w, sizeof c2w);
             snprintf(what, sizeof what, "%s/%s: frame %d", scene->dir, ws_scene_file(scene, s), v->frame);
             const int largest = v->crop[2]; /* before the zoom, the crop is the largest */
-            if (ws_view_crop(l->fx, l->fy, l->cx, l->cy, l->width, l->height, c2w, center, box, opt->width,
+            if (ws_view_crop(l->fx, l->fy, l->cx, l->cy, l->width, l->height, c2w, scene->center, box, opt->width,
                              opt->height, what, v->crop, &v->cam, st))
                 return st->code;
             scene->zoomed += box && v->crop[2] < largest;
@@ -830,8 +826,7 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
                        ws_colmap_find(dir, folder, sizeof folder) == 0;
     if (nerfstudio || colmap) {
         scene->layout = nerfstudio ? WS_LAYOUT_NERFSTUDIO : WS_LAYOUT_COLMAP;
-        if ((nerfstudio ? parse_nerfstudio(scene, dir, opt, st) : parse_colmap(scene, dir, folder, opt, st)) ||
-            crop_around_object(scene, NULL, opt, st)) {
+        if (nerfstudio ? parse_nerfstudio(scene, dir, opt, st) : parse_colmap(scene, dir, folder, opt, st)) {
             ws_scene_free(scene);
             return st->code;
         }
@@ -844,7 +839,11 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
         }
         if (s == WS_TRAIN) scene->camera_angle_x = angle;
     }
-    axes_center(scene, scene->center);
+    axes_center(scene, scene->center); /* the crops do not move the cameras' axes */
+    if ((nerfstudio || colmap) && crop_around_object(scene, NULL, opt, st)) {
+        ws_scene_free(scene);
+        return st->code;
+    }
     if (check_distances(scene, st)) return st->code;
     return opt->load_images && !opt->defer_images ? load_images(scene, opt, st) : WS_OK;
 }
