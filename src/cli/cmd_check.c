@@ -16,6 +16,7 @@
 #include "cli/cli_gt.h"
 #include "cli/cli_view.h"
 #include "base/outfile.h"
+#include "base/progress.h"
 #include "cli/commands.h"
 #include "geometry/check.h"
 #include "io/scene_crops.h"
@@ -102,6 +103,9 @@ int cmd_check(int argc, char **argv) {
     opt.width = opt.height = size;
     opt.images_dir = images;
     opt.masks_dir = masks;
+    ws_progress progress;
+    ws_progress_init(&progress);
+    opt.progress = &progress;
     ws_view_targets *targets = NULL;
     const ws_silhouette *sil[WS_NSPLITS];
     int rc = ws_roi_load_scene(&scene, pos[0], &opt, NULL, NULL, NULL, &st) || ws_view_targets_create(&targets, &scene, &st);

@@ -19,6 +19,7 @@
 #include <unistd.h>
 #include "base/json_number.h"
 #include "base/paths.h"
+#include "base/progress.h"
 #include "cli/args.h"
 #include "cli/cli_gt.h"
 #include "cli/cli_loss.h"
@@ -285,6 +286,9 @@ int cmd_eval(int argc, char **argv) {
     sopt.width = sopt.height = size;
     sopt.edge_maps_dir = edge_maps;
     sopt.masks_dir = masks;
+    ws_progress progress;
+    ws_progress_init(&progress);
+    sopt.progress = &progress;
     if (ws_cli_background(background, sopt.background, &sopt.background_auto, &st) ||
         ws_cli_check_size(size, &st) ||
         (with_loss && ws_cli_choose_loss(loss_name, edges_weight, &layers, geometric, hidden, &lo, &st)))

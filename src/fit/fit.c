@@ -28,6 +28,7 @@
 #include "fit/fit_time.h"
 #include "base/distributed.h"
 #include "base/outfile.h"
+#include "base/progress.h"
 #include "base/timing.h"
 #include "io/scene.h"
 #include "io/scene_crops.h"
@@ -52,6 +53,7 @@ typedef struct {
     ws_status roi_st;         /* why there is none (the scene's centre is in no train view), else clear */
     ws_scene_hull hull;       /* the training views' visual hull, carved once for the initial curves,
                                * the respawn and hidden-line removal (empty when none of them is on) */
+    ws_progress progress;     /* the long steps before the first (loading, carving, voting) */
     double start;             /* ws_seconds() when this process began fitting */
     ws_fit_time time;         /* the schedule's phases and what their steps cost (fit_time.h) */
 } fit_run;
@@ -144,12 +146,6 @@ static long total_steps(const fit_run *r) {
     return r->opt->max_steps > 0 && r->opt->max_steps < steps ? r->opt->max_steps : steps;
 }
 
-/* h:mm:ss of a duration in seconds. */
-static void clock_text(double seconds, char text[32]) {
-    long t = (long)(seconds + 0.5);
-    snprintf(text, 32, "%ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
-}
-
 /* The progress line on stderr: rewritten in place on a terminal, a line
  * every 10 seconds otherwise (logs stay readable); a last line at the end. */
 static void progress(fit_run *r, double loss, double rate_start, long steps_this_run, int final) {
@@ -160,8 +156,8 @@ static void progress(fit_run *r, double loss, double rate_start, long steps_this
     last_print = t;
     double rate = steps_this_run / fmax(t - rate_start, 1e-9);
     char left[32], spent[32];
-    clock_text(ws_fit_time_left(&r->time, r->s.global_step), left);
-    clock_text(ws_fit_state_elapsed(&r->s, r->start), spent);
+    ws_clock_text(ws_fit_time_left(&r->time, r->s.global_step), left);
+    ws_clock_text(ws_fit_state_elapsed(&r->s, r->start), spent);
     int written;
     if (final)
         written = fprintf(stderr, "%sfit: %ld steps (%ld refused) in %s, %.2f steps/s, last loss %.6g\n",
@@ -371,6 +367,8 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     so.edge_maps_dir = o->edge_maps;
     so.images_dir = o->images;
     so.masks_dir = o->masks;
+    ws_progress_init(&r->progress);
+    so.progress = speaks() && !o->quiet ? &r->progress : NULL;
     double box[6];
     if ((o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) ||
         ws_roi_load_scene(&r->scene, o->scene_dir, &so, o->bbox ? box : NULL, &r->roi, &r->roi_st, st) ||

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "geometry/photo_hull.h"
+#include "base/progress.h"
 
 static size_t cube_index(const ws_photo_hull *h, int x, int y, int z) {
     return ((size_t)z * h->n[1] + y) * h->n[0] + x;
@@ -242,7 +243,8 @@ static int drop_flecks(ws_photo_hull *h, long *label, long *stack, ws_status *st
 
 /* Carving passes until one carves nothing (photo_hull.h). surface, carve:
  * scratch of a long per cube. */
-static int carve_passes(ws_photo_hull *h, const carving *k, long *surface, long *carve, ws_status *st) {
+static int carve_passes(ws_photo_hull *h, const carving *k, long *surface, long *carve, ws_progress *progress,
+                        ws_status *st) {
     for (;;) {
         const long n = list_surface(h, surface);
         #pragma omp parallel for schedule(dynamic, 1)
@@ -266,6 +268,7 @@ static int carve_passes(ws_photo_hull *h, const carving *k, long *surface, long 
         for (long q = 0; q < n; q++)
             if (carve[q]) h->occupied[surface[q]] = 0, carved++;
         h->passes++;
+        ws_progress_advance(progress, 1);
         if (!carved) return WS_OK;
     }
 }
@@ -293,7 +296,9 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
         if (!(k.depth[v] = ws_malloc(hw * sizeof **k.depth, "photo hull", st))) rc = st->code;
     if (!rc) {
         memset(h->occupied, 1, total);
-        rc = carve_passes(h, &k, surface, carve, st);
+        ws_progress_begin(scene->progress, "carving the photo hull", "passes", 0);
+        rc = carve_passes(h, &k, surface, carve, scene->progress, st);
+        ws_progress_end(scene->progress);
     }
     if (!rc) rc = drop_flecks(h, surface, carve, st);
     free(surface);

@@ -48,6 +48,7 @@ void ws_scene_options_default(ws_scene_options *opt) {
     opt->edge_maps_dir = NULL;
     opt->images_dir = NULL;
     opt->masks_dir = NULL;
+    opt->progress = NULL;
 }
 
 void ws_scene_free(ws_scene *scene) {
@@ -690,11 +691,14 @@ static int load_photos(ws_scene *scene, const ws_scene_options *opt, ws_status *
     }
     for (int s = 0, k = 0; s < WS_NSPLITS; s++)
         for (int i = 0; i < scene->split[s].n; i++) views[k++] = &scene->split[s].views[i];
+    ws_progress_begin(opt->progress, "loading the photos", "views", total);
 #pragma omp parallel for schedule(dynamic)
     for (int k = 0; k < total; k++) {
         ws_status_clear(&status[k]);
         load_view(views[k], opt, &status[k]);
+        ws_progress_advance(opt->progress, 1);
     }
+    ws_progress_end(opt->progress);
     int rc = WS_OK;
     for (int k = 0; k < total && !rc; k++)
         if (status[k].code) {
@@ -813,6 +817,7 @@ int ws_scene_load(ws_scene *scene, const char *dir, const ws_scene_options *opt,
         return ws_fail(st, WS_EINPUT, "%s: cannot open scene directory: %s", dir, strerror(errno));
     if (!S_ISDIR(sb.st_mode)) return ws_fail(st, WS_EINPUT, "%s: not a directory", dir);
     strcpy(scene->dir, dir);
+    scene->progress = opt->progress;
     scene->width = opt->width;
     scene->height = opt->height;
     char path[WS_PATH_MAX];

@@ -64,6 +64,7 @@
 #include "render/camera.h"
 #include "render/lens.h"
 #include "base/paths.h"
+#include "base/progress.h"
 #include "io/image.h"
 #include "io/splits.h"
 #include "nn/base/status.h"
@@ -111,6 +112,8 @@ typedef struct {
     const char *images_dir;    /* COLMAP: NULL (SCENE/images), or where the images are */
     const char *masks_dir;     /* NULL (nerfstudio and COLMAP: SCENE/masks where it exists),
                                   or the folder of every view's mask */
+    ws_progress *progress;     /* NULL (silent), or where loading the photos and the
+                                  scene's later long steps show how far they came */
 } ws_scene_options;
 
 enum { WS_LAYOUT_NERF_SYNTHETIC = 0, WS_LAYOUT_NERFSTUDIO = 1, WS_LAYOUT_COLMAP = 2 };
@@ -137,6 +140,8 @@ typedef struct {
                                          such file is there; "" otherwise */
     int zoomed;            /* views whose crop zooms onto the object's box (ws_scene_zoom):
                               smaller than their frame's largest crop */
+    ws_progress *progress; /* the options' (borrowed): the long steps made on this scene
+                              (the photo hull, the views' vote) show their progress there */
 } ws_scene;
 
 void ws_scene_options_default(ws_scene_options *opt);

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "base/progress.h"
 #include "base/sym3.h"
 #include "objective/edge_consensus.h"
 #include "objective/line_target.h"
@@ -235,9 +236,10 @@ static void grid_point(const ws_roi *roi, double voxel, const int n[3], long k, 
  * parts (keep_parts) less the points on a support's own lines
  * (support_plane.h). */
 static void vote_grid(const votes *x, const ws_roi *roi, double voxel, const int n[3], const ws_support_plane *support,
-                      uint8_t *keep, int8_t *dir, long *stack) {
+                      uint8_t *keep, int8_t *dir, long *stack, ws_progress *progress) {
+    ws_progress_begin(progress, "the views' vote on the region's edges", "slices of its grid", n[2]);
 #pragma omp parallel for schedule(dynamic)
-    for (int z = 0; z < n[2]; z++)
+    for (int z = 0; z < n[2]; z++) {
         for (int y = 0; y < n[1]; y++)
             for (int i = 0; i < n[0]; i++) {
                 const long k = ((long)z * n[1] + y) * n[0] + i;
@@ -245,6 +247,9 @@ static void vote_grid(const votes *x, const ws_roi *roi, double voxel, const int
                 grid_point(roi, voxel, n, k, p);
                 keep[k] = vote(x, p, dir + 3 * k);
             }
+        ws_progress_advance(progress, 1);
+    }
+    ws_progress_end(progress);
     const long total = (long)n[0] * n[1] * n[2];
     keep_parts(keep, dir, n, WS_CONSENSUS_MIN_PART, stack);
     for (long k = 0; support->found && k < total; k++) {
@@ -287,12 +292,12 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
         double centre[3];
         for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
         view_caps(x, centre);
-        vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack);
+        vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack, scene->progress);
         for (long k = 0; k < c->tested; k++) c->n += keep[k];
         if (c->n == 0) { /* the hull hides everything: the photos' colours did not tell the object */
             ws_photo_hull_free(&c->hull);
             x->depth = NULL;
-            vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack);
+            vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack, scene->progress);
             for (long k = 0; k < c->tested; k++) c->n += keep[k];
         }
     }
