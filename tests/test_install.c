@@ -22,7 +22,8 @@
 
 /* Under include/wiresketch/, in C-locale order. */
 #define PUBLIC_HEADERS                                                                                       \
-    "base/paths.h base/runtime.h base/timing.h fit/fit.h fit/fit_options.h io/export.h io/image.h "          \
+    "base/paths.h base/progress.h " /* a scene's load reports there (scene.h) */                         \
+    "base/runtime.h base/timing.h fit/fit.h fit/fit_options.h io/export.h io/image.h "                     \
     "io/pointcloud.h io/scene.h io/splits.h metrics/line_metrics.h metrics/metrics.h metrics/nearest.h "                 \
     "metrics/quality.h metrics/strays.h nn/base/rng.h nn/base/status.h objective/clip_model.h "              \
     "objective/hidden_mode.h objective/loss.h objective/objective.h render/camera.h render/curves.h "        \
