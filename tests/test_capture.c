@@ -6,7 +6,8 @@
  *   points3D, nerfstudio's ply_file_path);
  * - JPEG images load within a few grey levels of the PNG ones, a
  *   progressive JPEG decodes as its baseline twin, and PNG's size limit
- *   holds;
+ *   holds; a large JPEG is decoded at the scale its working view needs,
+ *   to the photos its PNG twin gives whole;
  * - undistortion undoes the lens: the lens scene's photos match the
  *   pinhole scene's;
  * - each bad input against its exact one-line message: a truncated and a
@@ -260,6 +261,55 @@ static void test_jpeg(void) {
           "truncated: %s", st.msg);
 }
 
+/* A large JPEG is decoded smaller where its view needs fewer pixels
+ * (image.h ws_image_read_reduced): a 640 x 480 capture through a lens,
+ * loaded at a working size of 48, is decoded at a quarter a side, and its
+ * working photos are those of its PNG twin, decoded whole, within what
+ * JPEG itself changes (test_formats); the 16 x 8 baseline file at a half
+ * is 8 x 4 and names its own size; a PNG is read whole. */
+static void test_reduced(void) {
+    static const float black[3] = {0, 0, 0};
+    char path[400];
+    ws_image whole, half;
+    ws_status st;
+    int reduced, file_size[2];
+    snprintf(path, sizeof path, "%s/baseline.jpg", tmp);
+    if (ws_image_read(path, 0, 0, black, &whole, &st) ||
+        ws_image_read_reduced(path, 2, black, &half, NULL, &reduced, file_size, &st)) {
+        CHECK(0, "reduced: %s", st.msg);
+        return;
+    }
+    CHECK(reduced == 2 && half.width == 8 && half.height == 4 && file_size[0] == 16 && file_size[1] == 8,
+          "at a half: %d x %d, factor %d, file %d x %d", half.width, half.height, reduced, file_size[0],
+          file_size[1]);
+    ws_image_free(&whole);
+    ws_image_free(&half);
+    char out[4096];
+    int rc = run_cmd(out, sizeof out,
+                     "cd %s && %s scene cube --width 640 --height 480 --views-train 2 --views-val 1 --views-test 1 "
+                     LENS " --layout colmap --out big_png && %s scene cube --width 640 --height 480 --views-train 2 "
+                     "--views-val 1 --views-test 1 " LENS " --layout colmap --jpeg --out big_jpeg",
+                     tmp, bin, bin);
+    CHECK(rc == 0, "large scenes: %s", out);
+    snprintf(path, sizeof path, "%s/big_png/images/train/r_00000.png", tmp);
+    CHECK(!ws_image_read_reduced(path, 4, black, &whole, NULL, &reduced, file_size, &st) && reduced == 1 &&
+              whole.width == 640 && file_size[0] == 640 && file_size[1] == 480,
+          "a PNG is read whole: factor %d, %d x %d", reduced, whole.width, whole.height);
+    ws_image_free(&whole);
+    ws_scene png, jpeg;
+    if (load(&png, "big_png", &st) || load(&jpeg, "big_jpeg", &st)) {
+        CHECK(0, "loading the large scenes: %s", st.msg);
+        return;
+    }
+    double photos, mean, cameras;
+    CHECK(compare(&png, &jpeg, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
+              cameras < 1e-9,
+          "a quarter's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
+    printf("a quarter's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
+    ws_scene_free(&png);
+    ws_scene_free(&jpeg);
+}
+
 static void test_refusals(void) {
     char out[1 << 14];
     /* each from a fresh copy of the text or binary COLMAP scene */
@@ -398,6 +448,7 @@ int main(void) {
     tmp = test_tmpdir("capture");
     test_formats();
     test_jpeg();
+    test_reduced();
     test_refusals();
     test_zoom();
     return check_summary();

@@ -207,10 +207,10 @@ done:
 }
 
 /* A JPEG (jpeg.c) as a 3-channel image; gray is copied to R, G and B. */
-static int decode_jpeg(FILE *fp, const char *path, ws_image *out, ws_status *st) {
+static int decode_jpeg(FILE *fp, const char *path, int reduce, ws_image *out, int file_size[2], ws_status *st) {
     unsigned char *pixels;
     int w, h, nc;
-    if (ws_jpeg_decode(fp, path, MAX_PNG_SIDE, MAX_PNG_PIXELS, &pixels, &w, &h, &nc, st))
+    if (ws_jpeg_decode(fp, path, MAX_PNG_SIDE, MAX_PNG_PIXELS, reduce, &pixels, &w, &h, &nc, file_size, st))
         return st->code;
     int rc = ws_image_alloc(out, w, h, 3, st);
     const size_t plane = (size_t)w * h;
@@ -236,7 +236,23 @@ int ws_image_read(const char *path, int width, int height, const float backgroun
 
 int ws_image_read_alpha(const char *path, int width, int height, const float background[3],
                         ws_image *out, ws_image *alpha, ws_status *st) {
+    int reduced, file_size[2];
+    int rc = ws_image_read_reduced(path, 1, background, out, alpha, &reduced, file_size, st);
+    if (!rc && width > 0 && height > 0 && (out->width != width || out->height != height)) {
+        rc = resample_in_place(out, width, height, st);
+        if (!rc && alpha && alpha->data) rc = resample_in_place(alpha, width, height, st);
+        if (rc) {
+            ws_image_free(out);
+            if (alpha) ws_image_free(alpha);
+        }
+    }
+    return rc;
+}
+
+int ws_image_read_reduced(const char *path, int reduce, const float background[3], ws_image *out,
+                          ws_image *alpha, int *reduced, int file_size[2], ws_status *st) {
     *out = (ws_image){0};
+    *reduced = 1;
     if (alpha) *alpha = (ws_image){0};
     FILE *fp;
     if (ws_fopen_regular(path, MAX_PNG_FILE_BYTES, &fp, st)) return st->code;
@@ -249,13 +265,13 @@ int ws_image_read_alpha(const char *path, int width, int height, const float bac
     else if (got == sizeof sig && !png_sig_cmp(sig, 0, sizeof sig))
         rc = decode_png(fp, path, background, out, alpha, st);
     else if (got >= 3 && !memcmp(sig, jpeg_sig, 3) && fseek(fp, 0, SEEK_SET) == 0)
-        rc = decode_jpeg(fp, path, out, st);
+        rc = decode_jpeg(fp, path, *reduced = reduce, out, file_size, st);
     else
         rc = ws_fail(st, WS_EINPUT, "%s: not a PNG or JPEG file", path);
     fclose(fp);
-    if (!rc && width > 0 && height > 0 && (out->width != width || out->height != height)) {
-        rc = resample_in_place(out, width, height, st);
-        if (!rc && alpha && alpha->data) rc = resample_in_place(alpha, width, height, st);
+    if (!rc && *reduced == 1) {
+        file_size[0] = out->width;
+        file_size[1] = out->height;
     }
     if (rc) {
         ws_image_free(out);

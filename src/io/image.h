@@ -32,6 +32,15 @@ int ws_image_read(const char *path, int width, int height, const float backgroun
 int ws_image_read_alpha(const char *path, int width, int height, const float background[3],
                         ws_image *out, ws_image *alpha, ws_status *st);
 
+/* ws_image_read_alpha at the file's own size, or at 1 / reduce (2, 4 or 8)
+ * of it a side where the format can (a JPEG: libjpeg's scaled decoding,
+ * ceil(W / reduce) x ceil(H / reduce); a PNG is decoded whole); *reduced:
+ * the factor it was decoded at, file_size: the file's own W and H. A
+ * phone photo of 4032 x 3024 read for a working view of 224 px needs a
+ * small part of its pixels. */
+int ws_image_read_reduced(const char *path, int reduce, const float background[3], ws_image *out,
+                          ws_image *alpha, int *reduced, int file_size[2], ws_status *st);
+
 /* Writes a 1- or 3-channel image as an 8-bit gray or RGB PNG, each value
  * round(255 * clamp(v, 0, 1)), through a temporary file (outfile.h). */
 int ws_png_write(const char *path, const ws_image *img, ws_status *st);

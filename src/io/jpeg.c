@@ -64,8 +64,8 @@ static int read_pixels_stage(struct jpeg_decompress_struct *cinfo, JSAMPLE *pixe
     return 0;
 }
 
-int ws_jpeg_decode(FILE *fp, const char *path, int max_side, uint64_t max_pixels,
-                   unsigned char **pixels_out, int *width, int *height, int *channels,
+int ws_jpeg_decode(FILE *fp, const char *path, int max_side, uint64_t max_pixels, int reduce,
+                   unsigned char **pixels_out, int *width, int *height, int *channels, int file_size[2],
                    ws_status *st) {
     *pixels_out = NULL;
     struct jpeg_decompress_struct cinfo;
@@ -90,7 +90,13 @@ int ws_jpeg_decode(FILE *fp, const char *path, int max_side, uint64_t max_pixels
     }
     const int gray = cinfo.jpeg_color_space == JCS_GRAYSCALE, nc = gray ? 1 : 3;
     cinfo.out_color_space = gray ? JCS_GRAYSCALE : JCS_RGB;
-    pixels = ws_malloc((size_t)w * h * nc, path, st);
+    /* libjpeg's scaled inverse DCT: each 8 x 8 block straight to 8 / reduce
+     * pixels a side, the pixels it leaves out never made */
+    cinfo.scale_num = 1;
+    cinfo.scale_denom = (unsigned)reduce;
+    jpeg_calc_output_dimensions(&cinfo);
+    const unsigned ow = cinfo.output_width, oh = cinfo.output_height;
+    pixels = ws_malloc((size_t)ow * oh * nc, path, st);
     if (!pixels) {
         rc = st->code;
         goto done;
@@ -101,9 +107,11 @@ int ws_jpeg_decode(FILE *fp, const char *path, int max_side, uint64_t max_pixels
     }
     *pixels_out = pixels;
     pixels = NULL;
-    *width = (int)w;
-    *height = (int)h;
+    *width = (int)ow;
+    *height = (int)oh;
     *channels = nc;
+    file_size[0] = (int)w;
+    file_size[1] = (int)h;
 done:
     jpeg_destroy_decompress(&cinfo);
     free(pixels);

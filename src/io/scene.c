@@ -500,28 +500,56 @@ static ws_image first_plane(ws_image img) {
     return (ws_image){img.width, img.height, 1, first ? first : img.data};
 }
 
+/* img (the image file at 1 / reduced of its size a side) becomes the
+ * view's part of its pinhole frame: undistorted through the view's lens,
+ * where it has one, and cropped to v->crop (none: the whole frame), at
+ * 1 / reduced of the frame's scale. Only the crop's pixels are made: a
+ * capture's crop is a small part of a phone photo. fill: what
+ * undistortion puts where the photo has nothing. */
+static int to_view_crop(const ws_view *v, const float *fill, int reduced, ws_image *img, ws_status *st) {
+    const int *k = v->crop[2] ? v->crop : NULL;
+    ws_image part = {0};
+    int rc;
+    if (reduced > 1) {
+        const double rect[4] = {k ? k[0] : 0, k ? k[1] : 0, k ? k[2] : v->file_width, k ? k[3] : v->file_height};
+        const int w = (int)fmax(1, round(rect[2] / reduced)), h = (int)fmax(1, round(rect[3] / reduced));
+        rc = ws_image_undistort(img, 1.0 / reduced, &v->lens, fill, rect, w, h, &part, st);
+    } else if (!ws_lens_is_pinhole(&v->lens)) {
+        const double rect[4] = {k ? k[0] : 0, k ? k[1] : 0, k ? k[2] : v->lens.width, k ? k[3] : v->lens.height};
+        rc = ws_image_undistort(img, 1.0, &v->lens, fill, rect, (int)rect[2], (int)rect[3], &part, st);
+    } else if (k) {
+        rc = ws_image_crop(img, k[0], k[1], k[2], k[3], &part, st);
+    } else {
+        return WS_OK;
+    }
+    ws_image_free(img);
+    *img = part;
+    return rc;
+}
+
+/* The factor a view's photo is decoded smaller by (image.h): the largest
+ * of 2, 4 and 8 that leaves its crop at least twice the working size a
+ * side (so that the resampling to it still averages, as from the whole
+ * photo), 1 where none does, where the frame's size is not known (a
+ * NeRF-synthetic scene) or where a mask or an edge map must meet the
+ * photo at the file's size. */
+static int photo_reduction(const ws_view *v, const ws_scene_options *opt) {
+    if (!v->file_width || v->mask_path[0] || v->edge_path[0]) return 1;
+    const int w = v->crop[2] ? v->crop[2] : v->file_width, h = v->crop[2] ? v->crop[3] : v->file_height;
+    int reduce = 1;
+    while (reduce < 8 && w / (2 * reduce) >= 2 * opt->width && h / (2 * reduce) >= 2 * opt->height) reduce *= 2;
+    return reduce;
+}
+
 /* The view's edge map read like its photo: resampled to the image file's
  * size w x h, its first channel kept, cropped, resampled to the working size. */
 static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, ws_status *st) {
-    static const float black[3] = {0, 0, 0};
-    ws_image rgb = {0}, part = {0};
+    static const float black[3] = {0, 0, 0}, none = 0;
+    ws_image rgb = {0};
     int rc = ws_image_read(v->edge_path, w, h, black, &rgb, st);
     if (rc) return rc;
     ws_image gray = first_plane(rgb);
-    if (!ws_lens_is_pinhole(&v->lens)) {
-        static const float none = 0;
-        rc = ws_image_undistort(&gray, &v->lens, &none, &part, st);
-        ws_image_free(&gray);
-        gray = part;
-        part = (ws_image){0};
-        if (rc) return rc;
-    }
-    const int *k = v->crop;
-    if (k[2]) {
-        rc = ws_image_crop(&gray, k[0], k[1], k[2], k[3], &part, st);
-        ws_image_free(&gray);
-        gray = part;
-    }
+    rc = to_view_crop(v, &none, 1, &gray, st);
     if (!rc) rc = ws_image_resample(&gray, opt->width, opt->height, &v->edges, st);
     ws_image_free(&gray);
     return rc;
@@ -534,12 +562,14 @@ static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, 
 static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     static const float black[3] = {0, 0, 0};
     const int from_file = v->mask_path[0] != '\0';
-    ws_image full = {0}, alpha = {0}, part = {0};
-    int rc = ws_image_read_alpha(v->image_path, 0, 0, opt->background_auto ? black : opt->background,
-                               &full, &alpha, st);
-    if (!rc && v->file_width && (full.width != v->file_width || full.height != v->file_height))
+    ws_image full = {0}, alpha = {0};
+    int reduced, file_size[2];
+    int rc = ws_image_read_reduced(v->image_path, photo_reduction(v, opt),
+                                   opt->background_auto ? black : opt->background, &full, &alpha, &reduced,
+                                   file_size, st);
+    if (!rc && v->file_width && (file_size[0] != v->file_width || file_size[1] != v->file_height))
         rc = ws_fail(st, WS_EINPUT, "%s: image is %d x %d but the scene file says w x h = %d x %d",
-                     v->image_path, full.width, full.height, v->file_width, v->file_height);
+                     v->image_path, file_size[0], file_size[1], v->file_width, v->file_height);
     const size_t plane = (size_t)full.width * full.height;
     float bg[3] = {opt->background[0], opt->background[1], opt->background[2]};
     if (!rc && opt->background_auto) {
@@ -567,29 +597,9 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
         }
     }
     if (!rc && v->edge_path[0]) rc = load_edge_map(v, full.width, full.height, opt, st);
-    if (!rc && !ws_lens_is_pinhole(&v->lens)) { /* to the pinhole camera; outside: background */
-        static const float transparent = 0;
-        rc = ws_image_undistort(&full, &v->lens, bg, &part, st);
-        ws_image_free(&full);
-        full = part;
-        if (!rc && alpha.data) {
-            rc = ws_image_undistort(&alpha, &v->lens, &transparent, &part, st);
-            ws_image_free(&alpha);
-            alpha = part;
-        }
-        part = (ws_image){0};
-    }
-    const int *k = v->crop;
-    if (!rc && k[2]) {
-        rc = ws_image_crop(&full, k[0], k[1], k[2], k[3], &part, st);
-        ws_image_free(&full);
-        full = part;
-        if (!rc && alpha.data) {
-            rc = ws_image_crop(&alpha, k[0], k[1], k[2], k[3], &part, st);
-            ws_image_free(&alpha);
-            alpha = part;
-        }
-    }
+    static const float transparent = 0; /* to the pinhole camera; outside: background */
+    if (!rc) rc = to_view_crop(v, bg, reduced, &full, st);
+    if (!rc && alpha.data) rc = to_view_crop(v, &transparent, reduced, &alpha, st);
     if (!rc && (full.width != opt->width || full.height != opt->height)) {
         rc = ws_image_resample(&full, opt->width, opt->height, &v->photo, st);
         if (!rc && alpha.data) rc = ws_image_resample(&alpha, opt->width, opt->height, &v->mask, st);

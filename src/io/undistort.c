@@ -18,22 +18,26 @@ static int sample(const float *p, int w, int h, double u, double v, float *value
     return 1;
 }
 
-int ws_image_undistort(const ws_image *in, const ws_lens *l, const float *fill, ws_image *out,
-                       ws_status *st) {
-    const int w = l->width, h = l->height, nc = in->channels;
+int ws_image_undistort(const ws_image *in, double in_scale, const ws_lens *l, const float *fill,
+                       const double rect[4], int out_w, int out_h, ws_image *out, ws_status *st) {
+    const double x0 = rect ? rect[0] : 0, y0 = rect ? rect[1] : 0, step_x = rect ? rect[2] / out_w : 1,
+                 step_y = rect ? rect[3] / out_h : 1;
+    const int w = rect ? out_w : l->width, h = rect ? out_h : l->height, nc = in->channels;
+    const int pinhole = ws_lens_is_pinhole(l);
     if (ws_image_alloc(out, w, h, nc, st)) return st->code;
     const size_t plane = (size_t)w * h, in_plane = (size_t)in->width * in->height;
     for (int i = 0; i < h; i++)
         for (int j = 0; j < w; j++) {
-            const double x = (j + 0.5 - l->cx) / l->fx, y = (i + 0.5 - l->cy) / l->fy;
+            const double x = (x0 + (j + 0.5) * step_x - l->cx) / l->fx,
+                         y = (y0 + (i + 0.5) * step_y - l->cy) / l->fy;
             double xd, yd;
             ws_lens_distort(l, x, y, &xd, &yd);
-            const int inside = x * x + y * y <= l->r_max * l->r_max;
+            const int inside = pinhole || x * x + y * y <= l->r_max * l->r_max;
             for (int c = 0; c < nc; c++) {
                 float value = fill[c];
                 if (inside)
-                    sample(in->data + c * in_plane, in->width, in->height, l->fx * xd + l->cx,
-                           l->fy * yd + l->cy, &value);
+                    sample(in->data + c * in_plane, in->width, in->height, (l->fx * xd + l->cx) * in_scale,
+                           (l->fy * yd + l->cy) * in_scale, &value);
                 out->data[c * plane + (size_t)i * w + j] = value;
             }
         }

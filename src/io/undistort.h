@@ -12,13 +12,20 @@
 #include "render/lens.h"
 #include "nn/base/status.h"
 
-/* out (lens->width x lens->height, in's channels; allocated here) is the
- * pinhole image of in (the photo through the lens, the same size): each
- * pixel centre goes through the forward model into in. Pixels whose ray
- * lies beyond the lens' one-to-one range (r_max) or outside the photo get
- * fill[c] (fill has in's channels). */
-int ws_image_undistort(const ws_image *in, const ws_lens *lens, const float *fill, ws_image *out,
-                       ws_status *st);
+/* out (out_w x out_h pixels, in's channels; allocated here) is the part
+ * rect = {x0, y0, w, h} (the lens' frame's pixels, from its corner: w x h
+ * pixels from column x0, row y0; NULL: the whole frame, out_w and out_h
+ * its size) of the pinhole image of the photo through the lens: out's
+ * pixel centre (j + 1/2, i + 1/2) is the frame's (x0 + (j + 1/2) w / out_w,
+ * y0 + (i + 1/2) h / out_h), which goes through the forward model into
+ * in. in: that photo at in_scale of the frame's size (1: the frame's own;
+ * 1/4: decoded at a quarter a side, image.h). Pixels whose ray lies beyond
+ * the lens' one-to-one range (r_max; a pinhole has none) or outside the
+ * photo get fill[c] (fill has in's channels). A part at the frame's own
+ * scale is the same pixels as the whole image cropped, made without the
+ * rest (a capture's working crop is a small part of a phone photo). */
+int ws_image_undistort(const ws_image *in, double in_scale, const ws_lens *lens, const float *fill,
+                       const double rect[4], int out_w, int out_h, ws_image *out, ws_status *st);
 
 /* out (lens->width x lens->height) is the photo through the lens of the
  * scene that `pinhole` shows through a pinhole camera of intrinsics
