@@ -265,7 +265,7 @@ static void test_jpeg(void) {
  * (image.h ws_image_read_reduced): a 640 x 480 capture through a lens,
  * loaded at a working size of 48, is decoded at a quarter a side, and its
  * working photos are those of its PNG twin, decoded whole, within what
- * JPEG itself changes (test_formats); the 16 x 8 baseline file at a half
+ * JPEG itself changes (test_formats), as are those of a pinhole twin; the 16 x 8 baseline file at a half
  * is 8 x 4 and names its own size; a PNG is read whole. */
 static void test_reduced(void) {
     static const float black[3] = {0, 0, 0};
@@ -288,8 +288,11 @@ static void test_reduced(void) {
     int rc = run_cmd(out, sizeof out,
                      "cd %s && %s scene cube --width 640 --height 480 --views-train 2 --views-val 1 --views-test 1 "
                      LENS " --layout colmap --out big_png && %s scene cube --width 640 --height 480 --views-train 2 "
-                     "--views-val 1 --views-test 1 " LENS " --layout colmap --jpeg --out big_jpeg",
-                     tmp, bin, bin);
+                     "--views-val 1 --views-test 1 " LENS " --layout colmap --jpeg --out big_jpeg && "
+                     "%s scene cube --width 640 --height 480 --views-train 2 --views-val 1 --views-test 1 "
+                     "--layout nerfstudio --out big_pin_png && %s scene cube --width 640 --height 480 "
+                     "--views-train 2 --views-val 1 --views-test 1 --layout nerfstudio --jpeg --out big_pin_jpeg",
+                     tmp, bin, bin, bin, bin);
     CHECK(rc == 0, "large scenes: %s", out);
     snprintf(path, sizeof path, "%s/big_png/images/train/r_00000.png", tmp);
     CHECK(!ws_image_read_reduced(path, 4, black, &whole, NULL, &reduced, file_size, &st) && reduced == 1 &&
@@ -306,6 +309,17 @@ static void test_reduced(void) {
               cameras < 1e-9,
           "a quarter's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
     printf("a quarter's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
+    ws_scene_free(&png);
+    ws_scene_free(&jpeg);
+    /* without a lens the crop is sampled from the smaller photo the same way */
+    if (load(&png, "big_pin_png", &st) || load(&jpeg, "big_pin_jpeg", &st)) {
+        CHECK(0, "loading the large pinhole scenes: %s", st.msg);
+        return;
+    }
+    CHECK(compare(&png, &jpeg, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
+              cameras < 1e-9,
+          "pinhole, a quarter's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
+    printf("pinhole, a quarter's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
     ws_scene_free(&png);
     ws_scene_free(&jpeg);
 }
