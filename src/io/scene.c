@@ -510,13 +510,10 @@ static int to_view_crop(const ws_view *v, const float *fill, int reduced, ws_ima
     const int *k = v->crop[2] ? v->crop : NULL;
     ws_image part = {0};
     int rc;
-    if (reduced > 1) {
-        const double rect[4] = {k ? k[0] : 0, k ? k[1] : 0, k ? k[2] : v->file_width, k ? k[3] : v->file_height};
+    if (reduced > 1 || !ws_lens_is_pinhole(&v->lens)) { /* the lens' frame is the file's */
+        const double rect[4] = {k ? k[0] : 0, k ? k[1] : 0, k ? k[2] : v->lens.width, k ? k[3] : v->lens.height};
         const int w = (int)fmax(1, round(rect[2] / reduced)), h = (int)fmax(1, round(rect[3] / reduced));
         rc = ws_image_undistort(img, 1.0 / reduced, &v->lens, fill, rect, w, h, &part, st);
-    } else if (!ws_lens_is_pinhole(&v->lens)) {
-        const double rect[4] = {k ? k[0] : 0, k ? k[1] : 0, k ? k[2] : v->lens.width, k ? k[3] : v->lens.height};
-        rc = ws_image_undistort(img, 1.0, &v->lens, fill, rect, (int)rect[2], (int)rect[3], &part, st);
     } else if (k) {
         rc = ws_image_crop(img, k[0], k[1], k[2], k[3], &part, st);
     } else {
