@@ -309,6 +309,12 @@ static void test_reduced(void) {
               cameras < 1e-9,
           "a quarter's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
     printf("a quarter's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
+    char line[1024], line_png[1024];
+    ws_scene_crop_line(&jpeg, line, sizeof line);
+    ws_scene_crop_line(&png, line_png, sizeof line_png);
+    CHECK(strstr(line, "; 4 of 4 photos decoded at 1/4 of their size, the pixels the working views need") &&
+              !strstr(line_png, "decoded"),
+          "the crop line says so: %s / %s", line, line_png);
     ws_scene_free(&png);
     ws_scene_free(&jpeg);
     /* without a lens the crop is sampled from the smaller photo the same way */

@@ -564,6 +564,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
     int rc = ws_image_read_reduced(v->image_path, photo_reduction(v, opt),
                                    opt->background_auto ? black : opt->background, &full, &alpha, &reduced,
                                    file_size, st);
+    v->reduced = rc ? 0 : reduced;
     if (!rc && v->file_width && (file_size[0] != v->file_width || file_size[1] != v->file_height))
         rc = ws_fail(st, WS_EINPUT, "%s: image is %d x %d but the scene file says w x h = %d x %d",
                      v->image_path, file_size[0], file_size[1], v->file_width, v->file_height);

@@ -88,6 +88,8 @@ typedef struct {
     int crop[4];          /* x0, y0, width, height: the file's pixels that make the
                              working view; width 0: the whole file (NeRF-synthetic) */
     int file_width, file_height; /* the image size the scene file states; 0: any */
+    int reduced;          /* the photo was decoded at 1 / reduced of its file's size a side
+                             (io/image.h ws_image_read_reduced); 0 until it is loaded */
     char edge_path[WS_PATH_MAX]; /* the frame's edge_path or --edge-maps file; "" when none */
     ws_image edges;       /* 1 x height x width from edge_path; data NULL when none */
     ws_lens lens;         /* the image file's lens (pinhole: all distortion 0); the
