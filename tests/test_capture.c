@@ -263,7 +263,7 @@ static void test_jpeg(void) {
 
 /* A large JPEG is decoded smaller where its view needs fewer pixels
  * (image.h ws_image_read_reduced): a 640 x 480 capture through a lens,
- * loaded at a working size of 48, is decoded at a quarter a side, and its
+ * loaded at a working size of 48, is decoded at a half a side, and its
  * working photos are those of its PNG twin, decoded whole, within what
  * JPEG itself changes (test_formats), as are those of a pinhole twin; the 16 x 8 baseline file at a half
  * is 8 x 4 and names its own size; a PNG is read whole. */
@@ -307,12 +307,12 @@ static void test_reduced(void) {
     double photos, mean, cameras;
     CHECK(compare(&png, &jpeg, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
               cameras < 1e-9,
-          "a quarter's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
-    printf("a quarter's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
+          "a half's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
+    printf("a half's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
     char line[1024], line_png[1024];
     ws_scene_crop_line(&jpeg, line, sizeof line);
     ws_scene_crop_line(&png, line_png, sizeof line_png);
-    CHECK(strstr(line, "; 4 of 4 photos decoded at 1/4 of their size, the pixels the working views need") &&
+    CHECK(strstr(line, "; 4 of 4 photos decoded at 1/2 of their size, the pixels the working views need") &&
               !strstr(line_png, "decoded"),
           "the crop line says so: %s / %s", line, line_png);
     ws_scene_free(&png);
@@ -324,8 +324,8 @@ static void test_reduced(void) {
     }
     CHECK(compare(&png, &jpeg, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
               cameras < 1e-9,
-          "pinhole, a quarter's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
-    printf("pinhole, a quarter's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
+          "pinhole, a half's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
+    printf("pinhole, a half's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
     ws_scene_free(&png);
     ws_scene_free(&jpeg);
 }
