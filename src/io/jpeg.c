@@ -49,6 +49,18 @@ static int read_header_stage(struct jpeg_decompress_struct *cinfo, FILE *fp) {
     return 0;
 }
 
+/* Stage 1b: the output's size at 1 / reduce of the file's, as libjpeg's
+ * scaled inverse DCT makes it (each 8 x 8 block straight to 8 / reduce
+ * pixels a side: the pixels it leaves out are never made). */
+static int scale_stage(struct jpeg_decompress_struct *cinfo, int reduce) {
+    jpeg_errors *e = (jpeg_errors *)cinfo->err;
+    if (setjmp(e->jump)) return -1;
+    cinfo->scale_num = 1;
+    cinfo->scale_denom = (unsigned)reduce;
+    jpeg_calc_output_dimensions(cinfo);
+    return 0;
+}
+
 /* Stage 2: every scanline into `pixels` (height rows of width * components
  * bytes), then the end of the file. */
 static int read_pixels_stage(struct jpeg_decompress_struct *cinfo, JSAMPLE *pixels) {
@@ -90,11 +102,10 @@ int ws_jpeg_decode(FILE *fp, const char *path, int max_side, uint64_t max_pixels
     }
     const int gray = cinfo.jpeg_color_space == JCS_GRAYSCALE, nc = gray ? 1 : 3;
     cinfo.out_color_space = gray ? JCS_GRAYSCALE : JCS_RGB;
-    /* libjpeg's scaled inverse DCT: each 8 x 8 block straight to 8 / reduce
-     * pixels a side, the pixels it leaves out never made */
-    cinfo.scale_num = 1;
-    cinfo.scale_denom = (unsigned)reduce;
-    jpeg_calc_output_dimensions(&cinfo);
+    if (scale_stage(&cinfo, reduce)) {
+        rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt JPEG (%s)", path, e.reason);
+        goto done;
+    }
     const unsigned ow = cinfo.output_width, oh = cinfo.output_height;
     pixels = ws_malloc((size_t)ow * oh * nc, path, st);
     if (!pixels) {
