@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "base/progress.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "synth/smooth.h"
@@ -110,6 +111,9 @@ int cmd_scene(int argc, char **argv) {
     if (fov != default_fov) opt.angle = fov * M_PI / 180;
     if (read_words(background, size, principal, layout, lens, &opt, &st)) return ws_cli_fail(&st);
     opt.seed = (uint64_t)seed;
+    ws_progress progress;
+    ws_progress_init(&progress);
+    opt.progress = &progress;
     if (ws_synth_write(pos[0], out, &opt, &st)) return ws_cli_fail(&st);
     printf("%s: %s scene, %d train / %d val / %d test views of %d x %d, %s %s/%s\n", out, pos[0],
            opt.views[WS_TRAIN], opt.views[WS_VAL], opt.views[WS_TEST], opt.width ? opt.width : opt.size,

@@ -76,6 +76,7 @@ void ws_synth_options_default(ws_synth_options *opt) {
     opt->jpeg = 0;
     for (int i = 0; i < 4; i++) opt->lens[i] = 0;
     opt->angle = CAMERA_ANGLE_X;
+    opt->progress = NULL;
 }
 
 /* The image size of a scene, and the camera of view c2w: focal length from
@@ -940,6 +941,7 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
                        const ws_synth_options *opt, double (*c2w)[4][4], int total, ws_status *st) {
     ws_status *status = ws_malloc(sizeof *status * total, "view statuses", st);
     if (!status) return st->code;
+    ws_progress_begin(opt->progress, "rendering the views", "views", total);
 #pragma omp parallel for schedule(dynamic)
     for (int v = 0; v < total; v++) {
         int split = 0, k = v;
@@ -966,7 +968,9 @@ static int write_views(const char *dir, const scene_object *obj, const double ce
         }
         ws_image_free(&img);
         ws_image_free(&mask);
+        ws_progress_advance(opt->progress, 1);
     }
+    ws_progress_end(opt->progress);
     int rc = WS_OK;
     for (int v = 0; v < total && !rc; v++)
         if (status[v].code) {

@@ -32,6 +32,7 @@
 #include <stdint.h>
 #include "render/camera.h"
 #include "render/curves.h"
+#include "base/progress.h"
 #include "io/image.h"
 #include "io/scene.h"
 #include "synth/line_drawing.h"
@@ -60,6 +61,8 @@ typedef struct {
     double angle;          /* the field of view across the image's shorter side, radians
                               [Blender's default camera: 0.691]; wider: a smaller object in
                               the frame, as in a phone's photo */
+    ws_progress *progress; /* NULL (silent), or where rendering the views shows how far
+                              it came (base/progress.h) [NULL] */
 } ws_synth_options;
 
 typedef struct {
