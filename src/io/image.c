@@ -262,17 +262,15 @@ int ws_image_read_reduced(const char *path, int reduce, const float background[3
     int rc;
     if (got < sizeof sig && ferror(fp))
         rc = ws_fail(st, WS_EINPUT, "%s: cannot read: %s", path, strerror(errno));
-    else if (got == sizeof sig && !png_sig_cmp(sig, 0, sizeof sig))
+    else if (got == sizeof sig && !png_sig_cmp(sig, 0, sizeof sig)) {
         rc = decode_png(fp, path, background, out, alpha, st);
-    else if (got >= 3 && !memcmp(sig, jpeg_sig, 3) && fseek(fp, 0, SEEK_SET) == 0)
+        file_size[0] = out->width; /* a PNG is decoded whole */
+        file_size[1] = out->height;
+    } else if (got >= 3 && !memcmp(sig, jpeg_sig, 3) && fseek(fp, 0, SEEK_SET) == 0)
         rc = decode_jpeg(fp, path, *reduced = reduce, out, file_size, st);
     else
         rc = ws_fail(st, WS_EINPUT, "%s: not a PNG or JPEG file", path);
     fclose(fp);
-    if (!rc && *reduced == 1) {
-        file_size[0] = out->width;
-        file_size[1] = out->height;
-    }
     if (rc) {
         ws_image_free(out);
         if (alpha) ws_image_free(alpha);

@@ -20,9 +20,8 @@ static int sample(const float *p, int w, int h, double u, double v, float *value
 
 int ws_image_undistort(const ws_image *in, double in_scale, const ws_lens *l, const float *fill,
                        const double rect[4], int out_w, int out_h, ws_image *out, ws_status *st) {
-    const double x0 = rect ? rect[0] : 0, y0 = rect ? rect[1] : 0, step_x = rect ? rect[2] / out_w : 1,
-                 step_y = rect ? rect[3] / out_h : 1;
-    const int w = rect ? out_w : l->width, h = rect ? out_h : l->height, nc = in->channels;
+    const double x0 = rect[0], y0 = rect[1], step_x = rect[2] / out_w, step_y = rect[3] / out_h;
+    const int w = out_w, h = out_h, nc = in->channels;
     const int pinhole = ws_lens_is_pinhole(l);
     if (ws_image_alloc(out, w, h, nc, st)) return st->code;
     const size_t plane = (size_t)w * h, in_plane = (size_t)in->width * in->height;

@@ -14,8 +14,8 @@
 
 /* out (out_w x out_h pixels, in's channels; allocated here) is the part
  * rect = {x0, y0, w, h} (the lens' frame's pixels, from its corner: w x h
- * pixels from column x0, row y0; NULL: the whole frame, out_w and out_h
- * its size) of the pinhole image of the photo through the lens: out's
+ * pixels from column x0, row y0) of the pinhole image of the photo
+ * through the lens: out's
  * pixel centre (j + 1/2, i + 1/2) is the frame's (x0 + (j + 1/2) w / out_w,
  * y0 + (i + 1/2) h / out_h), which goes through the forward model into
  * in. in: that photo at in_scale of the frame's size (1: the frame's own;
