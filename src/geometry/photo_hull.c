@@ -76,13 +76,59 @@ static void splat_cubes(const ws_photo_hull *h, const long *cubes, long n, const
  * view the others at least WS_PHOTO_HULL_PAIR_DEG away, nearest first,
  * with the direction (tangent to the sphere of views) towards each. */
 typedef struct {
-    const ws_split *train;
+    const ws_view **views; /* nviews train views: all, or WS_PHOTO_HULL_VIEWS spread (photo_hull.h) */
     int nviews;
     float **depth;   /* nviews maps of H x W */
     int *order;      /* nviews x nviews: view v's partners, nearest first */
     int *npartners;  /* nviews */
     double *towards; /* nviews x nviews x 3: unit tangent at v towards w */
 } carving;
+
+/* e: the unit direction from the region's centre to the camera of cam (0
+ * when they meet). */
+static void view_direction(const ws_camera *cam, const ws_roi *roi, double e[3]) {
+    double len = 0;
+    ws_camera_position(cam, e);
+    for (int a = 0; a < 3; a++) e[a] -= 0.5 * (roi->lo[a] + roi->hi[a]), len += e[a] * e[a];
+    for (int a = 0; a < 3; a++) e[a] = len > 0 ? e[a] / sqrt(len) : 0;
+}
+
+int ws_photo_hull_views(const ws_split *train, const ws_roi *roi, const ws_view **views, int *nviews,
+                        ws_status *st) {
+    const int n = train->n, m = n < WS_PHOTO_HULL_VIEWS ? n : WS_PHOTO_HULL_VIEWS;
+    *nviews = m;
+    if (m == n) {
+        for (int v = 0; v < n; v++) views[v] = &train->views[v];
+        return WS_OK;
+    }
+    double *dir = ws_malloc(sizeof *dir * 3 * (size_t)n, "photo hull", st);
+    double *nearest = dir ? ws_malloc(sizeof *nearest * (size_t)n, "photo hull", st) : NULL; /* cosine */
+    uint8_t *chosen = nearest ? ws_calloc((size_t)n, 1, "photo hull", st) : NULL;
+    if (!chosen) {
+        free(dir);
+        free(nearest);
+        return st->code;
+    }
+    for (int v = 0; v < n; v++) {
+        view_direction(&train->views[v].cam, roi, dir + 3 * v);
+        nearest[v] = -INFINITY;
+    }
+    for (int c = 0, pick = 0; c < m; c++) {
+        chosen[pick] = 1;
+        const double *a = dir + 3 * pick;
+        for (int w = 0; w < n; w++)
+            nearest[w] = fmax(nearest[w], a[0] * dir[3 * w] + a[1] * dir[3 * w + 1] + a[2] * dir[3 * w + 2]);
+        pick = -1;
+        for (int w = 0; w < n; w++)
+            if (!chosen[w] && (pick < 0 || nearest[w] < nearest[pick])) pick = w;
+    }
+    for (int v = 0, c = 0; v < n; v++)
+        if (chosen[v]) views[c++] = &train->views[v];
+    free(dir);
+    free(nearest);
+    free(chosen);
+    return WS_OK;
+}
 
 static int make_partners(carving *k, const ws_roi *roi, ws_status *st) {
     const int n = k->nviews;
@@ -95,12 +141,7 @@ static int make_partners(carving *k, const ws_roi *roi, ws_status *st) {
         free(dir);
         return st->code;
     }
-    for (int v = 0; v < n; v++) {
-        double *e = dir + 3 * v, len = 0;
-        ws_camera_position(&k->train->views[v].cam, e);
-        for (int a = 0; a < 3; a++) e[a] -= 0.5 * (roi->lo[a] + roi->hi[a]), len += e[a] * e[a];
-        for (int a = 0; a < 3; a++) e[a] = len > 0 ? e[a] / sqrt(len) : 0;
-    }
+    for (int v = 0; v < n; v++) view_direction(&k->views[v]->cam, roi, dir + 3 * v);
     for (int v = 0; v < n; v++) {
         int *o = k->order + (size_t)v * n, m = 0;
         for (int w = 0; w < n; w++) {
@@ -132,8 +173,8 @@ typedef struct {
 
 /* Whether the photo of sighting b holds, within its footprint, a pixel
  * within WS_PHOTO_HULL_TAU of colour c in every channel. */
-static int footprint_has(const ws_split *train, const sighting *b, const float c[3]) {
-    const ws_image *photo = &train->views[b->view].photo;
+static int footprint_has(const carving *k, const sighting *b, const float c[3]) {
+    const ws_image *photo = &k->views[b->view]->photo;
     const int W = photo->width, H = photo->height, r = b->radius;
     const size_t hw = (size_t)W * H;
     for (int i = b->row - r < 0 ? 0 : b->row - r; i <= b->row + r && i < H; i++)
@@ -149,13 +190,12 @@ static int footprint_has(const ws_split *train, const sighting *b, const float c
 /* Whether the surface cube i agrees across the views that see it
  * (photo_hull.h). seen: scratch of nviews sightings; slot: of nviews ints. */
 static int cube_agrees(const ws_photo_hull *h, long i, const carving *k, sighting *seen, int *slot) {
-    const ws_split *train = k->train;
-    const int W = train->views[0].photo.width, H = train->views[0].photo.height, n = k->nviews;
+    const int W = k->views[0]->photo.width, H = k->views[0]->photo.height, n = k->nviews;
     int nseen = 0;
     for (int v = 0; v < n; v++) {
         double u, w, d, half;
         slot[v] = -1;
-        if (!cube_footprint(h, i, &train->views[v].cam, &u, &w, &d, &half)) continue;
+        if (!cube_footprint(h, i, &k->views[v]->cam, &u, &w, &d, &half)) continue;
         const int col = (int)floor(u), row = (int)floor(w);
         if (col < 0 || row < 0 || col >= W || row >= H) continue;
         if (!(d <= k->depth[v][(size_t)row * W + col] + WS_PHOTO_HULL_DEPTH_TOL * h->voxel)) continue;
@@ -167,7 +207,7 @@ static int cube_agrees(const ws_photo_hull *h, long i, const carving *k, sightin
     int agree = 0, pairs = 0;
     for (int s = 0; s < nseen; s++) {
         const int v = seen[s].view, *order = k->order + (size_t)v * n;
-        const ws_image *photo = &train->views[v].photo;
+        const ws_image *photo = &k->views[v]->photo;
         const size_t hw = (size_t)photo->width * photo->height, at = (size_t)seen[s].row * photo->width + seen[s].col;
         const float c[3] = {photo->data[at], photo->data[hw + at], photo->data[2 * hw + at]};
         int first = -1, second = -1;
@@ -182,8 +222,8 @@ static int cube_agrees(const ws_photo_hull *h, long i, const carving *k, sightin
             const double *b = k->towards + 3 * ((size_t)v * n + seen[t].view);
             if (fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) <= WS_PHOTO_HULL_CROSS) second = t;
         }
-        if (first >= 0) pairs++, agree += footprint_has(train, &seen[first], c);
-        if (second >= 0) pairs++, agree += footprint_has(train, &seen[second], c);
+        if (first >= 0) pairs++, agree += footprint_has(k, &seen[first], c);
+        if (second >= 0) pairs++, agree += footprint_has(k, &seen[second], c);
     }
     return pairs < WS_PHOTO_HULL_MIN_VIEWS || agree >= WS_PHOTO_HULL_AGREE * pairs;
 }
@@ -248,7 +288,7 @@ static int carve_passes(ws_photo_hull *h, const carving *k, long *surface, long 
     for (;;) {
         const long n = list_surface(h, surface);
         #pragma omp parallel for schedule(dynamic, 1)
-        for (int v = 0; v < k->nviews; v++) splat_cubes(h, surface, n, &k->train->views[v].cam, k->depth[v], NULL);
+        for (int v = 0; v < k->nviews; v++) splat_cubes(h, surface, n, &k->views[v]->cam, k->depth[v], NULL);
         int failed = 0;
         #pragma omp parallel
         {
@@ -276,9 +316,13 @@ static int carve_passes(ws_photo_hull *h, const carving *k, long *surface, long 
 int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution, ws_photo_hull *h, ws_status *st) {
     memset(h, 0, sizeof *h);
     const ws_split *train = &scene->split[WS_TRAIN];
-    carving k = {train, train->n < WS_PHOTO_HULL_MAX_VIEWS ? train->n : WS_PHOTO_HULL_MAX_VIEWS, NULL, NULL, NULL,
-                 NULL};
-    if (k.nviews == 0) return ws_fail(st, WS_EINTERNAL, "photo hull: no train views");
+    carving k = {0};
+    if (train->n == 0) return ws_fail(st, WS_EINTERNAL, "photo hull: no train views");
+    if (!(k.views = ws_malloc(sizeof *k.views * WS_PHOTO_HULL_VIEWS, "photo hull", st)) ||
+        ws_photo_hull_views(train, roi, k.views, &k.nviews, st)) {
+        free(k.views);
+        return st->code;
+    }
     double side = 0;
     for (int a = 0; a < 3; a++) side = fmax(side, roi->hi[a] - roi->lo[a]);
     h->voxel = side / resolution;
@@ -305,6 +349,7 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
     if (!rc) rc = ws_photo_hull_update(h, st); /* what every projection splats: listed once */
     for (int v = 0; k.depth && v < k.nviews; v++) free(k.depth[v]);
     free(k.depth);
+    free(k.views);
     free(k.order);
     free(k.npartners);
     free(k.towards);

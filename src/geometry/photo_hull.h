@@ -7,10 +7,20 @@
  * floor), which is a different place, and so mostly of a different colour,
  * from each view. Space carving (Kutulakos & Seitz 2000) keeps the largest
  * shape whose visible points all agree:
+ *   views    = the train views, when there are at most
+ *              WS_PHOTO_HULL_VIEWS; else that many spread over their
+ *              directions from the region's centre (the first view, then
+ *              each time the one farthest from those chosen). The partners
+ *              below are then as far apart as in the captures the constants
+ *              were chosen on: with 200 views a view's nearest partner is
+ *              about 10 degrees away, where the background seen through
+ *              empty space shifts too little to disagree, and the carving
+ *              kept most of the region, in more passes of more views
+ *              (docs/RESULTS.md, "A capture of 200 views");
  *   grid     = cubes of side h, `resolution` along the region's longest
  *              side from its lowest corner, all occupied at first;
  *   surface  = the occupied cubes with an empty (or outside) 6-neighbour;
- *   depth_v  = at each pixel of train view v, the nearest surface cube
+ *   depth_v  = at each pixel of view v, the nearest surface cube
  *              whose square of half-side WS_PHOTO_HULL_SPLAT f h / d
  *              covers the pixel's centre (or whose centre is in it);
  *   v sees a surface cube at depth d when it is in front of v, its centre
@@ -57,7 +67,7 @@
 #define WS_PHOTO_HULL_AGREE 0.7
 #define WS_PHOTO_HULL_MIN_VIEWS 3
 #define WS_PHOTO_HULL_PART 0.05
-#define WS_PHOTO_HULL_MAX_VIEWS 256 /* train views that carve (the first ones) */
+#define WS_PHOTO_HULL_VIEWS 48 /* train views that carve: see "views" above */
 
 typedef struct {
     double lo[3];       /* the grid's lowest corner: the region's */
@@ -69,6 +79,11 @@ typedef struct {
     long nsurface;
     int passes;         /* carving passes made */
 } ws_photo_hull;
+
+/* views (room for WS_PHOTO_HULL_VIEWS), *nviews: the train views that
+ * carve ("views" above), in view order. Fails only when out of memory. */
+int ws_photo_hull_views(const ws_split *train, const ws_roi *roi, const ws_view **views, int *nviews,
+                        ws_status *st);
 
 /* Carves the region roi with the train views of scene (photos loaded, all
  * of the working size). Fails only when out of memory. */
