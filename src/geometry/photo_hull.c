@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "geometry/photo_hull.h"
+#include "geometry/view_spread.h"
 #include "base/progress.h"
 
 static size_t cube_index(const ws_photo_hull *h, int x, int y, int z) {
@@ -76,7 +77,7 @@ static void splat_cubes(const ws_photo_hull *h, const long *cubes, long n, const
  * view the others at least WS_PHOTO_HULL_PAIR_DEG away, nearest first,
  * with the direction (tangent to the sphere of views) towards each. */
 typedef struct {
-    const ws_view **views; /* nviews train views: all, or WS_PHOTO_HULL_VIEWS spread (photo_hull.h) */
+    const ws_view **views; /* nviews train views: all, or WS_PHOTO_HULL_VIEWS spread (view_spread.h) */
     int nviews;
     float **depth;   /* nviews maps of H x W */
     int *order;      /* nviews x nviews: view v's partners, nearest first */
@@ -91,43 +92,6 @@ static void view_direction(const ws_camera *cam, const ws_roi *roi, double e[3])
     ws_camera_position(cam, e);
     for (int a = 0; a < 3; a++) e[a] -= 0.5 * (roi->lo[a] + roi->hi[a]), len += e[a] * e[a];
     for (int a = 0; a < 3; a++) e[a] = len > 0 ? e[a] / sqrt(len) : 0;
-}
-
-int ws_photo_hull_views(const ws_split *train, const ws_roi *roi, const ws_view **views, int *nviews,
-                        ws_status *st) {
-    const int n = train->n, m = n < WS_PHOTO_HULL_VIEWS ? n : WS_PHOTO_HULL_VIEWS;
-    *nviews = m;
-    if (m == n) {
-        for (int v = 0; v < n; v++) views[v] = &train->views[v];
-        return WS_OK;
-    }
-    double *dir = ws_malloc(sizeof *dir * 3 * (size_t)n, "photo hull", st);
-    double *nearest = dir ? ws_malloc(sizeof *nearest * (size_t)n, "photo hull", st) : NULL; /* cosine */
-    uint8_t *chosen = nearest ? ws_calloc((size_t)n, 1, "photo hull", st) : NULL;
-    if (!chosen) {
-        free(dir);
-        free(nearest);
-        return st->code;
-    }
-    for (int v = 0; v < n; v++) {
-        view_direction(&train->views[v].cam, roi, dir + 3 * v);
-        nearest[v] = -INFINITY;
-    }
-    for (int c = 0, pick = 0; c < m; c++) {
-        chosen[pick] = 1;
-        const double *a = dir + 3 * pick;
-        for (int w = 0; w < n; w++)
-            nearest[w] = fmax(nearest[w], a[0] * dir[3 * w] + a[1] * dir[3 * w + 1] + a[2] * dir[3 * w + 2]);
-        pick = -1;
-        for (int w = 0; w < n; w++)
-            if (!chosen[w] && (pick < 0 || nearest[w] < nearest[pick])) pick = w;
-    }
-    for (int v = 0, c = 0; v < n; v++)
-        if (chosen[v]) views[c++] = &train->views[v];
-    free(dir);
-    free(nearest);
-    free(chosen);
-    return WS_OK;
 }
 
 static int make_partners(carving *k, const ws_roi *roi, ws_status *st) {
@@ -318,8 +282,10 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
     const ws_split *train = &scene->split[WS_TRAIN];
     carving k = {0};
     if (train->n == 0) return ws_fail(st, WS_EINTERNAL, "photo hull: no train views");
+    const double centre[3] = {0.5 * (roi->lo[0] + roi->hi[0]), 0.5 * (roi->lo[1] + roi->hi[1]),
+                              0.5 * (roi->lo[2] + roi->hi[2])};
     if (!(k.views = ws_malloc(sizeof *k.views * WS_PHOTO_HULL_VIEWS, "photo hull", st)) ||
-        ws_photo_hull_views(train, roi, k.views, &k.nviews, st)) {
+        ws_view_spread(train, centre, WS_PHOTO_HULL_VIEWS, k.views, &k.nviews, st)) {
         free(k.views);
         return st->code;
     }

@@ -9,14 +9,14 @@
  * shape whose visible points all agree:
  *   views    = the train views, when there are at most
  *              WS_PHOTO_HULL_VIEWS; else that many spread over their
- *              directions from the region's centre (the first view, then
- *              each time the one farthest from those chosen). The partners
- *              below are then as far apart as in the captures the constants
- *              were chosen on: with 200 views a view's nearest partner is
- *              about 10 degrees away, where the background seen through
- *              empty space shifts too little to disagree, and the carving
- *              kept most of the region, in more passes of more views
- *              (docs/RESULTS.md, "A capture of 200 views");
+ *              directions from the region's centre (geometry/
+ *              view_spread.h). The partners below are then as far apart
+ *              as in the captures the constants were chosen on: with 200
+ *              views a view's nearest partner is 10 - 12.5 degrees away,
+ *              where the background seen through empty space shifts too
+ *              little to disagree, and the carving kept most of the
+ *              region, in more passes of more views (docs/RESULTS.md, "A
+ *              capture of 200 views");
  *   grid     = cubes of side h, `resolution` along the region's longest
  *              side from its lowest corner, all occupied at first;
  *   surface  = the occupied cubes with an empty (or outside) 6-neighbour;
@@ -79,11 +79,6 @@ typedef struct {
     long nsurface;
     int passes;         /* carving passes made */
 } ws_photo_hull;
-
-/* views (room for WS_PHOTO_HULL_VIEWS), *nviews: the train views that
- * carve ("views" above), in view order. Fails only when out of memory. */
-int ws_photo_hull_views(const ws_split *train, const ws_roi *roi, const ws_view **views, int *nviews,
-                        ws_status *st);
 
 /* Carves the region roi with the train views of scene (photos loaded, all
  * of the working size). Fails only when out of memory. */

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "base/progress.h"
 #include "base/sym3.h"
+#include "geometry/view_spread.h"
 #include "objective/edge_consensus.h"
 #include "objective/line_target.h"
 #include "render/distance.h"
@@ -50,17 +51,17 @@ static void edge_angles(const float *photo, const float *edge, int W, int H, flo
         }
 }
 
-/* dist, angle (n views x H x W): D_v of every train view, and its
+/* dist, angle (n x H x W): D_v of each of the n views, and its
  * edge_angles. */
-static int edge_maps(const ws_split *train, float *dist, float *angle, ws_status *st) {
-    const int W = train->views[0].photo.width, H = train->views[0].photo.height;
+static int edge_maps(const ws_view *const *views, int n, float *dist, float *angle, ws_status *st) {
+    const int W = views[0]->photo.width, H = views[0]->photo.height;
     const size_t hw = (size_t)W * H;
     float *edge = ws_malloc(hw * sizeof *edge, "edge consensus", st);
     float *grad = edge ? ws_malloc(hw * sizeof *grad, "edge consensus", st) : NULL;
     uint8_t *set = grad ? ws_malloc(hw, "edge consensus", st) : NULL;
     int rc = set ? WS_OK : st->code;
-    for (int v = 0; v < train->n && !rc; v++) {
-        const ws_image *photo = &train->views[v].photo;
+    for (int v = 0; v < n && !rc; v++) {
+        const ws_image *photo = &views[v]->photo;
         if (photo->width != W || photo->height != H) {
             rc = ws_fail(st, WS_EINTERNAL, "edge consensus: view %d is %d x %d, view 0 %d x %d", v, photo->width,
                          photo->height, W, H);
@@ -84,7 +85,7 @@ static int edge_maps(const ws_split *train, float *dist, float *angle, ws_status
 
 /* What the votes read (edge_consensus.h). */
 typedef struct {
-    const ws_split *train;
+    const ws_view **views;    /* the train views that vote: WS_CONSENSUS_MAX_VIEWS at most, spread */
     int nviews;
     const float *dist, *angle;
     double rho;               /* a grid cube's circumscribed radius */
@@ -106,7 +107,7 @@ static void view_caps(votes *x, const double centre[3]) {
                 if (!dx && !dy && !dz) continue;
                 for (int v = 0; v < x->nviews; v++) {
                     double pos[3];
-                    ws_camera_position(&x->train->views[v].cam, pos);
+                    ws_camera_position(&x->views[v]->cam, pos);
                     double e[3] = {pos[0] - centre[0], pos[1] - centre[1], pos[2] - centre[2]};
                     double len = sqrt((dx * dx + dy * dy + dz * dz) * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
                     if (dx * e[0] + dy * e[1] + dz * e[2] > cosine * len) x->cap[k][v / 64] |= 1ull << (v % 64);
@@ -122,7 +123,7 @@ static uint8_t vote(const votes *x, const double p[3], int8_t dir[3]) {
     double normal[WS_CONSENSUS_MAX_VIEWS][3];
     int view[WS_CONSENSUS_MAX_VIEWS], nhit = 0;
     for (int v = 0; v < x->nviews; v++) {
-        const ws_camera *cam = &x->train->views[v].cam;
+        const ws_camera *cam = &x->views[v]->cam;
         double c[3], u, w;
         ws_camera_to_cam(cam, p, c);
         double d = ws_camera_project(cam, c, &u, &w);
@@ -273,24 +274,27 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
     const int n[3] = {c->hull.n[0], c->hull.n[1], c->hull.n[2]};
     c->tested = (long)n[0] * n[1] * n[2];
     const size_t hw = (size_t)scene->width * scene->height;
-    float *dist = ws_malloc(hw * (size_t)(train->n ? train->n : 1) * sizeof *dist, "edge consensus", st);
-    float *angle = dist ? ws_malloc(hw * (size_t)(train->n ? train->n : 1) * sizeof *angle, "edge consensus", st) : NULL;
+    double centre[3];
+    for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
+    int nviews = 0;
+    const ws_view **views = ws_malloc(sizeof *views * WS_CONSENSUS_MAX_VIEWS, "edge consensus", st);
+    int rc = views ? ws_view_spread(train, centre, WS_CONSENSUS_MAX_VIEWS, views, &nviews, st) : st->code;
+    const size_t maps = hw * (size_t)(nviews ? nviews : 1);
+    float *dist = rc ? NULL : ws_malloc(maps * sizeof *dist, "edge consensus", st);
+    float *angle = dist ? ws_malloc(maps * sizeof *angle, "edge consensus", st) : NULL;
     uint8_t *keep = angle ? ws_calloc((size_t)c->tested, 1, "edge consensus", st) : NULL;
     int8_t *dir = keep ? ws_malloc((size_t)c->tested * 3, "edge consensus", st) : NULL;
-    int rc = dir ? WS_OK : st->code;
-    if (!rc && train->n) rc = edge_maps(train, dist, angle, st);
+    if (!rc && !dir) rc = st->code;
+    if (!rc && nviews) rc = edge_maps(views, nviews, dist, angle, st);
     votes *x = rc ? NULL : ws_malloc(sizeof *x, "edge consensus", st);
     long *stack = x ? ws_malloc(sizeof *stack * (size_t)c->tested, "edge consensus", st) : NULL;
     if (!rc && !stack) rc = st->code;
-    const int nviews = train->n < WS_CONSENSUS_MAX_VIEWS ? train->n : WS_CONSENSUS_MAX_VIEWS;
-    float *depth = rc ? NULL : ws_malloc(hw * (size_t)(nviews ? nviews : 1) * sizeof *depth, "edge consensus", st);
+    float *depth = rc ? NULL : ws_malloc(maps * sizeof *depth, "edge consensus", st);
     if (!rc && !depth) rc = st->code;
-    for (int v = 0; !rc && v < nviews; v++) ws_photo_hull_project(&c->hull, &train->views[v].cam, depth + v * hw, NULL);
+    for (int v = 0; !rc && v < nviews; v++) ws_photo_hull_project(&c->hull, &views[v]->cam, depth + v * hw, NULL);
     if (!rc) {
-        *x = (votes){train, nviews, dist, angle, c->voxel * sqrt(3.0) / 2, depth,
+        *x = (votes){views, nviews, dist, angle, c->voxel * sqrt(3.0) / 2, depth,
                      WS_PHOTO_HULL_DEPTH_TOL * c->hull.voxel, {{0}}};
-        double centre[3];
-        for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
         view_caps(x, centre);
         vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack, scene->progress);
         for (long k = 0; k < c->tested; k++) c->n += keep[k];
@@ -315,6 +319,7 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
             grid_point(roi, c->voxel, n, k, c->p + 3 * m++);
         }
     }
+    free(views);
     free(dist);
     free(angle);
     free(keep);

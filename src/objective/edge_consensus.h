@@ -7,6 +7,9 @@
  * not hidden in; a background edge (a wall, the floor, anything at another
  * depth) falls on the object's edges in some views, by chance, not in
  * nearly all of those that see a point. So:
+ *   views  = the train views, or WS_CONSENSUS_MAX_VIEWS of them spread
+ *            over their directions from the region's centre when there
+ *            are more (geometry/view_spread.h): "train views" below;
  *   E_v    = the thin edges of train view v's photo (render/thin_edges.h);
  *   D_v    = the distance to E_v (render/distance.h);
  *   grid   = the centres p of the cubes of `resolution` along the box's
@@ -95,7 +98,7 @@
 #define WS_CONSENSUS_CAP_ANGLE 90.0 /* degrees */
 #define WS_CONSENSUS_MIN_VIEWS 8
 #define WS_CONSENSUS_MIN_PART 16
-#define WS_CONSENSUS_MAX_VIEWS 256 /* train views that vote (the first ones) */
+#define WS_CONSENSUS_MAX_VIEWS 256 /* train views that vote: all, or this many spread (geometry/view_spread.h) */
 #define WS_CONSENSUS_ORIENT_REACH 2 /* pixels */
 #define WS_CONSENSUS_ORIENT_DEG 20.0
 #define WS_CONSENSUS_ALONG 0.7

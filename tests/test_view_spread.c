@@ -1,8 +1,9 @@
-/* test_photo_hull_views.c: the train views that carve the photo hull
- * (geometry/photo_hull.h, "views"). Cameras on a sphere around the region
- * (a Fibonacci spiral, so the capture's own views are about evenly spread):
- *   - up to WS_PHOTO_HULL_VIEWS views: all of them, in view order;
- *   - 200 views: WS_PHOTO_HULL_VIEWS of them, in view order, the first
+/* test_view_spread.c: train views spread over their directions
+ * (geometry/view_spread.h), as the photo hull's carving takes 48 of them.
+ * Cameras on a sphere around the origin (a Fibonacci spiral, so the
+ * capture's own views are about evenly spread):
+ *   - up to 48 views: all of them, in view order;
+ *   - 200 views: 48 of them, in view order, the first
  *     view among them; spread as farthest-point picking spreads them: no
  *     train view is farther from its nearest chosen one than the two
  *     nearest chosen ones are from each other, and the chosen ones are
@@ -12,9 +13,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "check.h"
-#include "geometry/photo_hull.h"
+#include "geometry/view_spread.h"
 
-enum { MANY = 200 };
+enum { MANY = 200, MOST = 48 };
 
 /* n cameras at distance 4 from the origin, on a Fibonacci sphere. */
 static int sphere_views(ws_view *views, int n, ws_status *st) {
@@ -40,22 +41,22 @@ static double angle(const ws_view *a, const ws_view *b) {
 int main(void) {
     ws_status st = {0};
     static ws_view views[MANY];
-    const ws_view *chosen[WS_PHOTO_HULL_VIEWS];
-    const ws_roi roi = {.lo = {-1, -1, -1}, .hi = {1, 1, 1}};
+    const ws_view *chosen[MOST];
+    const double centre[3] = {0, 0, 0};
     int n = 0, rc = sphere_views(views, MANY, &st);
     CHECK(rc == WS_OK, "cameras: %s", st.msg);
     if (rc) return check_summary();
 
-    const ws_split few = {WS_PHOTO_HULL_VIEWS - 8, views};
-    rc = ws_photo_hull_views(&few, &roi, chosen, &n, &st);
+    const ws_split few = {MOST - 8, views};
+    rc = ws_view_spread(&few, centre, MOST, chosen, &n, &st);
     int all = rc == WS_OK && n == few.n;
     for (int k = 0; all && k < n; k++) all = chosen[k] == &views[k];
-    CHECK(all, "%d views: %d carve, not all of them in order (%s)", few.n, n, st.msg);
+    CHECK(all, "%d views: %d chosen, not all of them in order (%s)", few.n, n, st.msg);
 
     const ws_split many = {MANY, views};
-    rc = ws_photo_hull_views(&many, &roi, chosen, &n, &st);
-    CHECK(rc == WS_OK && n == WS_PHOTO_HULL_VIEWS, "%d views: %d carve (%s)", MANY, n, st.msg);
-    if (rc || n != WS_PHOTO_HULL_VIEWS) return check_summary();
+    rc = ws_view_spread(&many, centre, MOST, chosen, &n, &st);
+    CHECK(rc == WS_OK && n == MOST, "%d views: %d chosen (%s)", MANY, n, st.msg);
+    if (rc || n != MOST) return check_summary();
     int ordered = chosen[0] == &views[0];
     for (int k = 1; k < n; k++) ordered &= chosen[k] > chosen[k - 1];
     CHECK(ordered, "the chosen views are not in view order from the first one");
