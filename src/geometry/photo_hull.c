@@ -85,16 +85,7 @@ typedef struct {
     double *towards; /* nviews x nviews x 3: unit tangent at v towards w */
 } carving;
 
-/* e: the unit direction from the region's centre to the camera of cam (0
- * when they meet). */
-static void view_direction(const ws_camera *cam, const ws_roi *roi, double e[3]) {
-    double len = 0;
-    ws_camera_position(cam, e);
-    for (int a = 0; a < 3; a++) e[a] -= 0.5 * (roi->lo[a] + roi->hi[a]), len += e[a] * e[a];
-    for (int a = 0; a < 3; a++) e[a] = len > 0 ? e[a] / sqrt(len) : 0;
-}
-
-static int make_partners(carving *k, const ws_roi *roi, ws_status *st) {
+static int make_partners(carving *k, const double centre[3], ws_status *st) {
     const int n = k->nviews;
     double *dir = ws_malloc(sizeof *dir * 3 * (size_t)n, "photo hull", st), *angle = NULL;
     k->order = dir ? ws_malloc(sizeof *k->order * (size_t)n * n, "photo hull", st) : NULL;
@@ -105,7 +96,7 @@ static int make_partners(carving *k, const ws_roi *roi, ws_status *st) {
         free(dir);
         return st->code;
     }
-    for (int v = 0; v < n; v++) view_direction(&k->views[v]->cam, roi, dir + 3 * v);
+    for (int v = 0; v < n; v++) ws_view_direction(&k->views[v]->cam, centre, dir + 3 * v);
     for (int v = 0; v < n; v++) {
         int *o = k->order + (size_t)v * n, m = 0;
         for (int w = 0; w < n; w++) {
@@ -301,7 +292,7 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
     long *surface = h->occupied ? ws_malloc(total * sizeof *surface, "photo hull", st) : NULL;
     long *carve = surface ? ws_malloc(total * sizeof *carve, "photo hull", st) : NULL;
     k.depth = carve ? ws_calloc((size_t)k.nviews, sizeof *k.depth, "photo hull", st) : NULL;
-    int rc = k.depth ? make_partners(&k, roi, st) : st->code;
+    int rc = k.depth ? make_partners(&k, centre, st) : st->code;
     for (int v = 0; v < k.nviews && !rc; v++)
         if (!(k.depth[v] = ws_malloc(hw * sizeof **k.depth, "photo hull", st))) rc = st->code;
     if (!rc) {

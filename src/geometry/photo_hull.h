@@ -11,12 +11,11 @@
  *              WS_PHOTO_HULL_VIEWS; else that many spread over their
  *              directions from the region's centre (geometry/
  *              view_spread.h). The partners below are then as far apart
- *              as in the captures the constants were chosen on: with 200
- *              views a view's nearest partner is 10 - 12.5 degrees away,
- *              where the background seen through empty space shifts too
- *              little to disagree, and the carving kept most of the
- *              region, in more passes of more views (docs/RESULTS.md, "A
- *              capture of 200 views");
+ *              as in the captures the constants were chosen on; among 200
+ *              views a view's nearest partner would be 10 - 12.5 degrees
+ *              away, where the background seen through empty space
+ *              shifts too little to disagree, and every view costs every
+ *              pass time (docs/RESULTS.md, "A capture of 200 views");
  *   grid     = cubes of side h, `resolution` along the region's longest
  *              side from its lowest corner, all occupied at first;
  *   surface  = the occupied cubes with an empty (or outside) 6-neighbour;

@@ -4,6 +4,13 @@
 #include <stdlib.h>
 #include "geometry/view_spread.h"
 
+void ws_view_direction(const ws_camera *cam, const double centre[3], double e[3]) {
+    double len = 0;
+    ws_camera_position(cam, e);
+    for (int a = 0; a < 3; a++) e[a] -= centre[a], len += e[a] * e[a];
+    for (int a = 0; a < 3; a++) e[a] = len > 0 ? e[a] / sqrt(len) : 0;
+}
+
 int ws_view_spread(const ws_split *train, const double centre[3], int most, const ws_view **views, int *n,
                    ws_status *st) {
     const int all = train->n, m = all < most ? all : most;
@@ -21,10 +28,7 @@ int ws_view_spread(const ws_split *train, const double centre[3], int most, cons
         return st->code;
     }
     for (int v = 0; v < all; v++) {
-        double *e = dir + 3 * v, len = 0;
-        ws_camera_position(&train->views[v].cam, e);
-        for (int a = 0; a < 3; a++) e[a] -= centre[a], len += e[a] * e[a];
-        for (int a = 0; a < 3; a++) e[a] = len > 0 ? e[a] / sqrt(len) : 0;
+        ws_view_direction(&train->views[v].cam, centre, dir + 3 * v);
         nearest[v] = -INFINITY;
     }
     for (int c = 0, pick = 0; c < m; c++) {

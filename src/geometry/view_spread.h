@@ -15,6 +15,10 @@
 #include "io/scene.h"
 #include "nn/base/status.h"
 
+/* e: the unit direction from centre to the camera of cam (0 when they
+ * meet): a view's direction here and in the photo hull's pairing. */
+void ws_view_direction(const ws_camera *cam, const double centre[3], double e[3]);
+
 /* views (room for min(train->n, most)), *n: the chosen views. Fails only
  * when out of memory. */
 int ws_view_spread(const ws_split *train, const double centre[3], int most, const ws_view **views, int *n,

@@ -527,10 +527,9 @@ static int to_view_crop(const ws_view *v, const float *fill, int reduced, ws_ima
 /* How many times the working size a side a crop keeps when its photo is
  * decoded smaller. The crop is sampled bilinearly at the decoded scale,
  * which blurs by about a decoded pixel; averaged down by 4 or more, that
- * is a quarter of a working pixel, as from the whole photo. At 2 (a 960 px
- * crop decoded at 1/2 for 224 px) 1.7% of the thin edges moved and the
- * cube's fits ended 0.01 worse in Chamfer distance at every seed
- * (docs/RESULTS.md, "Loading large photos"). */
+ * is a quarter of a working pixel, as from the whole photo, while by 2
+ * the thin edges move and the fits with them (docs/RESULTS.md, "Loading
+ * large photos"). */
 #define WS_DECODED_CROP_OVER_WORKING 4
 
 /* The factor a view's photo is decoded smaller by (image.h): the largest
