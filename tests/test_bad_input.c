@@ -737,7 +737,7 @@ static void test_usage(void) {
     int rc = run("fit x --no-such-option 1");
     CHECK(ANSWER(2, rc, "--no-such-option: unknown option (see --help)"), "unknown option");
     rc = run("fit x --epochs many");
-    CHECK(ANSWER(2, rc, "--epochs: 'many' is not an integer"), "bad integer");
+    CHECK(ANSWER(2, rc, "--epochs: 'many' is not an integer or 'auto'"), "bad integer");
     rc = run("fit x --learning-rate nan");
     CHECK(ANSWER(2, rc, "--learning-rate: 'nan' is not a finite number"), "NaN option");
     rc = run("fit --quiet");

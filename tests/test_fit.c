@@ -256,7 +256,7 @@ static void test_bad_input(void) {
           "unknown option");
     CHECK(run("fit x --size 20000 --loss edges") == 2 && stderr_has("--size: 20000 is not in [1, 4096]"),
           "unbounded --size");
-    CHECK(run("fit x --epochs many") == 2 && stderr_has("--epochs: 'many' is not an integer"), "bad integer");
+    CHECK(run("fit x --epochs many") == 2 && stderr_has("--epochs: 'many' is not an integer or 'auto'"), "bad integer");
     /* A damaged checkpoint is refused, not half-used. */
     snprintf(path, sizeof path, "%s/b/checkpoint.bin", tmp);
     FILE *f = fopen(path, "r+b");

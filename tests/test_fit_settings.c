@@ -3,12 +3,13 @@
  * run used: given values as given, defaults as defaults, and the same
  * table after --resume. A short edge-loss fit of the committed fixture;
  * then the schedule a loss takes when --epochs and --inner-steps are left
- * unset. */
+ * unset, and the epochs --epochs auto gives a scene of n train views. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
+#include "fit/fit_options.h"
 #include "test_util.h"
 
 static const char *bin, *tmp;
@@ -81,11 +82,24 @@ int main(void) {
     CHECK(rc == 0, "resume: %s", out);
     read_report(run_dir);
     CHECK(has_row("max-steps", "3") && has_row("radius", "0.7"), "resumed table: stored and overridden");
+    /* --epochs auto: 24 up to 96 train views, then about 24 x 96 views'
+     * steps (rounded up), never 0; a number is kept whatever the views */
+    ws_fit_options opt;
+    ws_fit_options_default(&opt);
+    opt.epochs = WS_FIT_EPOCHS_AUTO;
+    static const int views[][2] = {{1, 24}, {6, 24}, {96, 24}, {97, 24}, {100, 24}, {192, 12},
+                                   {193, 12}, {200, 12}, {320, 8}, {2304, 1}, {100000, 1}};
+    for (size_t k = 0; k < sizeof views / sizeof views[0]; k++)
+        CHECK(ws_fit_epochs(&opt, views[k][0]) == views[k][1], "auto, %d views: %d epochs, not %d", views[k][0],
+              ws_fit_epochs(&opt, views[k][0]), views[k][1]);
+    opt.epochs = 24;
+    CHECK(ws_fit_epochs(&opt, 200) == 24 && (opt.epochs = 0, ws_fit_epochs(&opt, 200)) == 0,
+          "--epochs 24 and 0 kept with 200 views");
     /* left unset, the line loss takes 5 steps per view over 24 epochs (30
      * steps on one view fit its own errors: docs/RESULTS.md, "Where it stands
-     * now"), validated every 60 batches, another loss the original's 30
-     * over 10, every 10 */
-    static const char *const loss_defaults[][4] = {{"edges", "24", "5", "60"}, {"l2", "10", "30", "10"}};
+     * now"; auto: fewer past 96 views), validated every 60 batches, another
+     * loss the original's 30 over 10, every 10 */
+    static const char *const loss_defaults[][4] = {{"edges", "auto", "5", "60"}, {"l2", "10", "30", "10"}};
     for (int k = 0; k < 2; k++) {
         rc = run_cmd(out, sizeof out,
                      "%s fit tests/fixtures/scene_small --out %s/unset --loss %s --size 64 --max-steps 1 "

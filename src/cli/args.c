@@ -42,12 +42,19 @@ static int parse_value(const ws_arg *a, char **argv, int argc, int *i, ws_status
     if (*i + 1 >= argc) return ws_fail(st, WS_EUSAGE, "%s: needs a value", a->name);
     const char *text = argv[*i + 1];
     switch (a->kind) {
+    case WS_ARG_INT_AUTO:
+        if (!strcmp(text, "auto")) {
+            *(int *)a->dest = WS_ARG_AUTO;
+            break;
+        }
+        /* fall through */
     case WS_ARG_INT: {
         char *end;
         errno = 0;
         long v = strtol(text, &end, 10);
         if (end == text || *end || errno == ERANGE || v < -2147483647L || v > 2147483647L)
-            return ws_fail(st, WS_EUSAGE, "%s: '%s' is not an integer", a->name, text);
+            return ws_fail(st, WS_EUSAGE, "%s: '%s' is not an integer%s", a->name, text,
+                           a->kind == WS_ARG_INT_AUTO ? " or 'auto'" : "");
         *(int *)a->dest = (int)v;
         break;
     }
@@ -97,6 +104,7 @@ static const char *text_metavar(const char *name) {
 static void print_option(const ws_arg *a) {
     const char *value = a->kind == WS_ARG_FLAG      ? ""
                         : a->kind == WS_ARG_INT     ? "N"
+                        : a->kind == WS_ARG_INT_AUTO ? "N|auto"
                         : a->kind == WS_ARG_STRING  ? text_metavar(a->name)
                         : a->kind == WS_ARG_CUTOFF  ? "K|inf"
                         : a->kind == WS_ARG_DOUBLES ? "X..."
@@ -206,6 +214,12 @@ void ws_arg_value(const ws_arg *a, char *buf, size_t size) {
         break;
     case WS_ARG_INT:
         snprintf(buf, size, "%d", *(const int *)a->dest);
+        break;
+    case WS_ARG_INT_AUTO:
+        if (*(const int *)a->dest == WS_ARG_AUTO)
+            snprintf(buf, size, "auto");
+        else
+            snprintf(buf, size, "%d", *(const int *)a->dest);
         break;
     case WS_ARG_DOUBLE:
     case WS_ARG_CUTOFF:

@@ -13,12 +13,14 @@
 typedef enum {
     WS_ARG_FLAG,      /* int, set to 1 when present */
     WS_ARG_INT,       /* int */
+    WS_ARG_INT_AUTO,  /* int, or "auto" for WS_ARG_AUTO: the command decides once it knows its input */
     WS_ARG_DOUBLE,    /* double, must be finite */
     WS_ARG_CUTOFF,    /* double > 0, or "inf" for INFINITY */
     WS_ARG_STRING,    /* const char * */
     WS_ARG_DOUBLES    /* ws_arg_list: 1 to count numbers that follow */
 } ws_arg_kind;
 
+#define WS_ARG_AUTO (-1) /* WS_ARG_INT_AUTO's "auto" */
 #define WS_ARG_LIST_MAX 64
 typedef struct {
     int n;

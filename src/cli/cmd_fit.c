@@ -122,11 +122,13 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
  * and few steps per batch over more epochs (many steps in a row on one
  * view fit that view's own errors, such as the one line its line target
  * draws where two wires of the flat clip merge, and move whole wires off
- * their place), validated every 60 batches of 5 steps (validation is
+ * their place; 24 epochs up to 96 train views, fewer past that:
+ * fit_options.h), validated every 60 batches of 5 steps (validation is
  * costly; docs/USAGE.md, `fit`); and the silhouette term at weight 3,
  * measured on the shared rose and duck and the synthetic scenes
  * (docs/RESULTS.md, "Hull against random initialisation, and the
  * silhouette term"). */
+_Static_assert(WS_ARG_AUTO == WS_FIT_EPOCHS_AUTO, "--epochs auto is the options' auto");
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
     if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;
@@ -134,7 +136,7 @@ static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     if (isnan(opt->length)) opt->length = lines ? 0.15 : original->length;
     if (isnan(opt->loss.silhouette_weight))
         opt->loss.silhouette_weight = lines ? 3 : original->loss.silhouette_weight;
-    if (opt->epochs == -1) opt->epochs = lines ? 24 : original->epochs;
+    if (opt->epochs == WS_FIT_EPOCHS_AUTO && !lines) opt->epochs = original->epochs;
     if (opt->inner_steps == -1) opt->inner_steps = lines ? 5 : original->inner_steps;
     if (opt->eval_every == -1) opt->eval_every = lines ? 60 : original->eval_every;
 }
@@ -207,7 +209,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
     const ws_fit_options original = *opt;
     /* unset: loss_defaults */
     opt->learning_rate = opt->thickness = opt->length = opt->loss.silhouette_weight = NAN;
-    opt->epochs = opt->inner_steps = opt->eval_every = -1;
+    opt->epochs = WS_FIT_EPOCHS_AUTO; /* --epochs auto reads as this too */
+    opt->inner_steps = opt->eval_every = -1;
     fit_words w = {.loss = "auto", .background = "black", .geometric = "blocks", .precision = "auto",
                    .edges_weight = 1.0};
     *resume_dir = NULL;
@@ -225,7 +228,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
          "weight of the silhouette term over the training views (a third of it counts where they have no usable "
          "silhouette) [0; 3 with --loss edges]"},
         {"--batch-size", WS_ARG_INT, &opt->batch_size, 0, "views per batch [1]"},
-        {"--epochs", WS_ARG_INT, &opt->epochs, 0, "passes over the training views [10; 24 with --loss edges]"},
+        {"--epochs", WS_ARG_INT_AUTO, &opt->epochs, 0,
+         "passes over the training views, or auto [auto: 10; with --loss edges 24, fewer past 96 views]"},
         {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30; 5 with --loss edges]"},
         {"--learning-rate", WS_ARG_DOUBLE, &opt->learning_rate, 0, "Adam step size [0.005; 0.0003 with --loss edges]"},
         {"--n-curves", WS_ARG_INT, &opt->n_curves, 0, "number of curves [25]"},

@@ -4,7 +4,7 @@
  *   {"program": "wiresketch", "version": "0.1.0", "commit": "d267b48",
  *    "command_line": ["wiresketch", "fit", "SCENE", "--loss", "edges", ...],
  *    "scene": "SCENE",
- *    "settings": {"out": "DIR", "loss": "edges", "epochs": "24", ...,
+ *    "settings": {"out": "DIR", "loss": "edges", "epochs": "auto", ...,
  *                 "quiet": false, "clip-conv-layer-weights": ["0", "0", "1", "1", "0"]}}
  *
  * settings holds every option of the run, defaults included, with the

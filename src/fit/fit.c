@@ -39,7 +39,8 @@ volatile sig_atomic_t ws_fit_stop_requested = 0;
 
 /* Everything one fit process holds. */
 typedef struct {
-    const ws_fit_options *opt;
+    const ws_fit_options *opt; /* &in_effect */
+    ws_fit_options in_effect;  /* the caller's, with --epochs auto resolved once the scene is loaded */
     ws_scene scene;
     ws_view_targets *targets; /* each view's silhouette and line target, made once for every user */
     ws_objective *objective;  /* sampling, splatting, the loss and their buffers */
@@ -371,8 +372,15 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     so.progress = speaks() && !o->quiet ? &r->progress : NULL;
     double box[6];
     if ((o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) ||
-        ws_roi_load_scene(&r->scene, o->scene_dir, &so, o->bbox ? box : NULL, &r->roi, &r->roi_st, st) ||
-        check_checkpoint_size(r, argv, argc, st) ||
+        ws_roi_load_scene(&r->scene, o->scene_dir, &so, o->bbox ? box : NULL, &r->roi, &r->roi_st, st))
+        return st->code;
+    const int ntrain = r->scene.split[WS_TRAIN].n;
+    if (o->epochs == WS_FIT_EPOCHS_AUTO && ntrain > WS_FIT_AUTO_VIEWS && speaks() && !o->quiet)
+        printf("fit: %d epochs over the %d train views (--epochs auto: %d up to %d views, past that about the "
+               "steps of %d)\n",
+               ws_fit_epochs(o, ntrain), ntrain, WS_FIT_AUTO_EPOCHS, WS_FIT_AUTO_VIEWS, WS_FIT_AUTO_VIEWS);
+    r->in_effect.epochs = ws_fit_epochs(o, ntrain);
+    if (check_checkpoint_size(r, argv, argc, st) ||
         ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;
     if (speaks() && ws_mkdir(o->out_dir, st)) return st->code;
@@ -500,7 +508,8 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
            int *interrupted, ws_status *st) {
     fit_run r;
     memset(&r, 0, sizeof r);
-    r.opt = opt;
+    r.in_effect = *opt;
+    r.opt = &r.in_effect;
     *interrupted = 0;
     r.start = ws_seconds();
     /* A failure one rank met alone in the setup (rank 0's output directory
@@ -528,7 +537,7 @@ int ws_fit(const ws_fit_options *opt, const char *const *argv, int argc, int res
     if (!rc && speaks()) rc = retired_curves(&r, &retire, st);
     if (!rc && speaks()) {
         r.s.elapsed = ws_fit_state_elapsed(&r.s, r.start);
-        rc = ws_fit_write_outputs(opt, &r.scene, *interrupted ? NULL : r.targets, &r.s, retire, test_losses,
+        rc = ws_fit_write_outputs(r.opt, &r.scene, *interrupted ? NULL : r.targets, &r.s, retire, test_losses,
                                   test_loss, st);
     }
     free(retire);

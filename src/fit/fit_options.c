@@ -33,6 +33,12 @@ void ws_fit_options_default(ws_fit_options *o) {
     o->init_curves = "hull";
 }
 
+int ws_fit_epochs(const ws_fit_options *o, int ntrain) {
+    if (o->epochs != WS_FIT_EPOCHS_AUTO) return o->epochs;
+    if (ntrain <= WS_FIT_AUTO_VIEWS) return WS_FIT_AUTO_EPOCHS;
+    return (WS_FIT_AUTO_EPOCHS * WS_FIT_AUTO_VIEWS + ntrain - 1) / ntrain;
+}
+
 /* Counts: views per batch, epochs and Adam steps per batch at most 10^6
  * (their product with 65536 batches stays below 2^63), curves at most 10^5
  * (WS_CURVE_FLOATS numbers each, Gaussians per curve capped). Lengths (world
@@ -47,7 +53,7 @@ int ws_fit_options_check(const ws_fit_options *o, ws_status *st) {
     if (o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) return st->code;
     if (o->batch_size < 1 || o->batch_size > MAX_COUNT)
         return ws_fail(st, WS_EUSAGE, "--batch-size: %d is not in [1, %d]", o->batch_size, MAX_COUNT);
-    if (o->epochs < 0 || o->epochs > MAX_COUNT)
+    if ((o->epochs < 0 && o->epochs != WS_FIT_EPOCHS_AUTO) || o->epochs > MAX_COUNT)
         return ws_fail(st, WS_EUSAGE, "--epochs: %d is not in [0, %d]", o->epochs, MAX_COUNT);
     if (o->inner_steps < 1 || o->inner_steps > MAX_COUNT)
         return ws_fail(st, WS_EUSAGE, "--inner-steps: %d is not in [1, %d]", o->inner_steps, MAX_COUNT);

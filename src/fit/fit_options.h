@@ -17,7 +17,8 @@ typedef struct {
     int no_check;              /* skip the scene check (geometry/check.h) before a new fit */
     ws_loss_options loss;
     int size;                  /* working resolution (the model's with CLIP) */
-    int batch_size, epochs, inner_steps, n_curves, eval_every, threads;
+    int batch_size, inner_steps, n_curves, eval_every, threads;
+    int epochs;                /* passes over the train views, or WS_FIT_EPOCHS_AUTO (ws_fit_epochs) */
     double learning_rate, thickness, radius, length, overlap, cutoff;
     uint64_t seed;
     int max_steps;             /* stop after this many steps in all (0: no limit) */
@@ -37,7 +38,21 @@ typedef struct {
     int n_settings;
 } ws_fit_options;
 
+/* --epochs auto (the line loss's default): WS_FIT_AUTO_EPOCHS passes over
+ * up to WS_FIT_AUTO_VIEWS train views, and past that as many as keep about
+ * the steps of WS_FIT_AUTO_VIEWS views (rounded up): a capture of 200
+ * photos runs 12 epochs, not 24. Its views lie closer together, so that
+ * one pass shows each line about as often as two over 96; the curves need
+ * steps, not passes (docs/RESULTS.md, "A capture of 200 views: the steps
+ * of 96 views"). */
+#define WS_FIT_EPOCHS_AUTO (-1)
+#define WS_FIT_AUTO_EPOCHS 24
+#define WS_FIT_AUTO_VIEWS 96
+
 void ws_fit_options_default(ws_fit_options *opt);
+/* The epochs a fit of ntrain train views runs: opt->epochs, or the rule
+ * above when it is WS_FIT_EPOCHS_AUTO. */
+int ws_fit_epochs(const ws_fit_options *opt, int ntrain);
 /* Every option in its range (WS_EUSAGE naming the option otherwise); the
  * command line and a checkpoint's stored arguments both pass here. */
 int ws_fit_options_check(const ws_fit_options *opt, ws_status *st);
