@@ -113,6 +113,9 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
     }
 }
 
+/* the parser's auto is the one the fit resolves (fit_options.h) */
+_Static_assert(WS_ARG_AUTO == WS_FIT_EPOCHS_AUTO, "--epochs auto is the options' auto");
+
 /* The defaults of the options a loss wants otherwise, where the command
  * line left them unset (NAN, -1): the original's for CLIP (no silhouette
  * term); for the line loss alone (`--loss edges`) those measured on the
@@ -128,7 +131,6 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
  * measured on the shared rose and duck and the synthetic scenes
  * (docs/RESULTS.md, "Hull against random initialisation, and the
  * silhouette term"). */
-_Static_assert(WS_ARG_AUTO == WS_FIT_EPOCHS_AUTO, "--epochs auto is the options' auto");
 static void loss_defaults(ws_fit_options *opt, const ws_fit_options *original) {
     int lines = opt->loss.lines_weight != 0 && !ws_loss_uses_clip(&opt->loss);
     if (isnan(opt->learning_rate)) opt->learning_rate = lines ? 0.0003 : original->learning_rate;
