@@ -374,12 +374,12 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     if ((o->bbox && ws_roi_parse_bbox(o->bbox, box, st)) ||
         ws_roi_load_scene(&r->scene, o->scene_dir, &so, o->bbox ? box : NULL, &r->roi, &r->roi_st, st))
         return st->code;
-    const int ntrain = r->scene.split[WS_TRAIN].n;
-    if (o->epochs == WS_FIT_EPOCHS_AUTO && ntrain > WS_FIT_AUTO_VIEWS && speaks() && !o->quiet)
+    const int ntrain = r->scene.split[WS_TRAIN].n, epochs = ws_fit_epochs(o, ntrain);
+    if (o->epochs == WS_FIT_EPOCHS_AUTO && epochs < WS_FIT_AUTO_EPOCHS && speaks() && !o->quiet)
         printf("fit: %d epochs over the %d train views (--epochs auto: %d up to %d views, past that about the "
                "steps of %d)\n",
-               ws_fit_epochs(o, ntrain), ntrain, WS_FIT_AUTO_EPOCHS, WS_FIT_AUTO_VIEWS, WS_FIT_AUTO_VIEWS);
-    r->in_effect.epochs = ws_fit_epochs(o, ntrain);
+               epochs, ntrain, WS_FIT_AUTO_EPOCHS, WS_FIT_AUTO_VIEWS, WS_FIT_AUTO_VIEWS);
+    r->in_effect.epochs = epochs;
     if (check_checkpoint_size(r, argv, argc, st) ||
         ws_view_targets_create(&r->targets, &r->scene, st))
         return st->code;
