@@ -299,6 +299,9 @@ static void test_init(void) {
     }
     CHECK(worst_r < 1e-12, "midpoints on the sphere: worst |r - 0.8| %g", worst_r);
     CHECK(worst_len < 1e-12, "segment length 0.02: worst error %g", worst_len);
+    double worst_measured = 0;
+    for (int ci = 0; ci < n; ci++) worst_measured = fmax(worst_measured, fabs(ws_curve_length(&c, ci) - 0.02));
+    CHECK(worst_measured < 1e-12, "ws_curve_length of the segments 0.02: worst error %g", worst_measured);
     CHECK(worst_dot < 1e-9, "direction tangent to the sphere: worst |cos| %g", worst_dot);
     CHECK(worst_col < 1e-12, "control points at -1/2, -1/6, 1/6, 1/2: worst %g", worst_col);
     double m = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
@@ -313,6 +316,29 @@ static void test_init(void) {
           "negative thickness refused: %s", st.msg);
 }
 
+/* ws_curve_length of a bent curve against Simpson's rule on |B'(t)|. */
+static void test_length(void) {
+    ws_status st = {0};
+    ws_curves c;
+    ws_curves_alloc(&c, 2, &st);
+    static const double P[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 1, 1, 1};
+    memcpy(c.P, P, sizeof P);
+    double simpson = 0;
+    const int steps = 20000; /* even */
+    for (int i = 0; i <= steps; i++) {
+        double t = (double)i / steps, d[3];
+        for (int x = 0; x < 3; x++) /* B'(t) = 3 [(1-t)^2 (P1-P0) + 2 t (1-t) (P2-P1) + t^2 (P3-P2)] */
+            d[x] = 3 * ((1 - t) * (1 - t) * (P[3 + x] - P[x]) + 2 * t * (1 - t) * (P[6 + x] - P[3 + x]) +
+                        t * t * (P[9 + x] - P[6 + x]));
+        double w = i == 0 || i == steps ? 1 : i % 2 ? 4 : 2;
+        simpson += w * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (3.0 * steps);
+    }
+    double measured = ws_curve_length(&c, 0);
+    CHECK(fabs(measured - simpson) < 1e-4 * simpson, "bent curve: length %.9g, Simpson %.9g", measured, simpson);
+    CHECK(ws_curve_length(&c, 1) == 0, "a curve of 4 equal points: length %g", ws_curve_length(&c, 1));
+    ws_curves_free(&c);
+}
+
 int main(void) {
     tmpdir = test_tmpdir("curves");
     test_bernstein();
@@ -321,5 +347,6 @@ int main(void) {
     test_backward();
     test_files();
     test_init();
+    test_length();
     return check_summary();
 }

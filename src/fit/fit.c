@@ -280,8 +280,8 @@ static int run_schedule(fit_run *r, const char *const *argv, int argc, int *inte
     double loss = NAN;
     /* what the steps will take, timed before the first */
     if (ws_fit_time_phases(&r->time, total_steps(r), schedule_steps(r), o->loss.lines_weight != 0, st) ||
-        ws_fit_time_calibrate(&r->time, r->objective, &s->curves, s->order, s->n_train, o->batch_size, &s->rng,
-                              r->grad, st))
+        ws_fit_time_calibrate(&r->time, r->objective, &s->curves, o->n_curves * o->length,
+                              s->order, s->n_train, o->batch_size, &s->rng, r->grad, st))
         return st->code;
     if (speaks() && !o->quiet) ws_fit_time_announce(&r->time, s->global_step, o, stderr);
     rate_start = last_checkpoint = ws_seconds();

@@ -74,19 +74,47 @@ static int phase_of(const ws_fit_time *t, long step) {
     return k;
 }
 
-int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c, const int *order, int n_train,
-                          int batch_size, const ws_rng *rng, double *grad, ws_status *st) {
+/* grown (allocated as c): c's curves, each stretched about its middle by
+ * the factor that makes them `length` long together, if that is above 1. */
+static void stretch(const ws_curves *c, double length, ws_curves *grown) {
+    grown->thickness = c->thickness;
+    grown->overlap = c->overlap;
+    memcpy(grown->P, c->P, (size_t)c->n * WS_CURVE_FLOATS * sizeof *c->P);
+    double now = 0;
+    for (int ci = 0; ci < c->n; ci++) now += ws_curve_length(c, ci);
+    if (!(now > 0 && length > now)) return;
+    double factor = length / now;
+    for (int ci = 0; ci < c->n; ci++) {
+        double mid[3];
+        ws_curve_point(c, ci, 0.5, mid);
+        double *P = grown->P + (size_t)ci * WS_CURVE_FLOATS;
+        for (int k = 0; k < WS_CURVE_FLOATS; k++) P[k] = mid[k % 3] + factor * (P[k] - mid[k % 3]);
+    }
+}
+
+int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c, double start_length,
+                          const int *order, int n_train, int batch_size, const ws_rng *rng, double *grad,
+                          ws_status *st) {
+    ws_curves grown;
+    if (ws_curves_alloc(&grown, c->n, st)) return st->code;
     /* The first WS_FIT_TIME_BATCHES batches, each called once untimed
      * first: a view's first call pays for what is then kept (its
      * hidden-line map, caches), which no later step pays again. */
     int nbatches = (n_train + batch_size - 1) / batch_size;
     if (nbatches > WS_FIT_TIME_BATCHES) nbatches = WS_FIT_TIME_BATCHES;
     if (ws_dist_size() > 1) nbatches = 1;
-    double wall = 0, cpu = 0, calls_cpu[WS_FIT_TIME_CALLS];
-    for (int k = -1; k < t->n; k++) {
+    /* each timed call's wall over CPU seconds: their median is the
+     * timing's, one the machine stalled (a page fault, another process)
+     * leaving it alone */
+    double calls_cpu[WS_FIT_TIME_CALLS], walls_per_cpu[WS_FIT_TIME_PHASES * WS_FIT_TIME_CALLS];
+    size_t timed = 0;
+    int rc = WS_OK;
+    for (int k = -1; k < t->n && !rc; k++) {
         int phase = k < 0 ? t->n - 1 : k; /* k = -1: the untimed first calls, in the last phase */
         long mid = (t->first[phase] + t->first[phase + 1]) / 2;
-        ws_objective_set_progress(obj, (double)mid / (double)t->schedule);
+        double progress = (double)mid / (double)t->schedule;
+        ws_objective_set_progress(obj, progress);
+        stretch(c, start_length * (1 + (WS_FIT_TIME_GROWTH - 1) * fmin(1, progress)), &grown);
         double spent = 0;
         int calls = 0;
         int most = k < 0 ? nbatches : ws_dist_size() > 1 ? 1 : WS_FIT_TIME_CALLS;
@@ -96,25 +124,24 @@ int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c,
             int nviews = n_train - first < batch_size ? n_train - first : batch_size;
             ws_rng copy = *rng;
             double loss, w0 = ws_seconds(), c0 = ws_cpu_seconds();
-            int rc = ws_objective_batch(obj, c, order + first, nviews, &copy, &loss, grad, st);
-            if (rc && rc != WS_ENUMERIC) return rc;
+            rc = ws_objective_batch(obj, &grown, order + first, nviews, &copy, &loss, grad, st);
+            if (rc && rc != WS_ENUMERIC) break;
+            rc = WS_OK;
             ws_status_clear(st); /* a non-finite loss costs what a finite one does */
             double used = ws_cpu_seconds() - c0;
             spent += used;
             if (k >= 0) {
-                wall += ws_seconds() - w0;
+                if (used > 0) walls_per_cpu[timed++] = (ws_seconds() - w0) / used;
                 calls_cpu[calls] = used;
             }
             calls++;
         }
-        if (k >= 0) {
-            /* the median: a call the machine's load interrupted is not the phase's cost */
-            t->model[k] = fmax(median(calls_cpu, (size_t)calls), 1e-9);
-            cpu += spent;
-        }
+        /* the median: a call the machine's load interrupted is not the phase's cost */
+        if (k >= 0 && !rc) t->model[k] = fmax(median(calls_cpu, (size_t)calls), 1e-9);
     }
-    t->wall_per_cpu = cpu > 0 ? wall / cpu : 1;
-    return WS_OK;
+    ws_curves_free(&grown);
+    t->wall_per_cpu = timed ? median(walls_per_cpu, timed) : 1;
+    return rc;
 }
 
 void ws_fit_time_add(ws_fit_time *t, long step, const double batch[2], const double all[2]) {
@@ -180,6 +207,10 @@ void ws_fit_time_announce(const ws_fit_time *t, long from, const ws_fit_options 
 }
 
 void ws_fit_time_print(const ws_fit_time *t, FILE *out) {
+    double wall = 0, cpu = 0;
+    for (int k = 0; k < t->n; k++) wall += t->wall[k], cpu += t->cpu[k];
+    fprintf(out, "fit: wall per CPU second %.3g timed before the first step, %.3g over the steps\n", t->wall_per_cpu,
+            cpu > 0 ? wall / cpu : NAN);
     for (int k = 0; k < t->n; k++) {
         fprintf(out, "fit: phase %d: steps %ld-%ld, modelled %.4g ms", k + 1, t->first[k], t->first[k + 1] - 1,
                 1e3 * t->model[k]);

@@ -55,7 +55,11 @@ int ws_fit_time_boundaries(long total, long schedule, int lines, long first[WS_F
                            int levels[WS_FIT_TIME_PHASES]);
 void ws_fit_time_free(ws_fit_time *t);
 
-/* Times each phase's training step of the curves c on the first
+/* Times each phase's training step of the curves c, each stretched about
+ * its middle (its point at t = 1/2) so that together they are as long as
+ * a fit's sketch is at the phase's middle, start_length (the length at
+ * step 0) times 1 + (WS_FIT_TIME_GROWTH - 1) x the progress there, when
+ * they are shorter: a step's cost grows with its Gaussians. On the first
  * WS_FIT_TIME_BATCHES batches of order[0..n_train) (batch_size views
  * each), each called once untimed first (a view's first call pays for what
  * is kept, such as its hidden-line map), then in turn until
@@ -67,8 +71,16 @@ void ws_fit_time_free(ws_fit_time *t);
 #define WS_FIT_TIME_CALIBRATION 0.15
 #define WS_FIT_TIME_CALLS 50
 #define WS_FIT_TIME_BATCHES 4
-int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c, const int *order, int n_train,
-                          int batch_size, const ws_rng *rng, double *grad, ws_status *st);
+int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c, double start_length,
+                          const int *order, int n_train, int batch_size, const ws_rng *rng, double *grad,
+                          ws_status *st);
+
+/* How a fit's sketch grows: about linearly over the schedule, from its
+ * start to WS_FIT_TIME_GROWTH times as long (a line-loss fit's 25 strokes
+ * of 0.15 end 2.6 - 4.3 times as long on the capture test bed:
+ * docs/RESULTS.md, "The time a fit announces"). A CLIP step's cost hardly
+ * depends on it. */
+#define WS_FIT_TIME_GROWTH 3.2
 
 /* Process CPU seconds. */
 double ws_cpu_seconds(void);
@@ -85,7 +97,8 @@ double ws_fit_time_left(const ws_fit_time *t, long from);
  * hour a warning that names the settings that make the fit faster. */
 void ws_fit_time_announce(const ws_fit_time *t, long from, const ws_fit_options *opt, FILE *out);
 
-/* One line per phase, for the fit's last words: "fit: phase K: steps A-B,
+/* For the fit's last words: the wall per CPU second of the timing and of
+ * the steps, then one line per phase: "fit: phase K: steps A-B,
  * modelled X ms, measured Y ms CPU per step in the batch (median M) + Z ms
  * besides (W ms wall in all)". */
 void ws_fit_time_print(const ws_fit_time *t, FILE *out);

@@ -144,6 +144,12 @@ static void arc_length_table(const ws_curves *c, int ci, double cum[WS_ARC_SAMPL
     }
 }
 
+double ws_curve_length(const ws_curves *c, int ci) {
+    double cum[WS_ARC_SAMPLES];
+    arc_length_table(c, ci, cum);
+    return cum[WS_ARC_SAMPLES - 1];
+}
+
 /* The parameter at arc length `a` (0 <= a <= L), by linear interpolation in
  * the table. *seg is the search start (targets come in increasing order);
  * it stops at the first sample at or beyond `a`, whose segment has positive
@@ -292,9 +298,7 @@ static int parse_curves(const cJSON *root, const char *path, ws_curves *c, ws_st
         }
         /* Every reader samples the curves next: one it could not measure
          * is refused here, where the file can be named. */
-        double cum[WS_ARC_SAMPLES];
-        arc_length_table(c, ci, cum);
-        if (!isfinite(cum[WS_ARC_SAMPLES - 1]))
+        if (!isfinite(ws_curve_length(c, ci)))
             return ws_fail(st, WS_EINPUT, "%s: curve %d is too long to measure", path, ci);
         ci++;
     }

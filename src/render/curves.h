@@ -78,6 +78,10 @@ void ws_bernstein(double t, double B[4]);
 /* Point of curve `ci` at parameter t (cubic Bernstein). */
 void ws_curve_point(const ws_curves *c, int ci, double t, double p[3]);
 
+/* Arc length of curve `ci`, measured as its Gaussians' spacing is (on
+ * WS_ARC_SAMPLES samples). */
+double ws_curve_length(const ws_curves *c, int ci);
+
 /* Samples every curve into Gaussians (grows g as needed; start from a zeroed
  * ws_gaussians and reuse it). Curve c's Gaussians follow curve c - 1's, in
  * order of t. A curve with M >= 2 Gaussians has t_0 = 0 and t_{M-1} = 1;
