@@ -273,8 +273,8 @@ int ws_photo_hull_make(const ws_scene *scene, const ws_roi *roi, int resolution,
     const ws_split *train = &scene->split[WS_TRAIN];
     carving k = {0};
     if (train->n == 0) return ws_fail(st, WS_EINTERNAL, "photo hull: no train views");
-    const double centre[3] = {0.5 * (roi->lo[0] + roi->hi[0]), 0.5 * (roi->lo[1] + roi->hi[1]),
-                              0.5 * (roi->lo[2] + roi->hi[2])};
+    double centre[3];
+    ws_roi_centre(roi, centre);
     if (!(k.views = ws_malloc(sizeof *k.views * WS_PHOTO_HULL_VIEWS, "photo hull", st)) ||
         ws_view_spread(train, centre, WS_PHOTO_HULL_VIEWS, k.views, &k.nviews, st)) {
         free(k.views);

@@ -7,6 +7,10 @@
 #include "geometry/roi.h"
 #include "io/pointcloud.h"
 
+void ws_roi_centre(const ws_roi *roi, double centre[3]) {
+    for (int a = 0; a < 3; a++) centre[a] = 0.5 * (roi->lo[a] + roi->hi[a]);
+}
+
 int ws_roi_parse_bbox(const char *text, double box[6], ws_status *st) {
     const char *s = text;
     for (int k = 0; k < 6; k++) {

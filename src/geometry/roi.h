@@ -45,6 +45,10 @@ typedef struct {
  * it is not six finite numbers with x0 < x1, y0 < y1, z0 < z1. */
 int ws_roi_parse_bbox(const char *text, double box[6], ws_status *st);
 
+/* The middle of the region's box, the point its views' directions are
+ * taken from (geometry/view_spread.h). */
+void ws_roi_centre(const ws_roi *roi, double centre[3]);
+
 /* The scene's region of interest: from user (a box as ws_roi_parse_bbox
  * makes it) when not NULL, else as above. Fails with WS_EINPUT when the
  * scene's centre is in no train view. */

@@ -100,18 +100,17 @@ typedef struct {
 static void view_caps(votes *x, const double centre[3]) {
     memset(x->cap, 0, sizeof x->cap);
     const double cosine = cos(WS_CONSENSUS_CAP_ANGLE * M_PI / 180);
+    double dir[WS_CONSENSUS_MAX_VIEWS][3];
+    for (int v = 0; v < x->nviews; v++) ws_view_direction(&x->views[v]->cam, centre, dir[v]);
     int k = 0;
     for (int dz = -1; dz <= 1; dz++)
         for (int dy = -1; dy <= 1; dy++)
             for (int dx = -1; dx <= 1; dx++) {
                 if (!dx && !dy && !dz) continue;
-                for (int v = 0; v < x->nviews; v++) {
-                    double pos[3];
-                    ws_camera_position(&x->views[v]->cam, pos);
-                    double e[3] = {pos[0] - centre[0], pos[1] - centre[1], pos[2] - centre[2]};
-                    double len = sqrt((dx * dx + dy * dy + dz * dz) * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
-                    if (dx * e[0] + dy * e[1] + dz * e[2] > cosine * len) x->cap[k][v / 64] |= 1ull << (v % 64);
-                }
+                const double len = sqrt(dx * dx + dy * dy + dz * dz);
+                for (int v = 0; v < x->nviews; v++)
+                    if (dx * dir[v][0] + dy * dir[v][1] + dz * dir[v][2] > cosine * len)
+                        x->cap[k][v / 64] |= 1ull << (v % 64);
                 k++;
             }
 }
@@ -275,7 +274,7 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
     c->tested = (long)n[0] * n[1] * n[2];
     const size_t hw = (size_t)scene->width * scene->height;
     double centre[3];
-    for (int a = 0; a < 3; a++) centre[a] = (roi->lo[a] + roi->hi[a]) / 2;
+    ws_roi_centre(roi, centre);
     int nviews = 0;
     const ws_view **views = ws_malloc(sizeof *views * WS_CONSENSUS_MAX_VIEWS, "edge consensus", st);
     int rc = views ? ws_view_spread(train, centre, WS_CONSENSUS_MAX_VIEWS, views, &nviews, st) : st->code;

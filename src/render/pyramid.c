@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stddef.h>
 #include "render/pyramid.h"
+#include "nn/fastmath.h"
 #include "nn/parallel.h"
 
 int ws_blur_kernel_init(ws_blur_kernel *g, double sigma) {
@@ -16,23 +17,60 @@ int ws_blur_kernel_init(ws_blur_kernel *g, double sigma) {
     return 0;
 }
 
+/* The taps of kernel k (centred) at position `at` of a line of n samples
+ * x[0], x[stride], ...: the sum over the taps inside the line, t
+ * ascending from -R, from 0. */
+NN_INLINE double taps(const double *k, int R, const double *x, size_t stride, int at, int n) {
+    double s = 0;
+    for (int t = at - R < 0 ? -at : -R; t <= R && at + t < n; t++)
+        s += k[t] * x[(ptrdiff_t)(at + t) * (ptrdiff_t)stride];
+    return s;
+}
+
+/* The blur's passes, a row of output at a time, as sums over the taps t
+ * ascending from 0, so every pixel gets the bits of taps(): where all taps
+ * are inside the image, a pass over the row per tap, which vectorises over
+ * the row. src/ is compiled without contracting a * b + c into a
+ * multiply-add, so the wider clones (nn/fastmath.h) give the same bits as
+ * the plain x86-64 code. */
+NN_SIMD_CLONES static void blur_row(const double *k, int R, const double *restrict in, double *restrict out, int w) {
+    const int lo = R < w ? R : w, hi = w - R > lo ? w - R : lo;
+    for (int j = 0; j < lo; j++) out[j] = taps(k, R, in, 1, j, w);
+    #pragma omp simd
+    for (int j = lo; j < hi; j++) out[j] = 0;
+    for (int t = -R; t <= R; t++) {
+        const double kt = k[t];
+        #pragma omp simd
+        for (int j = lo; j < hi; j++) out[j] += kt * in[j + t];
+    }
+    for (int j = hi; j < w; j++) out[j] = taps(k, R, in, 1, j, w);
+}
+
+/* Row i of the vertical pass over tmp (h x w). */
+NN_SIMD_CLONES static void blur_column_row(const double *k, int R, const double *restrict tmp, double *restrict out,
+                                           int i, int w, int h) {
+    const int t0 = i - R < 0 ? -i : -R, t1 = i + R < h ? R : h - 1 - i;
+    #pragma omp simd
+    for (int j = 0; j < w; j++) out[j] = 0;
+    for (int t = t0; t <= t1; t++) {
+        const double kt = k[t], *src = tmp + (ptrdiff_t)(i + t) * w;
+        #pragma omp simd
+        for (int j = 0; j < w; j++) out[j] += kt * src[j];
+    }
+}
+
 void ws_blur_forward(const ws_blur_kernel *g, const double *in, double *out, double *tmp, int w, int h) {
     const int R = g->radius;
     const double *k = g->k + R;
-#pragma omp parallel for if (nn_fork((size_t)w * h))
-    for (int i = 0; i < h; i++)
-        for (int j = 0; j < w; j++) {
-            double s = 0;
-            for (int t = j - R < 0 ? -j : -R; t <= R && j + t < w; t++) s += k[t] * in[(size_t)i * w + j + t];
-            tmp[(size_t)i * w + j] = s;
-        }
-#pragma omp parallel for if (nn_fork((size_t)w * h))
-    for (int i = 0; i < h; i++)
-        for (int j = 0; j < w; j++) {
-            double s = 0;
-            for (int t = i - R < 0 ? -i : -R; t <= R && i + t < h; t++) s += k[t] * tmp[(size_t)(i + t) * w + j];
-            out[(size_t)i * w + j] = s;
-        }
+    /* one team for both passes: the rows of a column's taps are done when
+     * the first loop's threads meet at its end */
+#pragma omp parallel if (nn_fork((size_t)w * h))
+    {
+#pragma omp for
+        for (int i = 0; i < h; i++) blur_row(k, R, in + (size_t)i * w, tmp + (size_t)i * w, w);
+#pragma omp for
+        for (int i = 0; i < h; i++) blur_column_row(k, R, tmp, out + (size_t)i * w, i, w, h);
+    }
 }
 
 /* Number of pixels of a w x h image that pooled cell (i, j) covers. */
