@@ -98,7 +98,12 @@ class ConvertError(Exception):
 
 
 class Interrupted(BaseException):
-    """A stopping signal: unwinds like KeyboardInterrupt, so the temporary file is removed."""
+    """A stopping signal: unwinds like KeyboardInterrupt, so the temporary file is removed.
+    Raised inside a codec, Python re-raises it with the codec's words around its message
+    ("decoding with 'cp437' codec failed (Interrupted: SIGTERM)"), so the signal's name is
+    kept apart, in `signal_name`."""
+
+    signal_name = None
 
 
 # The signals that end a conversion with its temporary file removed: Ctrl-C, kill, a closed
@@ -111,7 +116,8 @@ def on_signal(signum, frame):
     """Raise Interrupted once; further signals are ignored so that cleanup runs to the end."""
     for s in STOP_SIGNALS:
         signal.signal(s, signal.SIG_IGN)
-    raise Interrupted(signal.Signals(signum).name)
+    Interrupted.signal_name = signal.Signals(signum).name
+    raise Interrupted(Interrupted.signal_name)
 
 
 def one_line(text):
@@ -1027,8 +1033,8 @@ def main(argv):
         where, what = e.path or args.input, str(e)
     except OSError as e:  # opening or reading the input
         where, what = e.filename or args.input, e.strerror or str(e)
-    except Interrupted as e:
-        where, what = args.output, f"interrupted by {e}; not written"
+    except Interrupted:
+        where, what = args.output, f"interrupted by {Interrupted.signal_name}; not written"
     except MemoryError:
         where, what = args.input, "out of memory converting it (a limit such as ulimit -v is too low)"
     else:
