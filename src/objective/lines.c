@@ -6,6 +6,7 @@
 #include <string.h>
 #include "objective/lines.h"
 #include "render/pyramid.h"
+#include "nn/parallel.h"
 
 struct ws_lines_workspace {
     int W, H;
@@ -65,9 +66,10 @@ void ws_lines_workspace_free(ws_lines_workspace *ws) {
     free(ws);
 }
 
-/* <x, y>, <x, x>, <y, y> of two w x h images, summed per row, then rows in order. */
+/* <x, y>, <x, x>, <y, y> of two w x h images, summed per row, then rows in
+ * order (the same bits on any team). */
 static void dots(const double *x, const double *y, int w, int h, double *rows, double out[3]) {
-#pragma omp parallel for
+#pragma omp parallel for if (nn_fork((size_t)w * h))
     for (int i = 0; i < h; i++) {
         double xy = 0, xx = 0, yy = 0;
         for (int j = 0; j < w; j++) {
