@@ -7,9 +7,10 @@
  * step. The schedule is cut into phases of equal work (the levels in use;
  * one phase without the line loss). Before the first step each phase's
  * step is timed once or more (the training batch's loss and gradient at a
- * progress within the phase, on the first batch's views; CPU time, which
- * the machine's load leaves alone) and the phases are modelled as costing
- * in that proportion. While the fit runs, the time left is
+ * progress within the phase, on the first batches' views, with the sketch
+ * grown to the length it will have there; CPU time, which the machine's
+ * load leaves alone) and the phases are modelled as costing in that
+ * proportion. While the fit runs, the time left is
  *   left = sum over the remaining steps of (a m(phase of the step) + b),
  * m the modelled CPU seconds of a step's batch, a the median of the last
  * WS_FIT_TIME_WINDOW steps' batch wall seconds over their m (it carries
