@@ -75,16 +75,12 @@ static int phase_of(const ws_fit_time *t, long step) {
 }
 
 /* grown (allocated as c): c's curves, each stretched about its middle by
- * the factor that makes them `length` long together, if that is above 1. */
-static void stretch(const ws_curves *c, double length, ws_curves *grown) {
+ * `factor` (1: c's control points as they are). */
+static void stretch(const ws_curves *c, double factor, ws_curves *grown) {
     grown->thickness = c->thickness;
     grown->overlap = c->overlap;
     memcpy(grown->P, c->P, (size_t)c->n * WS_CURVE_FLOATS * sizeof *c->P);
-    double now = 0;
-    for (int ci = 0; ci < c->n; ci++) now += ws_curve_length(c, ci);
-    if (!(now > 0 && length > now)) return;
-    double factor = length / now;
-    for (int ci = 0; ci < c->n; ci++) {
+    for (int ci = 0; ci < c->n && factor != 1; ci++) {
         double mid[3];
         ws_curve_point(c, ci, 0.5, mid);
         double *P = grown->P + (size_t)ci * WS_CURVE_FLOATS;
@@ -97,6 +93,8 @@ int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c,
                           ws_status *st) {
     ws_curves grown;
     if (ws_curves_alloc(&grown, c->n, st)) return st->code;
+    double length = 0; /* c's, measured once: a phase's factor is its length over this */
+    for (int ci = 0; ci < c->n; ci++) length += ws_curve_length(c, ci);
     /* The first WS_FIT_TIME_BATCHES batches, each called once untimed
      * first: a view's first call pays for what is then kept (its
      * hidden-line map, caches), which no later step pays again. */
@@ -114,7 +112,8 @@ int ws_fit_time_calibrate(ws_fit_time *t, ws_objective *obj, const ws_curves *c,
         long mid = (t->first[phase] + t->first[phase + 1]) / 2;
         double progress = (double)mid / (double)t->schedule;
         ws_objective_set_progress(obj, progress);
-        stretch(c, start_length * (1 + (WS_FIT_TIME_GROWTH - 1) * fmin(1, progress)), &grown);
+        const double grown_length = start_length * (1 + (WS_FIT_TIME_GROWTH - 1) * fmin(1, progress));
+        stretch(c, length > 0 && grown_length > length ? grown_length / length : 1, &grown);
         double spent = 0;
         int calls = 0;
         int most = k < 0 ? nbatches : ws_dist_size() > 1 ? 1 : WS_FIT_TIME_CALLS;

@@ -17,13 +17,11 @@ int ws_blur_kernel_init(ws_blur_kernel *g, double sigma) {
     return 0;
 }
 
-/* The taps of kernel k (centred) at position `at` of a line of n samples
- * x[0], x[stride], ...: the sum over the taps inside the line, t
- * ascending from -R, from 0. */
-NN_INLINE double taps(const double *k, int R, const double *x, size_t stride, int at, int n) {
+/* The taps of kernel k (centred) at position `at` of a row of n samples:
+ * the sum over the taps inside the row, t ascending from -R, from 0. */
+NN_INLINE double taps(const double *k, int R, const double *x, int at, int n) {
     double s = 0;
-    for (int t = at - R < 0 ? -at : -R; t <= R && at + t < n; t++)
-        s += k[t] * x[(ptrdiff_t)(at + t) * (ptrdiff_t)stride];
+    for (int t = at - R < 0 ? -at : -R; t <= R && at + t < n; t++) s += k[t] * x[at + t];
     return s;
 }
 
@@ -35,7 +33,7 @@ NN_INLINE double taps(const double *k, int R, const double *x, size_t stride, in
  * the plain x86-64 code. */
 NN_SIMD_CLONES static void blur_row(const double *k, int R, const double *restrict in, double *restrict out, int w) {
     const int lo = R < w ? R : w, hi = w - R > lo ? w - R : lo;
-    for (int j = 0; j < lo; j++) out[j] = taps(k, R, in, 1, j, w);
+    for (int j = 0; j < lo; j++) out[j] = taps(k, R, in, j, w);
     #pragma omp simd
     for (int j = lo; j < hi; j++) out[j] = 0;
     for (int t = -R; t <= R; t++) {
@@ -43,7 +41,7 @@ NN_SIMD_CLONES static void blur_row(const double *k, int R, const double *restri
         #pragma omp simd
         for (int j = lo; j < hi; j++) out[j] += kt * in[j + t];
     }
-    for (int j = hi; j < w; j++) out[j] = taps(k, R, in, 1, j, w);
+    for (int j = hi; j < w; j++) out[j] = taps(k, R, in, j, w);
 }
 
 /* Row i of the vertical pass over tmp (h x w). */
