@@ -17,7 +17,8 @@
  *     projects, in the train and test views, to about the masked scene's
  *     masks (the cube's faces change brightness with the view, which a
  *     colour test against all the views would carve away), and carves
- *     the same cubes with 1 thread and with 2;
+ *     the same cubes with 1 thread and with 2; it is a solid's, so its
+ *     outline is made convex, and the silhouettes hold the masks' outline;
  *   - no support plane is found under the cube (geometry/support_plane.h):
  *     the room's floor lies outside the region. */
 #define _XOPEN_SOURCE 700
@@ -180,6 +181,38 @@ int main(void) {
                "it outside\n", c.hull.kept, c.hull.passes, s == WS_TRAIN ? "train" : "test", iou, missed, extra);
         CHECK(iou >= 0.85 && missed <= 0.05, "the photo hull's masks: IoU %.3f, %.3f of the masks missed", iou, missed);
     }
+    /* a solid's hull: its outline made convex, so the silhouettes hold the
+     * object's outline where carving dented the hull's */
+    printf("the hull holds %.1f cubes a kept point: %s\n", (double)c.hull.kept / fmax(1, c.n),
+           c.solid ? "a solid's" : "not a solid's");
+    CHECK(c.solid, "the cube's hull is not taken for a solid's: %ld cubes, %d kept points", c.hull.kept, c.n);
+    double held = 0, held_raw = 0, outline = 0;
+    for (int v = 0; v < scene.split[WS_TRAIN].n && !rc; v++) {
+        const ws_view *view = &scene.split[WS_TRAIN].views[v], *masked = &with_masks.split[WS_TRAIN].views[v];
+        const int W = view->cam.width, H = view->cam.height;
+        ws_silhouette sil = {0};
+        float *near = malloc((size_t)W * H * sizeof *near), *raw = malloc((size_t)W * H * sizeof *raw);
+        rc = near && raw ? ws_edge_consensus_silhouette(&c, view, &sil, &st) : WS_ENOMEM;
+        if (!rc) rc = ws_edge_consensus_near(&c, &view->cam, near, &st);
+        if (!rc) ws_photo_hull_project(&c.hull, &view->cam, NULL, raw);
+        for (int i = 1; i + 1 < H && !rc; i++)
+            for (int j = 1; j + 1 < W; j++) {
+                const float *m = masked->mask.data + (size_t)i * W + j;
+                if (!(m[0] >= 0.5f) || (m[-1] >= 0.5f && m[1] >= 0.5f && m[-W] >= 0.5f && m[W] >= 0.5f)) continue;
+                const size_t q = (size_t)i * W + j;
+                outline++;
+                held += sil.in[q];
+                held_raw += near[q] <= WS_CONSENSUS_SILHOUETTE_PX && raw[q] > 0.5f;
+            }
+        ws_silhouette_free(&sil);
+        free(near);
+        free(raw);
+    }
+    printf("the masks' outline in the silhouettes: %.3f (%.3f cut by the hull's own outline)\n",
+           held / fmax(1, outline), held_raw / fmax(1, outline));
+    CHECK(rc == WS_OK && held >= 0.95 * outline && held >= held_raw,
+          "the silhouettes hold %.3f of the masks' outline (%.3f cut by the hull's own outline): %s",
+          held / fmax(1, outline), held_raw / fmax(1, outline), st.msg);
     ws_photo_hull one = {0}, two = {0};
     const int threads = omp_get_max_threads();
     omp_set_num_threads(1);

@@ -5,7 +5,7 @@
  * views, at which the views' agreement is measured in
  * test_edge_consensus.c) scores against the line targets the fit uses, the
  * edges the views agree on in the region of interest (fit/init.h): it says
- * so in one line on stderr, and its test loss ranks the ground truth below
+ * so in one line on stderr (and that the cube's hull is a solid's), and its test loss ranks the ground truth below
  * no curves and below the truth shifted by 5% of the object's size (eval
  * without the consensus gave all three a loss of 1). The drawing a user
  * gets of such a view (`export --svg`, as a fit's renders and report) is
@@ -79,7 +79,8 @@ int main(void) {
 
     double truth = eval_loss("the truth", path, err, sizeof err);
     CHECK(strstr(err, "region of interest [") && strstr(err, "from where the cameras look") &&
-              strstr(err, "lie on edges the train views") && strstr(err, "the lines the fit draws"),
+              strstr(err, "lie on edges the train views") && strstr(err, "the lines the fit draws") &&
+              strstr(err, "the photos' colours agree on") && strstr(err, "the colours' hull is a solid's"),
           "eval does not say that it scores against the edges the views agree on: %s", err);
     double nothing = eval_loss("no curves", empty, err, sizeof err);
     double moved = eval_loss("the truth shifted 5%", shifted, err, sizeof err);

@@ -59,6 +59,11 @@ int ws_fit_consensus(const ws_roi *roi, const ws_status *roi_st, const ws_scene 
         snprintf(line, WS_CHECK_LINE, "%.400s; the photos' colours do not tell the object from the room (too few "
                  "views, or one colour all round), and %d of its %ld grid points (spacing %.3g) lie on edges the "
                  "train views agree on, the lines the fit draws", roi->line, c->n, c->tested, c->voxel);
+    if (c->solid) {
+        const size_t used = strlen(line);
+        snprintf(line + used, WS_CHECK_LINE - used, "; the colours' hull is a solid's (%.0f cubes a kept point), so "
+                 "its outline in each view is taken convex", (double)c->hull.kept / c->n);
+    }
     if (c->support.found) {
         const size_t used = strlen(line);
         snprintf(line + used, WS_CHECK_LINE - used, "; the object stands on a flat support across (%.2f, %.2f, %.2f) "

@@ -8,6 +8,7 @@
 #include "geometry/view_spread.h"
 #include "objective/edge_consensus.h"
 #include "objective/line_target.h"
+#include "render/convex_fill.h"
 #include "render/distance.h"
 #include "render/thin_edges.h"
 
@@ -303,6 +304,7 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
             vote_grid(x, roi, c->voxel, n, &c->support, keep, dir, stack, scene->progress);
             for (long k = 0; k < c->tested; k++) c->n += keep[k];
         }
+        c->solid = c->hull.occupied && !c->support.found && c->hull.kept >= WS_CONSENSUS_SOLID * c->n;
     }
     free(x);
     free(stack);
@@ -350,6 +352,13 @@ int ws_edge_consensus_near(const ws_edge_consensus *c, const ws_camera *cam, flo
     return rc;
 }
 
+/* mask (cam->height x cam->width): the photo hull's own mask in cam, a
+ * solid's made convex (edge_consensus.h). */
+static int hull_mask(const ws_edge_consensus *c, const ws_camera *cam, float *mask, ws_status *st) {
+    ws_photo_hull_project(&c->hull, cam, NULL, mask);
+    return c->solid ? ws_convex_fill(mask, cam->width, cam->height, st) : WS_OK;
+}
+
 int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st) {
     const ws_camera *cam = &v->cam;
     const size_t hw = (size_t)cam->width * cam->height;
@@ -360,7 +369,7 @@ int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, w
         return st->code;
     }
     int rc = ws_edge_consensus_near(c, cam, mask.data, st);
-    if (!rc && c->hull.occupied) ws_photo_hull_project(&c->hull, cam, NULL, hull);
+    if (!rc && c->hull.occupied) rc = hull_mask(c, cam, hull, st);
     if (!rc) {
         for (size_t p = 0; p < hw; p++)
             mask.data[p] = mask.data[p] <= WS_CONSENSUS_SILHOUETTE_PX && (!c->hull.occupied || hull[p] > 0.5f);
@@ -383,10 +392,9 @@ int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, 
     if (!rc) rc = ws_edge_consensus_near(c, &v->cam, near, st);
     ws_image mask = {0};
     ws_silhouette sil = {0};
-    if (!rc && c->hull.occupied && !(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st))) {
-        ws_photo_hull_project(&c->hull, &v->cam, NULL, mask.data);
+    if (!rc && c->hull.occupied && !(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st)) &&
+        !(rc = hull_mask(c, &v->cam, mask.data, st)))
         rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
-    }
     if (!rc) rc = ws_line_target(&v->photo, NULL, c->hull.occupied ? &sil : band, NULL, edge, st);
     ws_image_free(&mask);
     ws_silhouette_free(&sil);

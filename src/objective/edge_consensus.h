@@ -62,19 +62,29 @@
  * band about the edges a few pixels wide). For any camera:
  *   N   = the distance to the pixels the kept points project into (in
  *         front of it);
- *   silhouette: N <= WS_CONSENSUS_SILHOUETTE_PX where the hull covers
- *         the pixel: a band along the object's edges (hidden ones too),
- *         cut to the hull's outline (so a wire's band, as wide as the
- *         tube's outlines and the background between them, keeps the
- *         tube), which the visual hull, the
- *         silhouette term, the initial curves and the respawn read as they
- *         read a mask's (a solid's hull is then a frame of its edges);
+ *   M   = the photo hull's own mask in cam (ws_photo_hull_project),
+ *         made convex (render/convex_fill.h) when the hull is a solid's:
+ *         it holds WS_CONSENSUS_SOLID or more cubes a kept point (a
+ *         solid's hull fills its volume, 28 - 69 cubes a point on the
+ *         capture bed's solids; a wire's is a tube about its points,
+ *         0.3 - 0.35). Carving takes a solid's faces that the light,
+ *         moving with the camera, shades differently from view to view
+ *         (the lower faces, seen at grazing angles), which dents the
+ *         hull's outline inside the object's edges; a convex outline
+ *         has no dents, and the band below still bounds a concave solid.
+ *         Not over a support: the hull holds the support's slab too;
+ *   silhouette: N <= WS_CONSENSUS_SILHOUETTE_PX where M covers the
+ *         pixel: a band along the object's edges (hidden ones too),
+ *         cut to M's outline (so a wire's band, as wide as the tube's
+ *         outlines and the background between them, keeps the tube),
+ *         which the visual hull, the silhouette term, the initial curves
+ *         and the respawn read as they read a mask's (a solid's hull is
+ *         then a frame of its edges);
  *         it never touches the frame's edge, so every view carves the
  *         hull beyond its frame (the kept points are all of the object);
- *   line target: ws_line_target of the photo with the hull's own mask
- *         in cam as its silhouette (ws_photo_hull_project; so a wire's
- *         tube is drawn by its axis, and a solid's faces, wide, by their
- *         photo edges) and no mask, kept where N <= WS_CONSENSUS_KEEP_PX
+ *   line target: ws_line_target of the photo with M as its silhouette
+ *         (so a wire's tube is drawn by its axis, and a solid's faces,
+ *         wide, by their photo edges) and no mask, kept where N <= WS_CONSENSUS_KEEP_PX
  *         and 0 elsewhere. Not with the band as silhouette: its thin parts
  *         would draw the far side's edges, hidden behind the faces, by
  *         their axes.
@@ -104,6 +114,7 @@
 #define WS_CONSENSUS_ALONG 0.7
 #define WS_CONSENSUS_SILHOUETTE_PX 1.5
 #define WS_CONSENSUS_KEEP_PX 3.0
+#define WS_CONSENSUS_SOLID 4.0 /* photo hull cubes a kept point, at least: a solid (M above) */
 /* The share of --silhouette-weight a fit gives the silhouette term with
  * these silhouettes: a band cut by the photo hull bounds the object less
  * surely than a mask (the hull stands up to a cube inside the object where
@@ -121,6 +132,7 @@ typedef struct {
     double *p;      /* n x 3 */
     ws_photo_hull hull; /* the region carved by the photos' colours: who sees a point, and the
                            silhouettes' bound */
+    int solid;          /* the hull is a solid's: its outline is made convex (M above) */
     ws_support_plane support; /* the flat support the object stands on, when the region holds one */
 } ws_edge_consensus;
 
