@@ -183,7 +183,7 @@ static void test_errors(void) {
     snprintf(dir, sizeof dir, "%s/never", tmp);
     int rc = ws_synth_write("teapot", dir, &opt, &st);
     CHECK(rc == WS_EUSAGE && !strcmp(st.msg, "teapot: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
-                                    "dodecahedron, nut, torus, vase, animal)"),
+                                    "dodecahedron, nut, bracket, torus, vase, animal)"),
           "unknown name: %s", st.msg);
     opt.colmap = 1;
     rc = ws_synth_write("vase", dir, &opt, &st);
@@ -533,6 +533,7 @@ int main(void) {
     check_solid("cube", 12, 0);
     check_solid("dodecahedron", 30, 1);
     check_solid("nut", 26, 0);
+    check_solid("bracket", 18, 1);
     test_deterministic();
     test_errors();
     test_room();

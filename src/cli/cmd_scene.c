@@ -76,13 +76,14 @@ int cmd_scene(int argc, char **argv) {
          "frame [39.6]"},
     };
     const ws_command_spec spec = {
-        "scene NAME --out DIR [options]   (NAME: trefoil, chair, spring, flat, cube, dodecahedron, nut, torus, vase, animal)",
+        "scene NAME --out DIR [options]   (NAME: trefoil, chair, spring, flat, cube, dodecahedron, nut, bracket, torus, vase, animal)",
         "Render a synthetic object into a NeRF-synthetic scene (or, with --layout, a\n"
         "nerfstudio or COLMAP capture, --lens and --jpeg as a camera takes it). Wire objects, drawn as\n"
         "shaded tubes along Bezier curves: trefoil (a knot), chair (a wire chair),\n"
         "spring (a coil of 5 turns, radius 0.3, 1 unit tall), flat (a paper clip lying\n"
         "in one tilted plane, seen edge-on by some views). Solids with sharp edges:\n"
-        "cube, dodecahedron, nut. Smooth textured objects, whose lines depend on the\n"
+        "cube, dodecahedron, nut, bracket (an L-shaped angle bracket: concave). Smooth\n"
+        "textured objects, whose lines depend on the\n"
         "view: torus (striped), vase (spotted; two rims), animal (four legs, blotched).\n"
         "The scene:\n"
         "DIR/transforms_{train,val,test}.json, DIR/rgb/SPLIT/r_K.png, and its exact\n"

@@ -65,7 +65,7 @@
  *   M   = the photo hull's own mask in cam (ws_photo_hull_project),
  *         made convex (render/convex_fill.h) when the hull is a solid's:
  *         it holds WS_CONSENSUS_SOLID or more cubes a kept point (a
- *         solid's hull fills its volume, 28 - 69 cubes a point on the
+ *         solid's hull fills its volume, 15 - 69 cubes a point on the
  *         capture bed's solids; a wire's is a tube about its points,
  *         0.3 - 0.35). Carving takes a solid's faces that the light,
  *         moving with the camera, shades differently from view to view

@@ -24,7 +24,7 @@
 #define HOLE_SEGMENTS 96
 #define EDGE_THICKNESS 0.01
 
-static const char *const solid_names[] = {"cube", "dodecahedron", "nut"};
+static const char *const solid_names[] = {"cube", "dodecahedron", "nut", "bracket"};
 static const int solid_count = sizeof solid_names / sizeof solid_names[0];
 
 int ws_solid_exists(const char *name) {
@@ -223,6 +223,34 @@ static void make_nut(ws_solid *s) {
     add_circle(s, cbottom, hole);
 }
 
+/* An L-shaped angle bracket: the L below (legs 1.1 long and 0.35 thick,
+ * in the x-z plane, corners counterclockwise from the outer corner)
+ * extruded 0.7 along y. Its caps are each two rectangles; the inner
+ * corner's edge is a concave crease. */
+static void make_bracket(ws_solid *s) {
+    const double L = 1.1, T = 0.35, D = 0.35; /* D: half the depth */
+    const double profile[6][2] = {{0, 0}, {L, 0}, {L, T}, {T, T}, {T, L}, {0, L}};
+    const double front[3] = {0, -1, 0}, back[3] = {0, 1, 0};
+    const double rect[2][4][2] = {{{0, 0}, {L, 0}, {L, T}, {0, T}}, {{0, T}, {T, T}, {T, L}, {0, L}}};
+    for (int cap = 0; cap < 2; cap++)
+        for (int r = 0; r < 2; r++) {
+            double q[4][3];
+            for (int k = 0; k < 4; k++) q[k][0] = rect[r][k][0], q[k][1] = cap ? D : -D, q[k][2] = rect[r][k][1];
+            add_polygon(s, (const double(*)[3])q, 4, cap ? back : front);
+        }
+    for (int k = 0; k < 6; k++) {
+        const double *a = profile[k], *b = profile[(k + 1) % 6];
+        const double n[3] = {b[1] - a[1], 0, a[0] - b[0]}; /* outward: the profile turns counterclockwise */
+        double side[4][3] = {{a[0], -D, a[1]}, {b[0], -D, b[1]}, {b[0], D, b[1]}, {a[0], D, a[1]}}, unit[3];
+        memcpy(unit, n, sizeof unit);
+        normalize3(unit);
+        add_polygon(s, (const double(*)[3])side, 4, unit);
+        add_line(s, side[0], side[1]);
+        add_line(s, side[3], side[2]);
+        add_line(s, side[0], side[3]);
+    }
+}
+
 /* Moves mesh and edges so that the mesh's bounding box is centred on c. */
 static void center_solid(ws_solid *s, const double c[3]) {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -255,8 +283,10 @@ int ws_solid_make(ws_solid *s, const char *name, const double center[3], ws_stat
         make_cube(s);
     else if (!strcmp(name, "dodecahedron"))
         make_dodecahedron(s);
-    else
+    else if (!strcmp(name, "nut"))
         make_nut(s);
+    else
+        make_bracket(s);
     const float albedo[3] = {0.75f, 0.78f, 0.82f};
     memcpy(s->albedo, albedo, sizeof albedo);
     center_solid(s, center);

@@ -1,5 +1,5 @@
 /* solids.h: synthetic solid objects with sharp edges (`wiresketch scene
- * cube|dodecahedron|nut`), the test bed of the weight-free line loss.
+ * cube|dodecahedron|nut|bracket`), the test bed of the weight-free line loss.
  *
  * A solid is a closed triangle mesh with a unit normal at each triangle
  * corner (equal corners for a flat face; interpolated across the curved
@@ -11,7 +11,10 @@
  *   dodecahedron  circumradius 0.85, 30 edges;
  *   nut           hexagonal prism (corner radius 0.75, height 0.5) with a
  *                 round hole (radius 0.35) along its axis: 18 edges of the
- *                 prism and the 2 circles of the hole (8 arcs), 26 curves.
+ *                 prism and the 2 circles of the hole (8 arcs), 26 curves;
+ *   bracket       an L-shaped angle bracket (legs 1.1 long, 0.35 thick,
+ *                 0.7 deep): a concave solid, 18 edges, one of them the
+ *                 inner corner's crease.
  * Rendering (ws_solid_render): the nearest triangle along each ray, shaded
  *   albedo x (AMBIENT + KEY max(0, n.l) + FILL max(0, n.f))
  * with a key light l fixed in world space and a fill light f fixed to the
@@ -37,7 +40,7 @@ typedef struct {
     double *normal; /* ntri x 3 corners x 3, unit */
 } ws_solid;
 
-/* Is `name` one of the solids there are ("cube", "dodecahedron", "nut")? */
+/* Is `name` one of the solids there are ("cube", "dodecahedron", "nut", "bracket")? */
 int ws_solid_exists(const char *name);
 
 /* Builds solid `name` with its bounding box centred on `center`; fails with

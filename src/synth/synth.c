@@ -1099,7 +1099,7 @@ int ws_synth_write(const char *name, const char *dir, const ws_synth_options *op
     if (!solid && !smooth && object_index(name) < 0)
         return ws_fail(st, WS_EUSAGE,
                        "%s: unknown synthetic scene (trefoil, chair, spring, flat, cube, "
-                       "dodecahedron, nut, torus, vase, animal)",
+                       "dodecahedron, nut, bracket, torus, vase, animal)",
                        name);
     /* a smooth object is drawn by sphere tracing with its reference lines, through a pinhole, and has
      * no curves to scatter a sparse cloud along */
