@@ -240,11 +240,10 @@ static void make_bracket(ws_solid *s) {
         }
     for (int k = 0; k < 6; k++) {
         const double *a = profile[k], *b = profile[(k + 1) % 6];
-        const double n[3] = {b[1] - a[1], 0, a[0] - b[0]}; /* outward: the profile turns counterclockwise */
-        double side[4][3] = {{a[0], -D, a[1]}, {b[0], -D, b[1]}, {b[0], D, b[1]}, {a[0], D, a[1]}}, unit[3];
-        memcpy(unit, n, sizeof unit);
-        normalize3(unit);
-        add_polygon(s, (const double(*)[3])side, 4, unit);
+        double n[3] = {b[1] - a[1], 0, a[0] - b[0]}; /* outward: the profile turns counterclockwise */
+        double side[4][3] = {{a[0], -D, a[1]}, {b[0], -D, b[1]}, {b[0], D, b[1]}, {a[0], D, a[1]}};
+        normalize3(n);
+        add_polygon(s, (const double(*)[3])side, 4, n);
         add_line(s, side[0], side[1]);
         add_line(s, side[3], side[2]);
         add_line(s, side[0], side[3]);
