@@ -184,8 +184,9 @@ static uint8_t vote(const votes *x, const double p[3], int8_t dir[3]) {
 /* Keeps the parts of keep (n[0] x n[1] x n[2]; 0 = out, 1 = weak, 2 =
  * strong) that hold at least min_part strong points, as 1; the rest 0. A
  * part grows from a strong point to its 26 neighbours, from a weak point
- * only to those along its edge's direction (dir: 127 t, t the direction
- * its hits agree on; offsets within acos(WS_CONSENSUS_ALONG) of it):
+ * only to the points up to WS_CONSENSUS_WEAK_REACH cubes away along its
+ * edge's direction (dir: 127 t, t the direction its hits agree on; offsets
+ * within acos(WS_CONSENSUS_ALONG) of it), across a missing point:
  * an edge of the object is a line of grid points, while the points that
  * agree by chance with a busy background's parallel lines fill sheets and
  * blobs. stack: as many longs as keep has points; a part's points are kept
@@ -204,9 +205,10 @@ static void keep_parts(uint8_t *keep, const int8_t *dir, const int n[3], long mi
             const int8_t *t = dir + 3 * k;
             const double tt = sqrt((double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2]);
             int x = (int)(k % n[0]), y = (int)(k / n[0] % n[1]), z = (int)(k / ((long)n[0] * n[1]));
-            for (int dz = -1; dz <= 1; dz++)
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
+            const int r = (keep[k] & 3) == 1 ? WS_CONSENSUS_WEAK_REACH : 1;
+            for (int dz = -r; dz <= r; dz++)
+                for (int dy = -r; dy <= r; dy++)
+                    for (int dx = -r; dx <= r; dx++) {
                         int xx = x + dx, yy = y + dy, zz = z + dz;
                         if (xx < 0 || xx >= n[0] || yy < 0 || yy >= n[1] || zz < 0 || zz >= n[2]) continue;
                         long q = ((long)zz * n[1] + yy) * n[0] + xx;

@@ -53,10 +53,13 @@
  *            part of the sphere of views sees it, all of them on an edge;
  *   kept:   the parts of the strong and weak points that hold at least
  *            WS_CONSENSUS_MIN_PART strong ones, grown from a strong point
- *            to its 26 neighbours and from a weak one only to those within
- *            acos(WS_CONSENSUS_ALONG) of its t: an edge of the object is a
- *            line of grid points along t, while chance agreement with a
- *            background's parallel lines scatters or fills blobs; less the
+ *            to its 26 neighbours and from a weak one only to the points
+ *            up to WS_CONSENSUS_WEAK_REACH cubes away along each axis
+ *            within acos(WS_CONSENSUS_ALONG) of its t: an edge of the
+ *            object is a line of grid points along t, while chance
+ *            agreement with a background's parallel lines scatters or
+ *            fills blobs; a reach of 2 bridges the one-cube gaps a weak
+ *            edge shows in soft photos (a lens' undistortion, JPEG); less the
  *            points on a support's own lines (ws_support_plane_holds).
  * The kept points are the object's edges as the views agree on them (a
  * band about the edges a few pixels wide). For any camera:
@@ -112,6 +115,7 @@
 #define WS_CONSENSUS_ORIENT_REACH 2 /* pixels */
 #define WS_CONSENSUS_ORIENT_DEG 20.0
 #define WS_CONSENSUS_ALONG 0.7
+#define WS_CONSENSUS_WEAK_REACH 2
 #define WS_CONSENSUS_SILHOUETTE_PX 1.5
 #define WS_CONSENSUS_KEEP_PX 3.0
 #define WS_CONSENSUS_SOLID 4.0 /* photo hull cubes a kept point, at least: a solid (M above) */
