@@ -12,11 +12,11 @@
  *     A lower edge, seen by a third of the views and most of them on an
  *     edge, votes weak along its length with a gap here and there once the
  *     photos are soft, and a gap one cube wide must not cut it from the
- *     strong points it grows from (WS_CONSENSUS_WEAK_REACH: without it,
- *     0.25 of the lower front edge is kept, 0.88 with it);
+ *     strong points it grows from (WS_CONSENSUS_WEAK_REACH: a reach of 1
+ *     keeps a quarter of the lower front edge);
  *   - the concave crease, off those faces, is only printed: the photo
- *     hull hides it from most views (0.70 of it kept from sharp photos,
- *     0.33 from these; docs/RESULTS.md). */
+ *     hull hides it from most views, sharp or soft (docs/RESULTS.md,
+ *     "Soft photos"). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,6 +26,7 @@
 #include "metrics/metrics.h"
 #include "objective/edge_consensus.h"
 #include "render/curves.h"
+#include "render/pyramid.h"
 #include "synth/synth.h"
 #include "test_util.h"
 
@@ -36,26 +37,17 @@ enum { SIZE = 224, FRAME_W = 288, TRAIN = 48, SAMPLES = 40 };
 /* Each plane of img blurred by a Gaussian of sigma px, borders repeated
  * (a camera's softness, not a dark frame). */
 static void soften(ws_image *img, double sigma) {
-    const int W = img->width, H = img->height, R = (int)ceil(3 * sigma);
-    double k[16], sum = 0;
-    for (int t = -R; t <= R; t++) sum += k[t + R] = exp(-t * t / (2 * sigma * sigma));
-    float *row = malloc((size_t)W * H * sizeof *row);
-    for (int c = 0; c < img->channels && row; c++) {
-        float *p = img->data + (size_t)c * W * H;
-        for (int i = 0; i < H; i++)
-            for (int j = 0; j < W; j++) {
-                double v = 0;
-                for (int t = -R; t <= R; t++) v += k[t + R] * p[(size_t)i * W + (j + t < 0 ? 0 : j + t >= W ? W - 1 : j + t)];
-                row[(size_t)i * W + j] = (float)(v / sum);
-            }
-        for (int i = 0; i < H; i++)
-            for (int j = 0; j < W; j++) {
-                double v = 0;
-                for (int t = -R; t <= R; t++) v += k[t + R] * row[(size_t)(i + t < 0 ? 0 : i + t >= H ? H - 1 : i + t) * W + j];
-                p[(size_t)i * W + j] = (float)(v / sum);
-            }
+    const size_t hw = (size_t)img->width * img->height;
+    ws_blur_kernel g;
+    ws_blur_kernel_init(&g, sigma);
+    double *plane = malloc(3 * hw * sizeof *plane), *blurred = plane + hw, *tmp = plane + 2 * hw;
+    for (int c = 0; c < img->channels && plane; c++) {
+        float *p = img->data + c * hw;
+        for (size_t q = 0; q < hw; q++) plane[q] = p[q];
+        ws_blur_repeat_forward(&g, plane, blurred, tmp, img->width, img->height);
+        for (size_t q = 0; q < hw; q++) p[q] = (float)blurred[q];
     }
-    free(row);
+    free(plane);
 }
 
 /* cover[e]: the share of SAMPLES points along edge e of gt with a kept

@@ -71,6 +71,27 @@ void ws_blur_forward(const ws_blur_kernel *g, const double *in, double *out, dou
     }
 }
 
+static int clamp_index(int x, int n) { return x < 0 ? 0 : x >= n ? n - 1 : x; }
+
+void ws_blur_repeat_forward(const ws_blur_kernel *g, const double *in, double *out, double *tmp, int w, int h) {
+    const size_t n = (size_t)w * h;
+    const int R = g->radius;
+#pragma omp parallel for if (nn_fork(n))
+    for (int i = 0; i < h; i++)
+        for (int j = 0; j < w; j++) {
+            double sum = 0;
+            for (int t = -R; t <= R; t++) sum += g->k[t + R] * in[(size_t)i * w + clamp_index(j + t, w)];
+            tmp[(size_t)i * w + j] = sum;
+        }
+#pragma omp parallel for if (nn_fork(n))
+    for (int i = 0; i < h; i++)
+        for (int j = 0; j < w; j++) {
+            double sum = 0;
+            for (int t = -R; t <= R; t++) sum += g->k[t + R] * tmp[(size_t)clamp_index(i + t, h) * w + j];
+            out[(size_t)i * w + j] = sum;
+        }
+}
+
 /* Number of pixels of a w x h image that pooled cell (i, j) covers. */
 static int cell_count(int w, int h, int i, int j) {
     return (2 * i + 1 < h ? 2 : 1) * (2 * j + 1 < w ? 2 : 1);

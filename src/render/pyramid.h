@@ -1,6 +1,8 @@
 /* pyramid.h: the two linear image ops of the weight-free losses (edges.h,
  * lines.h): a separable Gaussian blur and 2 x 2 average pooling, each a
- * forward/backward pair on double images (row-major, h x w).
+ * forward/backward pair on double images (row-major, h x w); and the blur
+ * with repeated borders that smooths a photo before its edges are found
+ * (thin_edges.h).
  *
  * Blur: out = G * in, kernel exp(-t^2 / (2 sigma^2)) for |t| <= ceil(3 sigma),
  * normalised to sum 1, zero outside the image. Symmetric kernel and zero
@@ -23,6 +25,12 @@ int ws_blur_kernel_init(ws_blur_kernel *g, double sigma);
 
 /* in, out: h x w; tmp: h x w scratch; out may be in. */
 void ws_blur_forward(const ws_blur_kernel *g, const double *in, double *out, double *tmp, int w, int h);
+
+/* out = G * in with the image extended by repeating its border pixels
+ * (so the border itself is no edge: render/thin_edges.h), rows first, then
+ * columns. in, out, tmp: h x w; out must not be in. Not its own
+ * transpose: no backward pass. */
+void ws_blur_repeat_forward(const ws_blur_kernel *g, const double *in, double *out, double *tmp, int w, int h);
 
 /* in: h x w; out: ceil(h/2) x ceil(w/2). */
 void ws_pool2_forward(const double *in, int w, int h, double *out);

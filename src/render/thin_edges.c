@@ -12,27 +12,6 @@
 
 static int clampi(int x, int n) { return x < 0 ? 0 : x >= n ? n - 1 : x; }
 
-/* Gaussian smoothing with repeated borders: y (H x W) into s (H x W),
- * rows into m (H x W, scratch) first, then columns. */
-static void smooth(const double *y, int W, int H, const ws_blur_kernel *g, double *m, double *s) {
-    const size_t n = (size_t)W * H;
-    const int R = g->radius;
-#pragma omp parallel for if (nn_fork(n))
-    for (int i = 0; i < H; i++)
-        for (int j = 0; j < W; j++) {
-            double sum = 0;
-            for (int t = -R; t <= R; t++) sum += g->k[t + R] * y[(size_t)i * W + clampi(j + t, W)];
-            m[(size_t)i * W + j] = sum;
-        }
-#pragma omp parallel for if (nn_fork(n))
-    for (int i = 0; i < H; i++)
-        for (int j = 0; j < W; j++) {
-            double sum = 0;
-            for (int t = -R; t <= R; t++) sum += g->k[t + R] * m[(size_t)clampi(i + t, H) * W + j];
-            s[(size_t)i * W + j] = sum;
-        }
-}
-
 /* Sobel gradient of s (H x W): its magnitude into m (H x W), its
  * direction's sector (0..3, as a double) into sector (H x W). */
 static void gradient(const double *s, int W, int H, double *m, double *sector) {
@@ -121,7 +100,7 @@ int ws_thin_edges(const float *photo, int W, int H, float *edge, ws_status *st) 
         ws_blur_kernel g;
         ws_blur_kernel_init(&g, WS_THIN_SIGMA);
         for (size_t k = 0; k < n; k++) y[k] = 0.299 * photo[k] + 0.587 * photo[n + k] + 0.114 * photo[2 * n + k];
-        smooth(y, W, H, &g, m, s);
+        ws_blur_repeat_forward(&g, y, s, m, W, H);
         gradient(s, W, H, m, y); /* y (the luminance) is free now */
         suppress(m, y, W, H, ridge);
         hysteresis(m, ridge, W, H, s, stack, edge); /* s too */
