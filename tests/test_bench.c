@@ -260,11 +260,7 @@ int main(void) {
     char dir[300];
     snprintf(dir, sizeof dir, "%s/scene", tmp);
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = 64;
-    syn.views[WS_TRAIN] = 6;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 1;
+    synth_options_at(&syn, 64, 6, 0, 1);
     ws_scene scene;
     clip_model *m = NULL;
     ws_curves c = {0};

@@ -61,11 +61,7 @@ static void test_silhouette(void) {
 static int make_scene(const char *name, const char *dir, int size, int train, int val, int test) {
     ws_status st;
     ws_synth_options opt;
-    ws_synth_options_default(&opt);
-    opt.size = size;
-    opt.views[WS_TRAIN] = train;
-    opt.views[WS_VAL] = val;
-    opt.views[WS_TEST] = test;
+    synth_options_at(&opt, size, train, val, test);
     int rc = ws_synth_write(name, dir, &opt, &st);
     CHECK(rc == WS_OK, "%s: %s", name, st.msg);
     return rc;

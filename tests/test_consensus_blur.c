@@ -27,6 +27,7 @@
 #include "objective/edge_consensus.h"
 #include "render/curves.h"
 #include "render/pyramid.h"
+#include "scene_load.h"
 #include "synth/synth.h"
 #include "test_util.h"
 
@@ -77,10 +78,7 @@ int main(void) {
     char dir[300], path[400];
     ws_status st;
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = SIZE;
-    syn.views[WS_TRAIN] = TRAIN;
-    syn.views[WS_VAL] = syn.views[WS_TEST] = 0;
+    synth_options_at(&syn, SIZE, TRAIN, 0, 0);
     syn.room = 1;
     syn.nerfstudio = 1; /* its sparse points place the region, as in a capture */
     syn.width = FRAME_W;

@@ -114,11 +114,7 @@ int main(void) {
     bbox_messages();
 
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = SIZE;
-    syn.views[WS_TRAIN] = TRAIN;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 4;
+    synth_options_at(&syn, SIZE, TRAIN, 0, 4);
     syn.room = 1;
     snprintf(room, sizeof room, "%s/room", tmp);
     snprintf(masked, sizeof masked, "%s/masked", tmp);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include "scene_load.h"
 #include "check.h"
 #include "test_util.h"
 #include "io/image.h"
@@ -70,11 +71,7 @@ int main(void) {
     char dir[300], maps[300], path[700];
     ws_status st;
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = 64;
-    syn.views[WS_TRAIN] = 1;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 1;
+    synth_options_at(&syn, 64, 1, 0, 1);
     snprintf(dir, sizeof dir, "%s/scene", tmp);
     CHECK(ws_synth_write("cube", dir, &syn, &st) == WS_OK, "scene: %s", st.msg);
     /* --edge-maps DIR: DIR/<file_path>.png, here 128 px for 64 px photos */

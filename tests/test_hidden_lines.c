@@ -57,11 +57,7 @@ static int visible(ws_hidden_lines *hl, const ws_scene *scene, int view, const d
 static int make_scene(const char *name, const char *dir, ws_scene *scene, ws_curves *gt) {
     ws_status st;
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = SIZE;
-    syn.views[WS_TRAIN] = 24;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 0;
+    synth_options_at(&syn, SIZE, 24, 0, 0);
     char path[700];
     snprintf(path, sizeof path, "%s/gt_curves.json", dir);
     int rc = ws_synth_write(name, dir, &syn, &st);

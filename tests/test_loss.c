@@ -16,11 +16,11 @@
 #include <string.h>
 #include <unistd.h>
 #include "check.h"
+#include "scene_load.h"
 #include "test_util.h"
 #include "wiresketch.h"
 #include "objective/hidden_lines.h"
 #include "synth/synth.h"
-#include "scene_load.h"
 
 typedef struct {
     ws_scene scene;
@@ -202,11 +202,7 @@ int main(void) {
     CHECK(system(cmd) == 0, "converting the tiny model failed");
     ws_status st = {0};
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = 64;
-    syn.views[WS_TRAIN] = 2;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 1;
+    synth_options_at(&syn, 64, 2, 0, 1);
     CHECK(ws_synth_write("trefoil", scene, &syn, &st) == WS_OK, "scene: %s", st.msg);
 
     ws_loss_options lo;

@@ -132,10 +132,7 @@ static void drop_one_scenes(const char *tmp, const char *const *names, int count
     for (int k = 0; k < count; k++) {
         ws_status st;
         ws_synth_options syn;
-        ws_synth_options_default(&syn);
-        syn.size = DROP_SIZE;
-        syn.views[WS_TRAIN] = DROP_VIEWS;
-        syn.views[WS_VAL] = syn.views[WS_TEST] = 0;
+        synth_options_at(&syn, DROP_SIZE, DROP_VIEWS, 0, 0);
         char dir[600], path[700];
         snprintf(dir, sizeof dir, "%s/%s-drop", tmp, names[k]);
         snprintf(path, sizeof path, "%s/gt_curves.json", dir);
@@ -186,11 +183,7 @@ int main(int argc, char **argv) {
     for (int k = 0; k < 5; k++) {
         ws_status st;
         ws_synth_options syn;
-        ws_synth_options_default(&syn);
-        syn.size = 224;
-        syn.views[WS_TRAIN] = 1;
-        syn.views[WS_VAL] = 0;
-        syn.views[WS_TEST] = 3;
+        synth_options_at(&syn, 224, 1, 0, 3);
         syn.white_background = k == 2; /* the nut on white */
         snprintf(dir, sizeof dir, "%s/%s", tmp, names[k]);
         CHECK(ws_synth_write(names[k], dir, &syn, &st) == WS_OK, "%s: %s", names[k], st.msg);

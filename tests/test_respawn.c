@@ -70,11 +70,7 @@ int main(void) {
     char dir[300], path[400];
     ws_status st;
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = 128;
-    syn.views[WS_TRAIN] = 32;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 0;
+    synth_options_at(&syn, 128, 32, 0, 0);
     snprintf(dir, sizeof dir, "%s/cube", tmp);
     CHECK(ws_synth_write("cube", dir, &syn, &st) == WS_OK, "scene: %s", st.msg);
     ws_scene scene;

@@ -18,6 +18,7 @@
 #include <string.h>
 #include "check.h"
 #include "geometry/roi.h"
+#include "scene_load.h"
 #include "synth/synth.h"
 #include "test_util.h"
 
@@ -103,11 +104,7 @@ static void layout(const char *tmp, const char *name, int nerfstudio, const char
     char dir[300], path[400], saved[400], message[600];
     ws_status st;
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = SIZE;
-    syn.views[WS_TRAIN] = TRAIN;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 2;
+    synth_options_at(&syn, SIZE, TRAIN, 0, 2);
     syn.room = 1;
     syn.nerfstudio = nerfstudio;
     snprintf(dir, sizeof dir, "%s/%s", tmp, name);

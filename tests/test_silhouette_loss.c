@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "scene_load.h"
 #include "test_util.h"
 #include "wiresketch.h"
 #include "objective/silhouette_loss.h"
@@ -120,11 +121,7 @@ int main(void) {
     snprintf(scene_dir, sizeof scene_dir, "%s/scene", dir);
     ws_status st = {0};
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = 64;
-    syn.views[WS_TRAIN] = 26;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 1;
+    synth_options_at(&syn, 64, 26, 0, 1);
     ws_scene scene;
     ws_scene_options so;
     ws_scene_options_default(&so);

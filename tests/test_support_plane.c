@@ -26,6 +26,7 @@
 #include "geometry/support_plane.h"
 #include "metrics/metrics.h"
 #include "objective/edge_consensus.h"
+#include "scene_load.h"
 #include "synth/synth.h"
 #include "test_util.h"
 
@@ -70,11 +71,7 @@ int main(void) {
     char dir[300], path[400];
     ws_status st;
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = SIZE;
-    syn.views[WS_TRAIN] = TRAIN;
-    syn.views[WS_VAL] = 0;
-    syn.views[WS_TEST] = 0;
+    synth_options_at(&syn, SIZE, TRAIN, 0, 0);
     syn.room = 1;
     syn.on_floor = 1;
     snprintf(dir, sizeof dir, "%s/floor", tmp);

@@ -29,11 +29,7 @@ int main(void) {
     char dir[300];
     ws_status st;
     ws_synth_options syn;
-    ws_synth_options_default(&syn);
-    syn.size = SIZE;
-    syn.views[WS_TRAIN] = 6;
-    syn.views[WS_VAL] = 2;
-    syn.views[WS_TEST] = 0;
+    synth_options_at(&syn, SIZE, 6, 2, 0);
     snprintf(dir, sizeof dir, "%s/cube", tmp);
     ws_scene scene;
     ws_view_targets *t = NULL;
