@@ -11,7 +11,8 @@
  * gets of such a view (`export --svg`, as a fit's renders and report) is
  * the curves alone, with a warning: the hull carved from silhouettes that
  * hold most of the frame is the whole box, which hid 10 of the cube's 12
- * edges. */
+ * edges. A fit of it with `--n-curves auto` (the default) takes 35 curves,
+ * a solid's count (fit_options.h), and says so. */
 #define _XOPEN_SOURCE 700
 #include <cJSON.h>
 #include <math.h>
@@ -101,5 +102,10 @@ int main(void) {
     for (const char *at = text; at && (at = strstr(at, "<path")); at++) paths++;
     CHECK(paths == gt_n, "the SVG draws %d paths, not the truth's %d curves", paths, gt_n);
     free(text);
+
+    static char out[1 << 16];
+    rc = run_cmd(out, sizeof out, "%s fit %s/room --out %s/fit --loss edges --max-steps 1", bin, tmp, tmp);
+    CHECK(rc == 0 && strstr(out, "\nfit: 35 curves (--n-curves auto: 25, 35 for a solid's edges)\n"),
+          "a fit of the solid does not take 35 curves: exit %d: %s", rc, out);
     return check_summary();
 }

@@ -115,6 +115,7 @@ static void fill_settings(const ws_arg *args, int nargs, fit_settings *out) {
 
 /* the parser's auto is the one the fit resolves (fit_options.h) */
 _Static_assert(WS_ARG_AUTO == WS_FIT_EPOCHS_AUTO, "--epochs auto is the options' auto");
+_Static_assert(WS_ARG_AUTO == WS_FIT_CURVES_AUTO, "--n-curves auto is the options' auto");
 
 /* The defaults of the options a loss wants otherwise, where the command
  * line left them unset (NAN, -1): the original's for CLIP (no silhouette
@@ -234,7 +235,8 @@ static int parse_fit(int argc, char **argv, ws_fit_options *opt, const char **re
          "passes over the training views, or auto [auto: 10; with --loss edges 24, fewer past 96 views]"},
         {"--inner-steps", WS_ARG_INT, &opt->inner_steps, 0, "Adam steps per batch [30; 5 with --loss edges]"},
         {"--learning-rate", WS_ARG_DOUBLE, &opt->learning_rate, 0, "Adam step size [0.005; 0.0003 with --loss edges]"},
-        {"--n-curves", WS_ARG_INT, &opt->n_curves, 0, "number of curves [25]"},
+        {"--n-curves", WS_ARG_INT_AUTO, &opt->n_curves, 0,
+         "number of curves, or auto [auto: 25; 35 for a solid outlined by the edges the views agree on]"},
         {"--thickness", WS_ARG_DOUBLE, &opt->thickness, 0, "Gaussian radius, world units [0.02; 0.01 with --loss edges]"},
         {"--radius", WS_ARG_DOUBLE, &opt->radius, 0, "initialisation sphere radius [0.8]"},
         {"--length", WS_ARG_DOUBLE, &opt->length, 0, "initial curve length [0.02; 0.15 with --loss edges]"},

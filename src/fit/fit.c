@@ -40,7 +40,7 @@ volatile sig_atomic_t ws_fit_stop_requested = 0;
 /* Everything one fit process holds. */
 typedef struct {
     const ws_fit_options *opt; /* &in_effect */
-    ws_fit_options in_effect;  /* the caller's, with --epochs auto resolved once the scene is loaded */
+    ws_fit_options in_effect;  /* the caller's, with --epochs and --n-curves auto resolved once the scene is loaded */
     ws_scene scene;
     ws_view_targets *targets; /* each view's silhouette and line target, made once for every user */
     ws_objective *objective;  /* sampling, splatting, the loss and their buffers */
@@ -343,13 +343,15 @@ static int check_checkpoint_size(const fit_run *r, const char *const *argv, int 
     const ws_fit_options *o = r->opt;
     long steps = total_steps(r);
     long snapshots = 1 + (o->snapshot_every > 0 ? steps / o->snapshot_every : 0);
-    double bytes = 8 + 4 + 4 + 4 + ws_checkpoint_state_bytes(o->n_curves, r->scene.split[WS_TRAIN].n, steps, snapshots);
+    /* --n-curves auto: the most it may choose, known before the consensus */
+    const int n_curves = o->n_curves == WS_FIT_CURVES_AUTO ? WS_FIT_CURVES_SOLID : o->n_curves;
+    double bytes = 8 + 4 + 4 + 4 + ws_checkpoint_state_bytes(n_curves, r->scene.split[WS_TRAIN].n, steps, snapshots);
     for (int i = 0; i < argc; i++) bytes += 4 + (double)strlen(argv[i]);
     if (bytes <= (double)WS_CHECKPOINT_MAX_BYTES) return WS_OK;
     return ws_fail(st, WS_EUSAGE,
                    "--n-curves %d: %ld steps keeping %ld snapshots (--snapshot-every %d) make a checkpoint of "
                    "%.3g bytes, over the %zu it may hold; lower --n-curves or --max-steps, or raise --snapshot-every",
-                   o->n_curves, steps, snapshots, o->snapshot_every, bytes, WS_CHECKPOINT_MAX_BYTES);
+                   n_curves, steps, snapshots, o->snapshot_every, bytes, WS_CHECKPOINT_MAX_BYTES);
 }
 
 static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int argc, ws_status *st) {
@@ -416,6 +418,11 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
     if (consensus[0] && speaks() && !o->quiet)
         printf("%s; the silhouette term counts %.3g of --silhouette-weight with these silhouettes\n", consensus,
                WS_CONSENSUS_SILHOUETTE_SHARE);
+    const int auto_curves = o->n_curves == WS_FIT_CURVES_AUTO;
+    r->in_effect.n_curves = ws_fit_n_curves(o, r->consensus.solid);
+    if (auto_curves && o->n_curves != WS_FIT_CURVES && speaks() && !o->quiet)
+        printf("fit: %d curves (--n-curves auto: %d, %d for a solid's edges)\n", r->in_effect.n_curves, WS_FIT_CURVES,
+               WS_FIT_CURVES_SOLID);
     int edges_init = !resume && !strcmp(o->init_curves, "edges");
     int hull_init = edges_init || (!resume && !strcmp(o->init_curves, "hull"));
     const ws_silhouette *sil;

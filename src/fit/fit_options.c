@@ -17,7 +17,7 @@ void ws_fit_options_default(ws_fit_options *o) {
     o->batch_size = 1;
     o->epochs = 10;
     o->inner_steps = 30;
-    o->n_curves = 25;
+    o->n_curves = WS_FIT_CURVES_AUTO;
     o->eval_every = 10;
     o->threads = 0;
     o->learning_rate = 0.005;
@@ -31,6 +31,11 @@ void ws_fit_options_default(ws_fit_options *o) {
     o->snapshot_every = 30;
     o->respawn_every = 300;
     o->init_curves = "hull";
+}
+
+int ws_fit_n_curves(const ws_fit_options *o, int solid) {
+    if (o->n_curves != WS_FIT_CURVES_AUTO) return o->n_curves;
+    return solid ? WS_FIT_CURVES_SOLID : WS_FIT_CURVES;
 }
 
 int ws_fit_epochs(const ws_fit_options *o, int ntrain) {
@@ -57,7 +62,7 @@ int ws_fit_options_check(const ws_fit_options *o, ws_status *st) {
         return ws_fail(st, WS_EUSAGE, "--epochs: %d is not in [0, %d]", o->epochs, MAX_COUNT);
     if (o->inner_steps < 1 || o->inner_steps > MAX_COUNT)
         return ws_fail(st, WS_EUSAGE, "--inner-steps: %d is not in [1, %d]", o->inner_steps, MAX_COUNT);
-    if (o->n_curves < 1 || o->n_curves > MAX_CURVES)
+    if ((o->n_curves < 1 && o->n_curves != WS_FIT_CURVES_AUTO) || o->n_curves > MAX_CURVES)
         return ws_fail(st, WS_EUSAGE, "--n-curves: %d is not in [1, %d]", o->n_curves, MAX_CURVES);
     /* no upper bound: a step that throws the curves out is undone and
      * reported (fit.c), whatever its size */

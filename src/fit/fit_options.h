@@ -17,7 +17,8 @@ typedef struct {
     int no_check;              /* skip the scene check (geometry/check.h) before a new fit */
     ws_loss_options loss;
     int size;                  /* working resolution (the model's with CLIP) */
-    int batch_size, inner_steps, n_curves, eval_every, threads;
+    int batch_size, inner_steps, eval_every, threads;
+    int n_curves;              /* curves, or WS_FIT_CURVES_AUTO (ws_fit_n_curves) */
     int epochs;                /* passes over the train views, or WS_FIT_EPOCHS_AUTO (ws_fit_epochs) */
     double learning_rate, thickness, radius, length, overlap, cutoff;
     uint64_t seed;
@@ -49,7 +50,22 @@ typedef struct {
 #define WS_FIT_AUTO_EPOCHS 24
 #define WS_FIT_AUTO_VIEWS 96
 
+/* --n-curves auto (the default): WS_FIT_CURVES curves, or
+ * WS_FIT_CURVES_SOLID where the fit draws the edges the views agree on and
+ * the photos' colours carve a solid (objective/edge_consensus.h: `solid`).
+ * A solid's edges are short straight lines, a curve each, and its outline
+ * takes more: 25 curves left edges of the capture bed's nut (18 straight
+ * edges and two rims) and dodecahedron (30 edges) undrawn. A wire's few long
+ * curves are drawn by 25, and more settle off the wire (docs/RESULTS.md,
+ * "Curves for a solid's edges"). */
+#define WS_FIT_CURVES_AUTO (-1)
+#define WS_FIT_CURVES 25
+#define WS_FIT_CURVES_SOLID 35
+
 void ws_fit_options_default(ws_fit_options *opt);
+/* The curves a fit draws: opt->n_curves, or the rule above when it is
+ * WS_FIT_CURVES_AUTO; solid: whether the fit's consensus found a solid. */
+int ws_fit_n_curves(const ws_fit_options *opt, int solid);
 /* The epochs a fit of ntrain train views runs: opt->epochs, or the rule
  * above when it is WS_FIT_EPOCHS_AUTO. */
 int ws_fit_epochs(const ws_fit_options *opt, int ntrain);
