@@ -12,7 +12,7 @@
  * the curves alone, with a warning: the hull carved from silhouettes that
  * hold most of the frame is the whole box, which hid 10 of the cube's 12
  * edges. A fit of it with `--n-curves auto` (the default) takes 35 curves,
- * a solid's count (fit_options.h), and says so. */
+ * a solid's count (fit_options.h), says so and records it in metrics.json. */
 #define _XOPEN_SOURCE 700
 #include <cJSON.h>
 #include <math.h>
@@ -105,7 +105,10 @@ int main(void) {
 
     static char out[1 << 16];
     rc = run_cmd(out, sizeof out, "%s fit %s/room --out %s/fit --loss edges --max-steps 1", bin, tmp, tmp);
-    CHECK(rc == 0 && strstr(out, "\nfit: 35 curves (--n-curves auto: 25, 35 for a solid's edges)\n"),
+    char metrics[400];
+    snprintf(metrics, sizeof metrics, "%s/fit/metrics.json", tmp);
+    CHECK(rc == 0 && strstr(out, "\nfit: 35 curves (--n-curves auto: 25, 35 for a solid's edges)\n") &&
+              file_has(metrics, "\"curves\": 35,"),
           "a fit of the solid does not take 35 curves: exit %d: %s", rc, out);
     return check_summary();
 }

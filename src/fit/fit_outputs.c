@@ -144,8 +144,9 @@ static int write_metrics(const char *path, const ws_fit_state *s, int retired, d
     /* drawing: NULL, or the drawing's score and the curves' alone */
     ws_outfile f;
     if (ws_outfile_open(&f, path, st)) return st->code;
-    fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"respawned_curves\": %ld, \"retired_curves\": %d, "
-            "\"seconds\": %.3f", s->global_step, s->skipped_steps, s->respawned, retired, s->elapsed);
+    fprintf(f.fp, "{\"steps\": %ld, \"skipped_steps\": %ld, \"curves\": %d, \"respawned_curves\": %ld, "
+            "\"retired_curves\": %d, \"seconds\": %.3f", s->global_step, s->skipped_steps, s->curves.n, s->respawned,
+            retired, s->elapsed);
     if (isfinite(test_loss)) fprintf(f.fp, ", \"test_loss\": %.9g", test_loss);
     if (isfinite(explained)) fprintf(f.fp, ", \"explained\": %.4f", explained);
     const char *const surface_keys[3] = {"surface_mean", "surface_p90", "surface_precision"};
