@@ -71,8 +71,6 @@ void ws_blur_forward(const ws_blur_kernel *g, const double *in, double *out, dou
     }
 }
 
-static int clamp_index(int x, int n) { return x < 0 ? 0 : x >= n ? n - 1 : x; }
-
 void ws_blur_repeat_forward(const ws_blur_kernel *g, const double *in, double *out, double *tmp, int w, int h) {
     const size_t n = (size_t)w * h;
     const int R = g->radius;
@@ -80,14 +78,14 @@ void ws_blur_repeat_forward(const ws_blur_kernel *g, const double *in, double *o
     for (int i = 0; i < h; i++)
         for (int j = 0; j < w; j++) {
             double sum = 0;
-            for (int t = -R; t <= R; t++) sum += g->k[t + R] * in[(size_t)i * w + clamp_index(j + t, w)];
+            for (int t = -R; t <= R; t++) sum += g->k[t + R] * in[(size_t)i * w + ws_repeat_index(j + t, w)];
             tmp[(size_t)i * w + j] = sum;
         }
 #pragma omp parallel for if (nn_fork(n))
     for (int i = 0; i < h; i++)
         for (int j = 0; j < w; j++) {
             double sum = 0;
-            for (int t = -R; t <= R; t++) sum += g->k[t + R] * tmp[(size_t)clamp_index(i + t, h) * w + j];
+            for (int t = -R; t <= R; t++) sum += g->k[t + R] * tmp[(size_t)ws_repeat_index(i + t, h) * w + j];
             out[(size_t)i * w + j] = sum;
         }
 }

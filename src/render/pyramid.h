@@ -32,6 +32,11 @@ void ws_blur_forward(const ws_blur_kernel *g, const double *in, double *out, dou
  * transpose: no backward pass. */
 void ws_blur_repeat_forward(const ws_blur_kernel *g, const double *in, double *out, double *tmp, int w, int h);
 
+/* The index of the pixel a repeated border reads for x along a side of n
+ * pixels: x clamped to [0, n - 1] (the blur above, the Sobel of
+ * thin_edges.h). */
+static inline int ws_repeat_index(int x, int n) { return x < 0 ? 0 : x >= n ? n - 1 : x; }
+
 /* in: h x w; out: ceil(h/2) x ceil(w/2). */
 void ws_pool2_forward(const double *in, int w, int h, double *out);
 /* dout: ceil(h/2) x ceil(w/2); din (h x w) += the gradient through the pooling. */

@@ -10,8 +10,6 @@
 #include "nn/parallel.h"
 #include "base/sort.h"
 
-static int clampi(int x, int n) { return x < 0 ? 0 : x >= n ? n - 1 : x; }
-
 /* Sobel gradient of s (H x W): its magnitude into m (H x W), its
  * direction's sector (0..3, as a double) into sector (H x W). */
 static void gradient(const double *s, int W, int H, double *m, double *sector) {
@@ -20,7 +18,8 @@ static void gradient(const double *s, int W, int H, double *m, double *sector) {
         for (int j = 0; j < W; j++) {
             double v[3][3];
             for (int a = 0; a < 3; a++)
-                for (int b = 0; b < 3; b++) v[a][b] = s[(size_t)clampi(i + a - 1, H) * W + clampi(j + b - 1, W)];
+                for (int b = 0; b < 3; b++)
+                    v[a][b] = s[(size_t)ws_repeat_index(i + a - 1, H) * W + ws_repeat_index(j + b - 1, W)];
             double gx = ((v[0][2] + 2 * v[1][2] + v[2][2]) - (v[0][0] + 2 * v[1][0] + v[2][0])) / 8;
             double gy = ((v[2][0] + 2 * v[2][1] + v[2][2]) - (v[0][0] + 2 * v[0][1] + v[0][2])) / 8;
             m[(size_t)i * W + j] = sqrt(gx * gx + gy * gy);
