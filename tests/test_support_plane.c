@@ -13,7 +13,11 @@
  *     quarter did with the air and the floor's lines in), and they cover
  *     its top edges;
  *   - the least eigenvector of a plane's scatter (base/sym3.h) is its
- *     normal. */
+ *     normal;
+ *   - in a hull made by hand, seen from above: a slab in the grid's lower
+ *     part with a box on it is a support, and a slab filling it to near
+ *     its top with a bump on it (the ceiling of what too few views carve)
+ *     is none. */
 #define _XOPEN_SOURCE 700
 #include <math.h>
 #include <stdio.h>
@@ -65,8 +69,41 @@ static void plane_normal(void) {
     CHECK(fabs(cosine - 1) < 1e-12, "the plane's normal from its scatter: cosine %.15f with the truth", cosine);
 }
 
+/* A 40^3 hull of unit cubes: solid below height slab (cubes), and a box
+ * of side `side` and `tall` cubes high standing on it in the middle; eight
+ * cameras round it at height 100. Returns whether a support is found. */
+static int slab_support(int slab, int side, int tall) {
+    enum { N = 40 };
+    ws_photo_hull h = {.voxel = 1, .n = {N, N, N}};
+    ws_status st;
+    ws_view views[8];
+    memset(views, 0, sizeof views);
+    for (int v = 0; v < 8; v++) {
+        views[v].cam.c2w[0][3] = N / 2 + 30 * cos(v * M_PI / 4);
+        views[v].cam.c2w[1][3] = N / 2 + 30 * sin(v * M_PI / 4);
+        views[v].cam.c2w[2][3] = 100;
+    }
+    const ws_split train = {.n = 8, .views = views};
+    h.occupied = calloc((size_t)N * N * N, 1);
+    for (int z = 0; z < N; z++)
+        for (int y = 0; y < N; y++)
+            for (int x = 0; x < N; x++) {
+                const int in_box = abs(2 * x - N + 1) < side && abs(2 * y - N + 1) < side && z < slab + tall;
+                h.occupied[((size_t)z * N + y) * N + x] = z < slab || in_box;
+            }
+    ws_support_plane s = {0};
+    int rc = ws_photo_hull_update(&h, &st) || ws_support_plane_find(&h, &train, &s, &st);
+    CHECK(rc == WS_OK, "support in a hull made by hand: %s", st.msg);
+    const int found = s.found;
+    ws_support_plane_free(&s);
+    ws_photo_hull_free(&h);
+    return found;
+}
+
 int main(void) {
     plane_normal();
+    CHECK(slab_support(8, 10, 15), "a box standing on a slab in the grid's lower part: no support found");
+    CHECK(!slab_support(34, 4, 3), "a slab to near the grid's top with a bump on it is called a support");
     const char *tmp = test_tmpdir("support_plane");
     char dir[300], path[400];
     ws_status st;

@@ -145,6 +145,16 @@ int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_supp
     for (long k = 0; k < ntops; k++)
         if (fabs(height[k] - mid) <= reach) height[m++] = height[k];
     s->share = section > 0 ? m / section : 0;
+    /* the grid's extent across n, from its corners: an object standing on
+     * the layer fills the region above it, so a layer in the upper part is
+     * the ceiling of what too few or too small views could carve */
+    double lowest = INFINITY, highest = -INFINITY;
+    for (int corner = 0; corner < 8; corner++) {
+        double q[3];
+        for (int a = 0; a < 3; a++) q[a] = h->lo[a] + ((corner >> a) & 1) * h->n[a] * h->voxel;
+        lowest = fmin(lowest, dot3(n, q)), highest = fmax(highest, dot3(n, q));
+    }
+    if (mid > lowest + WS_SUPPORT_LOWER * (highest - lowest)) s->share = 0;
     if (s->share >= WS_SUPPORT_SHARE) {
         ws_sort_doubles(height, (size_t)m);
         s->floor = height[(long)(WS_SUPPORT_LOW * (m - 1))];

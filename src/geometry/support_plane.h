@@ -22,10 +22,15 @@
  *            the most tops; the normal n is then the least eigenvector of
  *            the scatter of those tops (the plane fitted to them), turned
  *            towards u, and the slice found again across n (twice);
- *   found  = the tops within WS_SUPPORT_REACH cubes of the layer cover
- *            at least WS_SUPPORT_SHARE of the grid's cross-section across
- *            n, and the hull stands above the layer's air somewhere (the
- *            object on it: some cube is foot, below);
+ *   found  = the layer lies in the lower WS_SUPPORT_LOWER of the grid's
+ *            extent across n (the object stands on a support, so the
+ *            region of interest around it lies mostly above; a layer
+ *            higher up is the ceiling of what the colours could carve
+ *            from too few or too small views), the tops within
+ *            WS_SUPPORT_REACH cubes of it cover at least WS_SUPPORT_SHARE
+ *            of the grid's cross-section across n, and the hull stands
+ *            above the layer's air somewhere (the object on it: some cube
+ *            is foot, below);
  *   floor, top = the WS_SUPPORT_LOW and WS_SUPPORT_HIGH quantiles of the
  *            heights n . x of the tops within WS_SUPPORT_REACH cubes of the
  *            layer: the support's surface (where carving went down to it,
@@ -55,6 +60,7 @@
 #define WS_SUPPORT_MIN_UP 0.25
 #define WS_SUPPORT_LAYER 3      /* cubes */
 #define WS_SUPPORT_SHARE 0.25
+#define WS_SUPPORT_LOWER 0.5
 #define WS_SUPPORT_REACH 8      /* cubes */
 #define WS_SUPPORT_LOW 0.02
 #define WS_SUPPORT_HIGH 0.95
@@ -65,7 +71,7 @@
 typedef struct {
     int found;
     double normal[3]; /* n: unit, towards the cameras */
-    double share;     /* the layer's tops over the grid's cross-section across n */
+    double share;     /* the layer's tops over the grid's cross-section across n (0 for a layer too high) */
     double floor;     /* n . x of the support's surface */
     double top;       /* n . x of the top of the air left on it */
     long carved;      /* cubes of that air carved */
