@@ -47,9 +47,13 @@
  * A point on the support (height n . x at most top + WS_SUPPORT_MARGIN
  * cubes) further than WS_SUPPORT_NEAR cubes from the foot is the
  * support's own (a tile's grout line, the grain of a table) and draws no
- * stroke (ws_support_plane_holds). The constants were chosen on the
- * capture bed's floor scenes (docs/RESULTS.md, "An object standing on the
- * floor"). */
+ * stroke (ws_support_plane_holds). The object's lower edges, where it
+ * meets the support, are not: colour carving under a light that changes
+ * with the view cuts a solid's hull, and so its foot, several cubes
+ * inside its faces, deepest near the support, so WS_SUPPORT_NEAR is
+ * wider than a cube or two. The constants were chosen on the capture
+ * bed's floor scenes (docs/RESULTS.md, "An object standing on the floor"
+ * and "The lower edges of an object on the floor"). */
 #ifndef WS_SUPPORT_PLANE_H
 #define WS_SUPPORT_PLANE_H
 #include <stdint.h>
@@ -65,7 +69,7 @@
 #define WS_SUPPORT_LOW 0.02
 #define WS_SUPPORT_HIGH 0.95
 #define WS_SUPPORT_MARGIN 2     /* cubes */
-#define WS_SUPPORT_NEAR 2       /* cubes */
+#define WS_SUPPORT_NEAR 6       /* cubes */
 #define WS_SUPPORT_PART 0.05
 
 typedef struct {
