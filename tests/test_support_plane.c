@@ -12,14 +12,15 @@
  *     the consensus's kept points or more lie near the cube's edges (a
  *     quarter did with the air and the floor's lines in), and they cover
  *     its top edges and most of its bottom edges, on the floor (0.14 of
- *     them when points within 2 cubes of the foot were the object's, 0.83
- *     within 6: the hull's foot lies inside the faces);
+ *     them when points within 2 cubes of the foot were the object's, 0.80
+ *     within the foot's reach: the hull's foot lies inside the faces);
  *   - the least eigenvector of a plane's scatter (base/sym3.h) is its
  *     normal;
  *   - in a hull made by hand, seen from above: a slab in the grid's lower
  *     part with a box on it is a support, and a slab filling it to near
  *     its top with a bump on it (the ceiling of what too few views carve)
- *     is none. */
+ *     is none; a point on the slab is the box's within half the box's
+ *     width, 2 cubes beside a thin pillar. */
 #define _XOPEN_SOURCE 700
 #include <math.h>
 #include <stdio.h>
@@ -96,8 +97,10 @@ static void plane_normal(void) {
 
 /* A 40^3 hull of unit cubes: solid below height slab (cubes), and a box
  * of side `side` and `tall` cubes high standing on it in the middle; eight
- * cameras round it at height 100. Returns whether a support is found. */
-static int slab_support(int slab, int side, int tall) {
+ * cameras round it at height 100. Returns whether a support is found, and
+ * in *held whether it holds the point `beside` cubes past the box's side,
+ * just above the slab. */
+static int slab_support(int slab, int side, int tall, int beside, int *held) {
     enum { N = 40 };
     ws_photo_hull h = {.voxel = 1, .n = {N, N, N}};
     ws_status st;
@@ -119,16 +122,30 @@ static int slab_support(int slab, int side, int tall) {
     ws_support_plane s = {0};
     int rc = ws_photo_hull_update(&h, &st) || ws_support_plane_find(&h, &train, &s, &st);
     CHECK(rc == WS_OK, "support in a hull made by hand: %s", st.msg);
+    const double point[3] = {N / 2 + side / 2 + beside - 0.5, N / 2 - 0.5, slab + 0.5};
     const int found = s.found;
+    *held = ws_support_plane_holds(&s, point);
     ws_support_plane_free(&s);
     ws_photo_hull_free(&h);
     return found;
 }
 
+/* The support found or not in hulls made by hand, and a foot's reach: half
+ * its width (the box's base, 10 cubes wide: 5), at least 2 (a pillar 2
+ * cubes wide). */
+static void supports_made_by_hand(void) {
+    int held;
+    CHECK(slab_support(8, 10, 15, 4, &held) && !held,
+          "a box standing on a slab in the grid's lower part: no support, or 4 cubes beside it held");
+    CHECK(slab_support(8, 10, 15, 6, &held) && held, "6 cubes beside a box 10 wide, the support's point is not held");
+    CHECK(slab_support(8, 2, 15, 2, &held) && !held, "2 cubes beside a pillar 2 wide, the support's point is held");
+    CHECK(slab_support(8, 2, 15, 4, &held) && held, "4 cubes beside a pillar 2 wide, the support's point is not held");
+    CHECK(!slab_support(34, 4, 3, 4, &held), "a slab to near the grid's top with a bump on it is called a support");
+}
+
 int main(void) {
     plane_normal();
-    CHECK(slab_support(8, 10, 15), "a box standing on a slab in the grid's lower part: no support found");
-    CHECK(!slab_support(34, 4, 3), "a slab to near the grid's top with a bump on it is called a support");
+    supports_made_by_hand();
     const char *tmp = test_tmpdir("support_plane");
     char dir[300], path[400];
     ws_status st;

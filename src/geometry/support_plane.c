@@ -198,15 +198,34 @@ int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_supp
         const long end = walk(h, p, n, above);
         if (end >= 0 && size[part[end]] >= WS_SUPPORT_PART * largest) s->foot[i] = 1, feet++;
     }
-    free(part);
     free(size);
     /* the object stands above the layer's air, or the layer is no support
      * (a box's top face) */
     s->found = feet > 0;
     if (!s->found) {
+        free(part);
         free(s->foot);
         s->foot = NULL;
+        return WS_OK;
     }
+    /* each foot's reach, from its width: the square root of its cubes over
+     * the slab's height in cubes */
+    long *stack2 = ws_malloc(total * sizeof *stack2, "support plane", st), nfeet = 0;
+    const ws_photo_hull feet_grid = {.voxel = h->voxel, .n = {h->n[0], h->n[1], h->n[2]}, .occupied = s->foot};
+    long *foot_size = stack2 ? ws_photo_hull_parts(&feet_grid, NULL, part, stack2, &nfeet, st) : NULL;
+    free(stack2);
+    if (!foot_size) {
+        free(part);
+        return st->code;
+    }
+    const double slab = (above - s->floor) / h->voxel;
+    for (size_t i = 0; i < total; i++) {
+        if (!s->foot[i]) continue;
+        const long reach = lround(sqrt(foot_size[part[i]] / slab) / 2);
+        s->foot[i] = (uint8_t)(reach < WS_SUPPORT_NEAR_MIN ? WS_SUPPORT_NEAR_MIN : reach > WS_SUPPORT_NEAR ? WS_SUPPORT_NEAR : reach);
+    }
+    free(part);
+    free(foot_size);
     return WS_OK;
 }
 
@@ -232,10 +251,13 @@ int ws_support_plane_holds(const ws_support_plane *s, const double p[3]) {
     const int r = WS_SUPPORT_NEAR;
     for (long z = c[2] - r; z <= c[2] + r; z++)
         for (long y = c[1] - r; y <= c[1] + r; y++)
-            for (long x = c[0] - r; x <= c[0] + r; x++)
-                if (x >= 0 && y >= 0 && z >= 0 && x < s->n[0] && y < s->n[1] && z < s->n[2] &&
-                    s->foot[((size_t)z * s->n[1] + y) * s->n[0] + x])
-                    return 0;
+            for (long x = c[0] - r; x <= c[0] + r; x++) {
+                if (x < 0 || y < 0 || z < 0 || x >= s->n[0] || y >= s->n[1] || z >= s->n[2]) continue;
+                const long across = labs(x - c[0]) > labs(y - c[1]) ? labs(x - c[0]) : labs(y - c[1]),
+                           away = across > labs(z - c[2]) ? across : labs(z - c[2]); /* cubes, the largest axis's */
+                const uint8_t reach = s->foot[((size_t)z * s->n[1] + y) * s->n[0] + x];
+                if (reach && reach >= away) return 0;
+            }
     return 1;
 }
 

@@ -44,16 +44,23 @@
  *   air    = the other occupied cubes in that slab: carved
  *            (ws_support_plane_carve), so that the views see the support
  *            where it is.
+ *   reach  = of each foot (a 26-connected part of them), half its width
+ *            in cubes, the square root of its cubes over the slab's
+ *            height (top + WS_SUPPORT_MARGIN cubes less floor), rounded,
+ *            at least WS_SUPPORT_NEAR_MIN and at most WS_SUPPORT_NEAR.
  * A point on the support (height n . x at most top + WS_SUPPORT_MARGIN
- * cubes) further than WS_SUPPORT_NEAR cubes from the foot is the
- * support's own (a tile's grout line, the grain of a table) and draws no
- * stroke (ws_support_plane_holds). The object's lower edges, where it
- * meets the support, are not: colour carving under a light that changes
- * with the view cuts a solid's hull, and so its foot, several cubes
- * inside its faces, deepest near the support, so WS_SUPPORT_NEAR is
- * wider than a cube or two. The constants were chosen on the capture
- * bed's floor scenes (docs/RESULTS.md, "An object standing on the floor"
- * and "The lower edges of an object on the floor"). */
+ * cubes) further from every foot cube than its reach (along the grid's
+ * axes: the largest of the three offsets) is the support's own (a tile's
+ * grout line, the grain of a table) and draws no stroke
+ * (ws_support_plane_holds). The object's lower edges, where it meets the
+ * support, are not: colour carving under a light that changes with the
+ * view cuts a solid's hull, and so its foot, several cubes inside its
+ * faces, deepest near the support (up to 10 cubes on the capture bed's
+ * cube), so a wide foot reaches WS_SUPPORT_NEAR cubes; a thin one (a
+ * chair's leg) cannot be cut that deep, and reaching as far would keep
+ * the grout beside it. The constants were chosen on the capture bed's
+ * floor scenes (docs/RESULTS.md, "An object standing on the floor" and
+ * "The lower edges of an object on the floor"). */
 #ifndef WS_SUPPORT_PLANE_H
 #define WS_SUPPORT_PLANE_H
 #include <stdint.h>
@@ -70,6 +77,7 @@
 #define WS_SUPPORT_HIGH 0.95
 #define WS_SUPPORT_MARGIN 2     /* cubes */
 #define WS_SUPPORT_NEAR 6       /* cubes */
+#define WS_SUPPORT_NEAR_MIN 2   /* cubes */
 #define WS_SUPPORT_PART 0.05
 
 typedef struct {
@@ -79,7 +87,7 @@ typedef struct {
     double floor;     /* n . x of the support's surface */
     double top;       /* n . x of the top of the air left on it */
     long carved;      /* cubes of that air carved */
-    uint8_t *foot;    /* the hull's grid, x fastest: 1 = the object's foot */
+    uint8_t *foot;    /* the hull's grid, x fastest: the object's foot, each cube its foot's reach in cubes (0: none) */
     int n[3];         /* that grid: cubes along x, y, z, */
     double lo[3];     /* its lowest corner */
     double voxel;     /* and its spacing */
