@@ -182,9 +182,8 @@ int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_supp
     }
     if (stack) size = ws_photo_hull_parts(h, above_air, part, stack, &nparts, st);
     free(above_air);
-    free(stack);
     if (!size) {
-        free(part);
+        free(part), free(stack);
         return st->code;
     }
     long largest = 0, feet = 0;
@@ -203,17 +202,16 @@ int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_supp
      * (a box's top face) */
     s->found = feet > 0;
     if (!s->found) {
-        free(part);
+        free(part), free(stack);
         free(s->foot);
         s->foot = NULL;
         return WS_OK;
     }
-    /* each foot's reach, from its width: the square root of its cubes over
+    /* each foot's reach: half its width, the square root of its cubes over
      * the slab's height in cubes */
-    long *stack2 = ws_malloc(total * sizeof *stack2, "support plane", st), nfeet = 0;
     const ws_photo_hull feet_grid = {.voxel = h->voxel, .n = {h->n[0], h->n[1], h->n[2]}, .occupied = s->foot};
-    long *foot_size = stack2 ? ws_photo_hull_parts(&feet_grid, NULL, part, stack2, &nfeet, st) : NULL;
-    free(stack2);
+    long nfeet = 0, *foot_size = ws_photo_hull_parts(&feet_grid, NULL, part, stack, &nfeet, st);
+    free(stack);
     if (!foot_size) {
         free(part);
         return st->code;
@@ -222,7 +220,9 @@ int ws_support_plane_find(const ws_photo_hull *h, const ws_split *train, ws_supp
     for (size_t i = 0; i < total; i++) {
         if (!s->foot[i]) continue;
         const long reach = lround(sqrt(foot_size[part[i]] / slab) / 2);
-        s->foot[i] = (uint8_t)(reach < WS_SUPPORT_NEAR_MIN ? WS_SUPPORT_NEAR_MIN : reach > WS_SUPPORT_NEAR ? WS_SUPPORT_NEAR : reach);
+        s->foot[i] = (uint8_t)(reach < WS_SUPPORT_NEAR_MIN ? WS_SUPPORT_NEAR_MIN
+                               : reach > WS_SUPPORT_NEAR   ? WS_SUPPORT_NEAR
+                                                           : reach);
     }
     free(part);
     free(foot_size);
