@@ -6,8 +6,8 @@
  *   points3D, nerfstudio's ply_file_path);
  * - JPEG images load within a few grey levels of the PNG ones, a
  *   progressive JPEG decodes as its baseline twin, and PNG's size limit
- *   holds; a large JPEG is decoded at the scale its working view needs,
- *   to the photos its PNG twin gives whole;
+ *   holds; a large JPEG or PNG is decoded at the scale its working view
+ *   needs, to the photos the PNG gives decoded whole;
  * - undistortion undoes the lens: the lens scene's photos match the
  *   pinhole scene's;
  * - each bad input against its exact one-line message: a truncated and a
@@ -24,6 +24,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <jpeglib.h>
 #include "check.h"
@@ -261,12 +262,73 @@ static void test_jpeg(void) {
           "truncated: %s", st.msg);
 }
 
-/* A large JPEG is decoded smaller where its view needs fewer pixels
+/* Scene `png_name` (640 x 480 PNG photos) loaded at a working size of
+ * 48, decoded at a half, and its JPEG twin `jpeg_name`, against the PNG
+ * scene decoded whole: with a folder of white masks beside it, so that
+ * every view has a mask and the masks change no pixel. */
+static void compare_reduced(const char *png_name, const char *jpeg_name, const char *what) {
+    char dir[400], path[800];
+    ws_status st;
+    ws_scene png, jpeg, whole;
+    if (load(&png, png_name, &st) || load(&jpeg, jpeg_name, &st)) {
+        CHECK(0, "%sloading the large scenes: %s", what, st.msg);
+        return;
+    }
+    snprintf(dir, sizeof dir, "%s/%s_white", tmp, png_name);
+    ws_image white = {0};
+    int rc = ws_image_alloc(&white, 640, 480, 1, &st);
+    for (size_t p = 0; !rc && p < 640 * 480; p++) white.data[p] = 1;
+    for (int s = 0; !rc && s < WS_NSPLITS; s++)
+        for (int k = 0; !rc && k < png.split[s].n; k++) {
+            snprintf(path, sizeof path, "%s/%s", dir, png.split[s].views[k].image_name);
+            for (char *slash = strchr(path + strlen(dir) - 1, '/'); slash; slash = strchr(slash + 1, '/')) {
+                *slash = '\0';
+                mkdir(path, 0777);
+                *slash = '/';
+            }
+            rc = ws_png_write(path, &white, &st);
+        }
+    ws_image_free(&white);
+    ws_scene_options so;
+    ws_scene_options_default(&so);
+    so.width = so.height = 48;
+    so.masks_dir = dir;
+    snprintf(path, sizeof path, "%s/%s", tmp, png_name);
+    if (rc || ws_scene_load(&whole, path, &so, &st)) {
+        CHECK(0, "%sloading the scene with white masks: %s", what, st.msg);
+        ws_scene_free(&png);
+        ws_scene_free(&jpeg);
+        return;
+    }
+    double photos, mean, cameras;
+    CHECK(compare(&whole, &png, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
+              cameras < 1e-9,
+          "%sa half's PNG vs the whole PNG: photos max %g mean %g, cameras %g", what, photos, mean, cameras);
+    printf("%sa half's PNG vs the whole PNG: max %.4f mean %.5f\n", what, photos, mean);
+    CHECK(compare(&whole, &jpeg, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
+              cameras < 1e-9,
+          "%sa half's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", what, photos, mean, cameras);
+    printf("%sa half's JPEG vs the whole PNG: max %.4f mean %.5f\n", what, photos, mean);
+    char line[1024], line_png[1024], line_whole[1024];
+    ws_scene_crop_line(&jpeg, line, sizeof line);
+    ws_scene_crop_line(&png, line_png, sizeof line_png);
+    ws_scene_crop_line(&whole, line_whole, sizeof line_whole);
+    static const char *said = "; 4 of 4 photos decoded at 1/2 of their size, the pixels the working views need";
+    CHECK(strstr(line, said) && strstr(line_png, said) && !strstr(line_whole, "decoded"),
+          "%sthe crop line says so: %s / %s / %s", what, line, line_png, line_whole);
+    ws_scene_free(&png);
+    ws_scene_free(&jpeg);
+    ws_scene_free(&whole);
+}
+
+/* A large photo is decoded smaller where its view needs fewer pixels
  * (image.h ws_image_read_reduced): a 640 x 480 capture through a lens,
- * loaded at a working size of 48, is decoded at a half a side, and its
- * working photos are those of its PNG twin, decoded whole, within what
- * JPEG itself changes (test_formats), as are those of a pinhole twin; the 16 x 8 baseline file at a half
- * is 8 x 4 and names its own size; a PNG is read whole. */
+ * loaded at a working size of 48, is decoded at a half a side, JPEG and
+ * PNG alike, and its working photos are those of its PNG twin decoded
+ * whole (as a view with a mask is: here all white), within what JPEG
+ * itself changes (test_formats), as are those of a pinhole twin; the 16
+ * x 8 baseline file at a half is 8 x 4 and names its own size, and the
+ * PNG at a quarter is 160 x 120 (its blocks' means: test_scene). */
 static void test_reduced(void) {
     static const float black[3] = {0, 0, 0};
     char path[400];
@@ -295,39 +357,13 @@ static void test_reduced(void) {
                      tmp, bin, bin, bin, bin);
     CHECK(rc == 0, "large scenes: %s", out);
     snprintf(path, sizeof path, "%s/big_png/images/train/r_00000.png", tmp);
-    CHECK(!ws_image_read_reduced(path, 4, black, &whole, NULL, &reduced, file_size, &st) && reduced == 1 &&
-              whole.width == 640 && file_size[0] == 640 && file_size[1] == 480,
-          "a PNG is read whole: factor %d, %d x %d", reduced, whole.width, whole.height);
+    CHECK(!ws_image_read_reduced(path, 4, black, &whole, NULL, &reduced, file_size, &st) && reduced == 4 &&
+              whole.width == 160 && whole.height == 120 && file_size[0] == 640 && file_size[1] == 480,
+          "a PNG at a quarter: factor %d, %d x %d", reduced, whole.width, whole.height);
     ws_image_free(&whole);
-    ws_scene png, jpeg;
-    if (load(&png, "big_png", &st) || load(&jpeg, "big_jpeg", &st)) {
-        CHECK(0, "loading the large scenes: %s", st.msg);
-        return;
-    }
-    double photos, mean, cameras;
-    CHECK(compare(&png, &jpeg, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
-              cameras < 1e-9,
-          "a half's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
-    printf("a half's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
-    char line[1024], line_png[1024];
-    ws_scene_crop_line(&jpeg, line, sizeof line);
-    ws_scene_crop_line(&png, line_png, sizeof line_png);
-    CHECK(strstr(line, "; 4 of 4 photos decoded at 1/2 of their size, the pixels the working views need") &&
-              !strstr(line_png, "decoded"),
-          "the crop line says so: %s / %s", line, line_png);
-    ws_scene_free(&png);
-    ws_scene_free(&jpeg);
+    compare_reduced("big_png", "big_jpeg", "");
     /* without a lens the crop is sampled from the smaller photo the same way */
-    if (load(&png, "big_pin_png", &st) || load(&jpeg, "big_pin_jpeg", &st)) {
-        CHECK(0, "loading the large pinhole scenes: %s", st.msg);
-        return;
-    }
-    CHECK(compare(&png, &jpeg, &photos, &mean, &cameras) == 0 && mean < 1.0 / 255 && photos < 0.25 &&
-              cameras < 1e-9,
-          "pinhole, a half's JPEG vs the whole PNG: photos max %g mean %g, cameras %g", photos, mean, cameras);
-    printf("pinhole, a half's JPEG vs the whole PNG: max %.4f mean %.5f\n", photos, mean);
-    ws_scene_free(&png);
-    ws_scene_free(&jpeg);
+    compare_reduced("big_pin_png", "big_pin_jpeg", "pinhole, ");
 }
 
 static void test_refusals(void) {

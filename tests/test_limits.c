@@ -40,14 +40,16 @@ static void chunk(FILE *f, const char *type, const unsigned char *data, unsigned
     fwrite(c, 1, 4, f);
 }
 
-/* A PNG header of w x h 16-bit RGBA and no pixels: what a decoder learns
- * before it allocates. */
+/* A PNG header of w x h 16-bit RGBA, interlaced, and no pixels: what a
+ * decoder learns before it allocates. Interlaced, the file's samples are
+ * held whole beside the float planes (a file that is not is read a row at
+ * a time). */
 static void write_png_header(const char *path, unsigned w, unsigned h) {
     FILE *f = fopen(path, "wb");
     if (!f) return;
     fwrite("\x89PNG\r\n\x1a\n", 1, 8, f);
     unsigned char ihdr[13] = {w >> 24, w >> 16 & 255, w >> 8 & 255, w & 255, h >> 24, h >> 16 & 255,
-                              h >> 8 & 255, h & 255, 16, 6, 0, 0, 0};
+                              h >> 8 & 255, h & 255, 16, 6, 0, 0, 1};
     chunk(f, "IHDR", ihdr, 13);
     unsigned char idat[16];
     uLongf n = sizeof idat;

@@ -31,8 +31,9 @@ static void write_text(const char *path, const char *text) {
 }
 
 /* Writes a PNG with libpng directly: `samples` holds the values of every
- * channel of the colour type (palette: indices), interleaved, one uint16 each. */
-static void write_png(const char *path, int w, int h, int color_type, int depth,
+ * channel of the colour type (palette: indices), interleaved, one uint16
+ * each; interlace: PNG_INTERLACE_NONE or PNG_INTERLACE_ADAM7. */
+static void write_png(const char *path, int w, int h, int color_type, int depth, int interlace,
                       const uint16_t *samples, const png_color *palette, int npalette,
                       const png_byte *trns, int ntrns, const png_color_16 *trns_gray) {
     FILE *fp = fopen(path, "wb");
@@ -43,7 +44,7 @@ static void write_png(const char *path, int w, int h, int color_type, int depth,
         exit(1);
     }
     png_init_io(png, fp);
-    png_set_IHDR(png, info, w, h, depth, color_type, PNG_INTERLACE_NONE,
+    png_set_IHDR(png, info, w, h, depth, color_type, interlace,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     if (palette) png_set_PLTE(png, info, palette, npalette);
     if (trns || trns_gray) png_set_tRNS(png, info, trns, ntrns, trns_gray);
@@ -54,21 +55,24 @@ static void write_png(const char *path, int w, int h, int color_type, int depth,
              : color_type == PNG_COLOR_TYPE_RGBA       ? 4
                                                        : 1;
     png_byte row[4096];
-    for (int i = 0; i < h; i++) {
-        memset(row, 0, sizeof row);
-        for (int k = 0; k < w * nc; k++) {
-            uint16_t v = samples[(size_t)i * w * nc + k];
-            if (depth == 16) {
-                row[2 * k] = v >> 8;
-                row[2 * k + 1] = v & 255;
-            } else if (depth == 8) {
-                row[k] = (png_byte)v;
-            } else { /* packed, most significant bits first */
-                int bit = k * depth;
-                row[bit / 8] |= (png_byte)(v << (8 - depth - bit % 8));
+    const int passes = png_set_interlace_handling(png); /* each pass takes every row */
+    for (int pass = 0; pass < passes; pass++) {
+        for (int i = 0; i < h; i++) {
+            memset(row, 0, sizeof row);
+            for (int k = 0; k < w * nc; k++) {
+                uint16_t v = samples[(size_t)i * w * nc + k];
+                if (depth == 16) {
+                    row[2 * k] = v >> 8;
+                    row[2 * k + 1] = v & 255;
+                } else if (depth == 8) {
+                    row[k] = (png_byte)v;
+                } else { /* packed, most significant bits first */
+                    int bit = k * depth;
+                    row[bit / 8] |= (png_byte)(v << (8 - depth - bit % 8));
+                }
             }
+            png_write_row(png, row);
         }
-        png_write_row(png, row);
     }
     png_write_end(png, info);
     png_destroy_write_struct(&png, &info);
@@ -79,7 +83,7 @@ static void write_png(const char *path, int w, int h, int color_type, int depth,
 static void write_rgb_png(const char *path, int w, int h, int seed) {
     uint16_t *s = malloc(sizeof *s * w * h * 3);
     for (int k = 0; k < w * h * 3; k++) s[k] = (uint16_t)((k * 7 + seed * 31) % 256);
-    write_png(path, w, h, PNG_COLOR_TYPE_RGB, 8, s, NULL, 0, NULL, 0, NULL);
+    write_png(path, w, h, PNG_COLOR_TYPE_RGB, 8, PNG_INTERLACE_NONE, s, NULL, 0, NULL, 0, NULL);
     free(s);
 }
 
@@ -184,7 +188,7 @@ static void test_mask_path(void) {
     uint16_t g[8 * 6];
     for (int k = 0; k < 8 * 6; k++) g[k] = k % 8 < 4 ? 255 : 0;
     snprintf(path, sizeof path, "%s/m0.png", dir);
-    write_png(path, 8, 6, PNG_COLOR_TYPE_GRAY, 8, g, NULL, 0, NULL, 0, NULL);
+    write_png(path, 8, 6, PNG_COLOR_TYPE_GRAY, 8, PNG_INTERLACE_NONE, g, NULL, 0, NULL, 0, NULL);
     set_mask_path(dir, "\"m0.png\"");
     ws_scene_options opt;
     ws_scene_options_default(&opt);
@@ -370,6 +374,15 @@ static void test_shared_scenes(const char *scenes) {
     ws_scene_free(&sc);
 }
 
+/* Every colour type and depth there is but the palette (samples per pixel nc). */
+static const struct {
+    int type, depth, nc;
+} kinds[] = {{PNG_COLOR_TYPE_GRAY, 8, 1},        {PNG_COLOR_TYPE_GRAY, 16, 1},
+             {PNG_COLOR_TYPE_GRAY, 4, 1},        {PNG_COLOR_TYPE_GRAY_ALPHA, 8, 2},
+             {PNG_COLOR_TYPE_GRAY_ALPHA, 16, 2}, {PNG_COLOR_TYPE_RGB, 8, 3},
+             {PNG_COLOR_TYPE_RGB, 16, 3},        {PNG_COLOR_TYPE_RGBA, 8, 4},
+             {PNG_COLOR_TYPE_RGBA, 16, 4}};
+
 /* Every colour type and depth, composited on black and on another colour. */
 static void test_png_formats(void) {
     char path[1024];
@@ -378,13 +391,6 @@ static void test_png_formats(void) {
     const float black[3] = {0, 0, 0}, bg[3] = {0.2f, 0.4f, 0.6f};
     const float *bgs[2] = {black, bg};
     path_in(path, tmp, "fmt.png");
-    struct {
-        int type, depth, nc;
-    } kinds[] = {{PNG_COLOR_TYPE_GRAY, 8, 1},        {PNG_COLOR_TYPE_GRAY, 16, 1},
-                 {PNG_COLOR_TYPE_GRAY, 4, 1},        {PNG_COLOR_TYPE_GRAY_ALPHA, 8, 2},
-                 {PNG_COLOR_TYPE_GRAY_ALPHA, 16, 2}, {PNG_COLOR_TYPE_RGB, 8, 3},
-                 {PNG_COLOR_TYPE_RGB, 16, 3},        {PNG_COLOR_TYPE_RGBA, 8, 4},
-                 {PNG_COLOR_TYPE_RGBA, 16, 4}};
     const int w = 3, h = 2;
     for (size_t t = 0; t < sizeof kinds / sizeof kinds[0]; t++) {
         int nc = kinds[t].nc, depth = kinds[t].depth, maxv = (1 << depth) - 1;
@@ -394,7 +400,7 @@ static void test_png_formats(void) {
             s[nc - 1] = 0;
             s[2 * nc - 1] = (uint16_t)maxv;
         }
-        write_png(path, w, h, kinds[t].type, depth, s, NULL, 0, NULL, 0, NULL);
+        write_png(path, w, h, kinds[t].type, depth, PNG_INTERLACE_NONE, s, NULL, 0, NULL, 0, NULL);
         for (int b = 0; b < 2; b++) {
             int rc = ws_image_read(path, 0, 0, bgs[b], &im, &st);
             CHECK(rc == WS_OK, "type %d depth %d: %s", kinds[t].type, depth, st.msg);
@@ -422,7 +428,7 @@ static void test_png_formats(void) {
     const png_color pal[4] = {{255, 0, 0}, {0, 255, 0}, {10, 20, 30}, {200, 100, 50}};
     const png_byte trns[3] = {0, 128, 255};
     const uint16_t idx[6] = {0, 1, 2, 3, 2, 1};
-    write_png(path, 3, 2, PNG_COLOR_TYPE_PALETTE, 8, idx, pal, 4, trns, 3, NULL);
+    write_png(path, 3, 2, PNG_COLOR_TYPE_PALETTE, 8, PNG_INTERLACE_NONE, idx, pal, 4, trns, 3, NULL);
     int rc = ws_image_read(path, 0, 0, bg, &im, &st);
     CHECK(rc == WS_OK, "palette: %s", st.msg);
     if (!rc) {
@@ -442,7 +448,7 @@ static void test_png_formats(void) {
     const uint16_t gray[6] = {1000, 5000, 1000, 65535, 0, 1000};
     png_color_16 key = {0};
     key.gray = 1000;
-    write_png(path, 3, 2, PNG_COLOR_TYPE_GRAY, 16, gray, NULL, 0, NULL, 0, &key);
+    write_png(path, 3, 2, PNG_COLOR_TYPE_GRAY, 16, PNG_INTERLACE_NONE, gray, NULL, 0, NULL, 0, &key);
     rc = ws_image_read(path, 0, 0, bg, &im, &st);
     CHECK(rc == WS_OK, "gray tRNS: %s", st.msg);
     if (!rc) {
@@ -490,6 +496,60 @@ static void test_png_formats(void) {
     ws_image_free(&gray1);
 }
 
+/* A PNG decoded smaller (image.h ws_image_read_reduced) at 1, 2, 4 and 8:
+ * each pixel the mean of its block of reduce x reduce composited colours
+ * and its alpha the block's mean alpha, the last column and row of blocks
+ * holding fewer pixels (11 x 7: no factor divides either side), computed
+ * here from the samples written; for every colour type and depth, from a
+ * file read a row at a time and from an interlaced one, read whole. */
+static void test_png_reduced(void) {
+    enum { w = 11, h = 7 };
+    const float bg[3] = {0.2f, 0.4f, 0.6f};
+    char path[1024];
+    path_in(path, tmp, "reduced.png");
+    for (size_t t = 0; t < sizeof kinds / sizeof kinds[0]; t++) {
+        const int nc = kinds[t].nc, depth = kinds[t].depth, maxv = (1 << depth) - 1, has_alpha = nc == 2 || nc == 4;
+        uint16_t s[w * h * 4];
+        for (int k = 0; k < w * h * nc; k++) s[k] = (uint16_t)((k * 40503u + 11 * t) % (maxv + 1));
+        for (int laced = 0; laced < 2; laced++) {
+            write_png(path, w, h, kinds[t].type, depth, laced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE, s, NULL, 0,
+                      NULL, 0, NULL);
+            for (int reduce = 1; reduce <= 8; reduce *= 2) {
+                ws_image im, alpha;
+                ws_status st;
+                int reduced, file_size[2];
+                int rc = ws_image_read_reduced(path, reduce, bg, &im, &alpha, &reduced, file_size, &st);
+                const int ow = (w + reduce - 1) / reduce, oh = (h + reduce - 1) / reduce;
+                CHECK(rc == WS_OK && reduced == reduce && im.width == ow && im.height == oh && file_size[0] == w &&
+                          file_size[1] == h && !alpha.data == !has_alpha,
+                      "type %d depth %d interlaced %d at 1/%d: rc %d, %d x %d, factor %d, file %d x %d: %s",
+                      kinds[t].type, depth, laced, reduce, rc, im.width, im.height, reduced, file_size[0],
+                      file_size[1], rc ? st.msg : "");
+                if (rc || im.width != ow || im.height != oh || !alpha.data != !has_alpha) continue;
+                double err = 0;
+                for (int bi = 0; bi < oh; bi++)
+                    for (int bj = 0; bj < ow; bj++) {
+                        double want[4] = {0, 0, 0, 0};
+                        int n = 0;
+                        for (int i = bi * reduce; i < h && i < (bi + 1) * reduce; i++)
+                            for (int j = bj * reduce; j < w && j < (bj + 1) * reduce; j++, n++) {
+                                const uint16_t *p = s + (i * w + j) * nc;
+                                const double a = has_alpha ? (double)p[nc - 1] / maxv : 1.0;
+                                for (int c = 0; c < 3; c++)
+                                    want[c] += a * p[nc >= 3 ? c : 0] / maxv + (1 - a) * bg[c];
+                                want[3] += a;
+                            }
+                        for (int c = 0; c < 3; c++) err = fmax(err, fabs(px(&im, c, bi, bj) - want[c] / n));
+                        if (has_alpha) err = fmax(err, fabs(px(&alpha, 0, bi, bj) - want[3] / n));
+                    }
+                CHECK(err < 1e-6, "type %d depth %d interlaced %d at 1/%d: error %g", kinds[t].type, depth, laced,
+                      reduce, err);
+                ws_image_free(&im);
+                ws_image_free(&alpha);
+            }
+        }
+    }
+}
 /* 448 -> 224 averages 2 x 2 blocks; 100 -> 224 is bilinear with pixel
  * centres aligned, so a linear ramp stays a linear ramp (clamped at the
  * borders), exactly. */
@@ -504,7 +564,7 @@ static void test_resample(void) {
         for (int j = 0; j < 448; j++)
             for (int c = 0; c < 3; c++)
                 s[(i * 448 + j) * 3 + c] = (uint16_t)((i * 7 + j * 13 + c * 50) % 256);
-    write_png(path, 448, 448, PNG_COLOR_TYPE_RGB, 8, s, NULL, 0, NULL, 0, NULL);
+    write_png(path, 448, 448, PNG_COLOR_TYPE_RGB, 8, PNG_INTERLACE_NONE, s, NULL, 0, NULL, 0, NULL);
     int rc = ws_image_read(path, 224, 224, black, &im, &st);
     CHECK(rc == WS_OK, "448: %s", st.msg);
     if (!rc) {
@@ -528,7 +588,7 @@ static void test_resample(void) {
     s = malloc(sizeof *s * 100 * 100);
     for (int i = 0; i < 100; i++)
         for (int j = 0; j < 100; j++) s[i * 100 + j] = (uint16_t)(i + 2 * j);
-    write_png(path, 100, 100, PNG_COLOR_TYPE_GRAY, 16, s, NULL, 0, NULL, 0, NULL);
+    write_png(path, 100, 100, PNG_COLOR_TYPE_GRAY, 16, PNG_INTERLACE_NONE, s, NULL, 0, NULL, 0, NULL);
     rc = ws_image_read(path, 224, 224, black, &im, &st);
     CHECK(rc == WS_OK, "100: %s", st.msg);
     if (!rc) {
@@ -789,7 +849,7 @@ static void test_errors(void) {
 
     /* absurd dimensions are refused before anything is allocated */
     uint16_t one = 0;
-    write_png(png1, 1, 1, PNG_COLOR_TYPE_GRAY, 8, &one, NULL, 0, NULL, 0, NULL);
+    write_png(png1, 1, 1, PNG_COLOR_TYPE_GRAY, 8, PNG_INTERLACE_NONE, &one, NULL, 0, NULL, 0, NULL);
     fp = fopen(png1, "rb");
     n = fread(bytes, 1, sizeof bytes, fp);
     fclose(fp);
@@ -883,6 +943,7 @@ int main(int argc, char **argv) {
     }
     tmp = test_tmpdir("scene");
     test_png_formats();
+    test_png_reduced();
     test_resample();
     test_layouts();
     test_errors();

@@ -93,54 +93,85 @@ static int transform_stage(png_structp png, png_infop info) {
     return 0;
 }
 
-/* Stage 3: every row, then the chunks after the image (so that a file cut
- * off after its pixel data is reported too). */
-static int read_pixels_stage(png_structp png, png_infop info, png_bytepp rows) {
+/* Stage 3 of an interlaced file: every row (its passes combined), then the
+ * chunks after the image (so that a file cut off after its pixel data is
+ * reported too). */
+static int read_pixels_stage(png_structp png, png_bytepp rows) {
     if (setjmp(png_jmpbuf(png))) return -1;
     png_read_image(png, rows);
     png_read_end(png, NULL);
     return 0;
 }
 
-/* Decoded samples (interleaved, `channels` of 8 or 16 bits) to a planar
- * 3-channel float image; gray is copied to R, G and B, and alpha a
- * composites: out = a * c + (1 - a) * bg on the stored values, no gamma.
- * alpha (width x height, or NULL) receives a. */
-static void samples_to_rgb(png_bytepp rows, int width, int height, int channels, int depth,
-                           const float background[3], ws_image *out, float *alpha) {
+/* Stage 3 of a file that is not interlaced, one row at a time: the next
+ * row, ... */
+static int read_row_stage(png_structp png, png_bytep row) {
+    if (setjmp(png_jmpbuf(png))) return -1;
+    png_read_row(png, row, NULL);
+    return 0;
+}
+
+/* ... and after the last, the chunks after the image. */
+static int read_end_stage(png_structp png) {
+    if (setjmp(png_jmpbuf(png))) return -1;
+    png_read_end(png, NULL);
+    return 0;
+}
+
+/* Adds one row of decoded samples (`channels` of 8 or 16 bits, interleaved)
+ * to the sums of its block row: sum[4 k + c] gathers colour c of the file's
+ * columns [k reduce, (k + 1) reduce), gray copied to R, G and B and alpha a
+ * composited, a c + (1 - a) bg on the stored values (no gamma), and
+ * sum[4 k + 3] gathers a. */
+static void add_samples(const png_byte *row, int width, int channels, int depth, const float background[3],
+                        int reduce, double *sum) {
     const double scale = depth == 16 ? 1.0 / 65535.0 : 1.0 / 255.0;
     const int has_alpha = channels == 2 || channels == 4, colour = channels >= 3;
-    const size_t plane = (size_t)width * height;
-    for (int i = 0; i < height; i++) {
-        const png_byte *row = rows[i];
-        for (int j = 0; j < width; j++) {
-            double v[4];
-            for (int c = 0; c < channels; c++) {
-                const png_byte *s = row + ((size_t)j * channels + c) * (depth / 8);
-                v[c] = (depth == 16 ? (s[0] << 8 | s[1]) : s[0]) * scale;
-            }
-            double a = has_alpha ? v[channels - 1] : 1.0;
-            if (alpha) alpha[(size_t)i * width + j] = (float)a;
-            for (int c = 0; c < 3; c++) {
-                double value = v[colour ? c : 0];
-                out->data[c * plane + (size_t)i * width + j] =
-                    (float)(a * value + (1.0 - a) * background[c]);
-            }
+    for (int j = 0; j < width; j++) {
+        double v[4];
+        for (int c = 0; c < channels; c++) {
+            const png_byte *s = row + ((size_t)j * channels + c) * (depth / 8);
+            v[c] = (depth == 16 ? (s[0] << 8 | s[1]) : s[0]) * scale;
         }
+        const double a = has_alpha ? v[channels - 1] : 1.0;
+        double *block = sum + 4 * (j / reduce);
+        for (int c = 0; c < 3; c++) block[c] += a * v[colour ? c : 0] + (1.0 - a) * background[c];
+        block[3] += a;
     }
 }
 
+/* Row i of out (and of alpha, when given) from its block row's sums over
+ * `rows` of the file's rows, which are then cleared: each block's mean
+ * over the file's pixels it holds (the last column of blocks and the last
+ * block row may hold fewer). */
+static void store_block_row(double *sum, int file_width, int reduce, int rows, int i, ws_image *out, float *alpha) {
+    const size_t plane = (size_t)out->width * out->height, at = (size_t)i * out->width;
+    for (int k = 0; k < out->width; k++) {
+        const int cols = file_width - k * reduce < reduce ? file_width - k * reduce : reduce;
+        const double n = (double)cols * rows;
+        for (int c = 0; c < 3; c++) out->data[c * plane + at + k] = (float)(sum[4 * k + c] / n);
+        if (alpha) alpha[at + k] = (float)(sum[4 * k + 3] / n);
+    }
+    memset(sum, 0, sizeof *sum * 4 * out->width);
+}
+
 /* Decodes an open file whose 8 signature bytes were consumed into a
- * 3-channel image at the file's size, and (when `alpha` is given) its
- * alpha channel, left empty when the file has none or it is 1 everywhere. */
-static int decode_png(FILE *fp, const char *path, const float background[3], ws_image *out,
-                      ws_image *alpha, ws_status *st) {
+ * 3-channel image at 1 / reduce of the file's size a side, each pixel the
+ * mean of the block of reduce x reduce file pixels it covers (reduce 1:
+ * the file's own pixels), and (when `alpha` is given) its alpha channel
+ * the same way, left empty when the file has none or it is 1 everywhere.
+ * A file that is not interlaced is read one row at a time, so only the
+ * reduced image is held; an interlaced one is held whole. file_size: the
+ * file's own width and height. */
+static int decode_png(FILE *fp, const char *path, int reduce, const float background[3], ws_image *out,
+                      ws_image *alpha, int file_size[2], ws_status *st) {
     png_io io = {fp, ""};
     png_structp png =
         png_create_read_struct(PNG_LIBPNG_VER_STRING, &io, on_png_error, on_png_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     png_bytep pixels = NULL;
     png_bytepp rows = NULL;
+    double *sum = NULL;
     int rc = WS_OK;
     if (!info) {
         rc = ws_fail(st, WS_ENOMEM, "%s: out of memory creating a PNG decoder", path);
@@ -159,6 +190,9 @@ static int decode_png(FILE *fp, const char *path, const float background[3], ws_
         goto done;
     }
     const int width = (int)file_w, height = (int)file_h;
+    file_size[0] = width;
+    file_size[1] = height;
+    const int interlaced = png_get_interlace_type(png, info) != PNG_INTERLACE_NONE;
     if (transform_stage(png, info)) {
         rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt PNG (%s)", path, io.reason);
         goto done;
@@ -169,38 +203,51 @@ static int decode_png(FILE *fp, const char *path, const float background[3], ws_
                      channels, depth);
         goto done;
     }
+    const int has_alpha = channels == 2 || channels == 4;
+    const int out_w = (width + reduce - 1) / reduce, out_h = (height + reduce - 1) / reduce;
     const size_t rowbytes = png_get_rowbytes(png, info);
-    /* the samples and the float planes (3, and alpha) side by side: checked
-     * before either is allocated (base/limits.h) */
+    /* per block row: the float planes (3, and alpha), and an interlaced
+     * file's samples; checked before either is allocated (base/limits.h) */
     char what[WS_PATH_MAX + 100];
     snprintf(what, sizeof what, "%s (%d x %d pixels, %d channels of %d bits, decoded)", path, width, height,
              channels, depth);
-    size_t bytes, need[2] = {rowbytes + (size_t)width * sizeof(float) * (3 + (channels == 2 || channels == 4)),
-                             (size_t)height};
+    size_t bytes, need[2] = {(size_t)out_w * sizeof(float) * (3 + has_alpha) + (interlaced ? rowbytes * reduce : 0),
+                             (size_t)out_h};
     if ((rc = ws_size_product(what, need, 2, WS_MAX_DECODE_BYTES, "a decoded image", &bytes, st))) goto done;
-    pixels = ws_malloc(rowbytes * height, path, st);
-    rows = pixels ? ws_malloc(sizeof *rows * height, path, st) : NULL;
-    if (!rows) {
+    pixels = ws_malloc(rowbytes * (interlaced ? height : 1), path, st);
+    rows = pixels ? ws_malloc(sizeof *rows * (interlaced ? height : 1), path, st) : NULL;
+    sum = rows ? ws_calloc(4 * (size_t)out_w, sizeof *sum, path, st) : NULL;
+    if (!sum || (rc = ws_image_alloc(out, out_w, out_h, 3, st)) ||
+        (alpha && has_alpha && (rc = ws_image_alloc(alpha, out_w, out_h, 1, st)))) {
         rc = st->code;
         goto done;
     }
-    for (int i = 0; i < height; i++) rows[i] = pixels + rowbytes * i;
-    if (read_pixels_stage(png, info, rows)) {
+    for (int i = 0; i < (interlaced ? height : 1); i++) rows[i] = pixels + rowbytes * i;
+    if (interlaced && read_pixels_stage(png, rows)) {
         rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt PNG (%s)", path, io.reason);
         goto done;
     }
-    if ((rc = ws_image_alloc(out, width, height, 3, st))) goto done;
-    const int has_alpha = channels == 2 || channels == 4;
-    if (alpha && has_alpha && (rc = ws_image_alloc(alpha, width, height, 1, st))) goto done;
-    samples_to_rgb(rows, width, height, channels, depth, background, out,
-                   alpha ? alpha->data : NULL);
+    for (int i = 0; i < height; i++) {
+        if (!interlaced && read_row_stage(png, rows[0])) {
+            rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt PNG (%s)", path, io.reason);
+            goto done;
+        }
+        add_samples(rows[interlaced ? i : 0], width, channels, depth, background, reduce, sum);
+        if ((i + 1) % reduce == 0 || i + 1 == height)
+            store_block_row(sum, width, reduce, i % reduce + 1, i / reduce, out, alpha ? alpha->data : NULL);
+    }
+    if (!interlaced && read_end_stage(png)) {
+        rc = ws_fail(st, WS_EINPUT, "%s: truncated or corrupt PNG (%s)", path, io.reason);
+        goto done;
+    }
     if (alpha && alpha->data) {
-        size_t k = 0, n = (size_t)width * height;
+        size_t k = 0, n = (size_t)out_w * out_h;
         while (k < n && alpha->data[k] == 1.0f) k++;
         if (k == n) ws_image_free(alpha); /* opaque: no information */
     }
 done:
     png_destroy_read_struct(png ? &png : NULL, info ? &info : NULL, NULL);
+    free(sum);
     free(rows);
     free(pixels);
     return rc;
@@ -263,9 +310,7 @@ int ws_image_read_reduced(const char *path, int reduce, const float background[3
     if (got < sizeof sig && ferror(fp))
         rc = ws_fail(st, WS_EINPUT, "%s: cannot read: %s", path, strerror(errno));
     else if (got == sizeof sig && !png_sig_cmp(sig, 0, sizeof sig)) {
-        rc = decode_png(fp, path, background, out, alpha, st);
-        file_size[0] = out->width; /* a PNG is decoded whole */
-        file_size[1] = out->height;
+        rc = decode_png(fp, path, *reduced = reduce, background, out, alpha, file_size, st);
     } else if (got >= 3 && !memcmp(sig, jpeg_sig, 3) && fseek(fp, 0, SEEK_SET) == 0)
         rc = decode_jpeg(fp, path, *reduced = reduce, out, file_size, st);
     else

@@ -33,11 +33,13 @@ int ws_image_read_alpha(const char *path, int width, int height, const float bac
                         ws_image *out, ws_image *alpha, ws_status *st);
 
 /* ws_image_read_alpha at the file's own size, or at 1 / reduce (2, 4 or 8)
- * of it a side where the format can (a JPEG: libjpeg's scaled decoding,
- * ceil(W / reduce) x ceil(H / reduce); a PNG is decoded whole); *reduced:
- * the factor it was decoded at, file_size: the file's own W and H. A
- * phone photo of 4032 x 3024 read for a working view of 224 px needs a
- * small part of its pixels. */
+ * of it a side, ceil(W / reduce) x ceil(H / reduce): a JPEG through
+ * libjpeg's scaled decoding, a PNG as the mean of each block of reduce x
+ * reduce pixels (colours composited first, alpha averaged alike), its
+ * rows read one at a time unless it is interlaced; *reduced: the factor
+ * it was decoded at, file_size: the file's own W and H. A phone photo of
+ * 4032 x 3024 read for a working view of 224 px needs a small part of its
+ * pixels. */
 int ws_image_read_reduced(const char *path, int reduce, const float background[3], ws_image *out,
                           ws_image *alpha, int *reduced, int file_size[2], ws_status *st);
 

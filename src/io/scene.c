@@ -560,8 +560,8 @@ static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, 
     return rc;
 }
 
-/* One view's photo and mask, at the working size: the image decoded whole
- * (alpha composited), its mask (the mask_path image, else the alpha), the
+/* One view's photo and mask, at the working size: the image decoded (at
+ * 1 / photo_reduction of its size, alpha composited), its mask (the mask_path image, else the alpha), the
  * background where a mask_path says so, then the crop (nerfstudio) and the
  * resampling to the working size. */
 static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {

@@ -12,7 +12,7 @@
  * region of interest (64 of 64 views zoomed, 301 to 355 px across, up to
  * 120 px off the frame's centre)" (scene.h: zoomed), followed by "; 64 of
  * 64 photos decoded at 1/4 of their size, the pixels the working views
- * need" where large JPEGs were read smaller (scene.h: reduced). */
+ * need" where large photos were read smaller (scene.h: reduced). */
 void ws_scene_crop_line(const ws_scene *scene, char *line, size_t size);
 
 #endif
