@@ -420,7 +420,7 @@ static int fit_run_setup(fit_run *r, int resume, const char *const *argv, int ar
                WS_CONSENSUS_SILHOUETTE_SHARE);
     const int auto_curves = o->n_curves == WS_FIT_CURVES_AUTO;
     r->in_effect.n_curves = ws_fit_n_curves(o, r->consensus.solid);
-    if (auto_curves && o->n_curves != WS_FIT_CURVES && speaks() && !o->quiet)
+    if (auto_curves && r->in_effect.n_curves != WS_FIT_CURVES && speaks() && !o->quiet)
         printf("fit: %d curves (--n-curves auto: %d, %d for a solid's edges)\n", r->in_effect.n_curves, WS_FIT_CURVES,
                WS_FIT_CURVES_SOLID);
     int edges_init = !resume && !strcmp(o->init_curves, "edges");
