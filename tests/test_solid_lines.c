@@ -5,7 +5,8 @@
  * their edges (the ground truth; a mask edge pixel's centre lies up to a
  * pixel inside the edge, and thinning moves a corner), and every visible
  * edge's image drawn (a line pixel within 1.5 px of each point of it not
- * hidden by a face); the
+ * hidden by a face), and every pixel's depth that of the nearest face
+ * along its ray, across the renderer's bands of rows; the
  * trefoil's lines within its tube's image radius plus 1 px of its centre
  * curves, and those drawn along them. End to end: `scene cube` writes
  * them, `eval` at the scene's size scores the drawing, at another --size
@@ -17,6 +18,7 @@
 #include "check.h"
 #include "test_util.h"
 #include "io/ref_lines.h"
+#include "synth/line_drawing.h"
 #include "synth/solids.h"
 #include "synth/synth.h"
 
@@ -83,6 +85,46 @@ static void check_view(const char *what, const ws_curves *c, const ws_camera *ca
           what, missed, visible, drawn);
 }
 
+/* Every pixel's depth in the buffer is that of the nearest triangle along
+ * the ray through the pixel's centre, found here over every triangle
+ * (Moller and Trumbore's test): the renderer traces WS_SYNTH_BAND_ROWS rows
+ * at a time, and N = 160 rows make ten bands. Rays within 1e-6 (in
+ * barycentric terms) of a triangle's edge are left out, as either answer
+ * is right there. */
+static void check_depth(const char *what, const ws_solid *sol, const ws_camera *cam, const ws_geometry_buffer *g) {
+    int checked = 0, wrong = 0, hits = 0;
+    for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) {
+            double D[3], best = INFINITY;
+            int near_edge = 0;
+            ws_camera_pixel_ray(cam, i, j, D);
+            for (int t = 0; t < sol->ntri; t++) {
+                double A[3], B[3], C[3], e1[3], e2[3], p[3], q[3], s0[3];
+                ws_camera_to_cam(cam, sol->corner + 9 * t, A);
+                ws_camera_to_cam(cam, sol->corner + 9 * t + 3, B);
+                ws_camera_to_cam(cam, sol->corner + 9 * t + 6, C);
+                for (int x = 0; x < 3; x++) e1[x] = B[x] - A[x], e2[x] = C[x] - A[x], s0[x] = -A[x];
+                p[0] = D[1] * e2[2] - D[2] * e2[1], p[1] = D[2] * e2[0] - D[0] * e2[2], p[2] = D[0] * e2[1] - D[1] * e2[0];
+                q[0] = s0[1] * e1[2] - s0[2] * e1[1], q[1] = s0[2] * e1[0] - s0[0] * e1[2], q[2] = s0[0] * e1[1] - s0[1] * e1[0];
+                const double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+                if (fabs(det) < 1e-12) continue;
+                const double u = (s0[0] * p[0] + s0[1] * p[1] + s0[2] * p[2]) / det,
+                             v = (D[0] * q[0] + D[1] * q[1] + D[2] * q[2]) / det,
+                             along = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+                if (u < -1e-6 || v < -1e-6 || u + v > 1 + 1e-6 || !(along > 0)) continue;
+                near_edge |= u < 1e-6 || v < 1e-6 || u + v > 1 - 1e-6;
+                best = fmin(best, along);
+            }
+            if (near_edge) continue;
+            const float got = g->depth[(size_t)i * N + j];
+            checked++;
+            hits += isfinite(best);
+            wrong += isfinite(best) != isfinite(got) || (isfinite(best) && fabs(got - best) > 1e-5 * best);
+        }
+    CHECK(checked > N * N * 9 / 10 && hits > N * N / 10 && wrong == 0,
+          "%s: %d of %d pixels (%d on the solid) with a depth not the nearest triangle's", what, wrong, checked, hits);
+}
+
 int main(void) {
     ws_status st;
     ws_status_clear(&st);
@@ -102,6 +144,7 @@ int main(void) {
         ws_image_free(&img);
         /* a visible edge point lies on the face the buffer holds: within a hair of its depth */
         check_view(solids[s], &sol.edges, &cam, &g, 1.5, 1e-3, 1.5);
+        check_depth(solids[s], &sol, &cam, &g);
         ws_solid_free(&sol);
     }
     ws_synth_object knot;

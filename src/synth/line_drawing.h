@@ -27,6 +27,12 @@
 #define WS_LINE_FLAT_ANGLE 30.0   /* degrees */
 #define WS_LINE_MIN_SPECK 5
 
+/* Rows of pixels the synthetic renderers (solids.h, synth.h) trace at a
+ * time: their supersampled buffers (depth, shading and normal of each
+ * fine sample) hold these rows, not the whole frame, whose fine samples
+ * run to hundreds of millions for a phone-sized canvas through a lens. */
+#define WS_SYNTH_BAND_ROWS 16
+
 /* What a renderer knows of each pixel of one view (all H x W): */
 typedef struct {
     int width, height;

@@ -335,22 +335,24 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
         return ws_fail(st, WS_EINTERNAL, "solid: geometry buffer %d x %d, camera %d x %d, supersampling %d", g->width,
                        g->height, cam->width, cam->height, supersample);
     const int ss = supersample, W = cam->width, H = cam->height, W2 = W * ss, H2 = H * ss;
-    const size_t fine = (size_t)W2 * H2;
+    /* the fine samples of WS_SYNTH_BAND_ROWS rows of pixels at a time */
+    const size_t fine = (size_t)W2 * ss * (H < WS_SYNTH_BAND_ROWS ? H : WS_SYNTH_BAND_ROWS);
     double *depth = ws_malloc(sizeof *depth * fine, "a depth buffer", st);
     float *shade = depth ? ws_malloc(sizeof *shade * fine, "a shading buffer", st) : NULL;
     double *cc = shade ? ws_malloc(sizeof *cc * 9 * s->ntri, "camera-space triangles", st) : NULL;
     double *cn = cc ? ws_malloc(sizeof *cn * 9 * s->ntri, "camera-space normals", st) : NULL;
+    int *box = cn ? ws_malloc(sizeof *box * 4 * s->ntri, "triangle boxes", st) : NULL;
     /* with g: each fine sample's camera-space normal */
-    float *fn = cn && g ? ws_malloc(sizeof *fn * 3 * fine, "a normal buffer", st) : NULL;
-    if (!cn || (g && !fn) || ws_image_alloc(img, W, H, 3, st)) {
+    float *fn = box && g ? ws_malloc(sizeof *fn * 3 * fine, "a normal buffer", st) : NULL;
+    if (!box || (g && !fn) || ws_image_alloc(img, W, H, 3, st)) {
         free(depth);
         free(shade);
         free(cc);
         free(cn);
+        free(box);
         free(fn);
         return st->code;
     }
-    for (size_t k = 0; k < fine; k++) depth[k] = INFINITY;
     const double zero[3] = {0, 0, 0};
     double origin[3];
     ws_camera_to_cam(cam, zero, origin);
@@ -367,69 +369,84 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
     for (int x = 0; x < 3; x++) key[x] = dot3(cam->R[x], light);
     /* fine sample (I, J) lies at pixel coordinates ((I + 1/2) / ss - 1/2,
      * (J + 1/2) / ss - 1/2): the ss x ss samples of pixel (i, j) spread
-     * evenly around its centre */
+     * evenly around its centre; box[4 tri ..]: the fine columns j0..j1 and
+     * rows i0..i1 triangle tri may cover */
     for (int tri = 0; tri < s->ntri; tri++) {
         const double *A = cc + 9 * tri, *B = A + 3, *C = A + 6;
-        double box[4] = {0, W2 - 1, 0, H2 - 1};
+        double b[4] = {0, W2 - 1, 0, H2 - 1};
         if (-A[2] > 1e-6 && -B[2] > 1e-6 && -C[2] > 1e-6) { /* wholly in front: a tight box */
-            box[0] = box[2] = INFINITY;
-            box[1] = box[3] = -INFINITY;
+            b[0] = b[2] = INFINITY;
+            b[1] = b[3] = -INFINITY;
             for (int k = 0; k < 3; k++) {
                 const double *P = A + 3 * k;
                 double u, v;
                 ws_camera_project(cam, P, &u, &v);
-                box[0] = fmin(box[0], (u + 0.5) * ss - 0.5 - ss - 1);
-                box[1] = fmax(box[1], (u + 0.5) * ss - 0.5 + ss + 1);
-                box[2] = fmin(box[2], (v + 0.5) * ss - 0.5 - ss - 1);
-                box[3] = fmax(box[3], (v + 0.5) * ss - 0.5 + ss + 1);
+                b[0] = fmin(b[0], (u + 0.5) * ss - 0.5 - ss - 1);
+                b[1] = fmax(b[1], (u + 0.5) * ss - 0.5 + ss + 1);
+                b[2] = fmin(b[2], (v + 0.5) * ss - 0.5 - ss - 1);
+                b[3] = fmax(b[3], (v + 0.5) * ss - 0.5 + ss + 1);
             }
         }
-        int j0 = (int)fmax(0, ceil(box[0])), j1 = (int)fmin(W2 - 1, floor(box[1]));
-        int i0 = (int)fmax(0, ceil(box[2])), i1 = (int)fmin(H2 - 1, floor(box[3]));
-        for (int I = i0; I <= i1; I++)
-            for (int J = j0; J <= j1; J++) {
-                double D[3], u = 0, v = 0;
-                ws_camera_pixel_ray(cam, (I + 0.5) / ss - 0.5, (J + 0.5) / ss - 0.5, D);
-                double t = ray_triangle(D, A, B, C, &u, &v);
-                size_t at = (size_t)I * W2 + J;
-                if (!(t < depth[at])) continue;
-                depth[at] = t;
-                const double *na = cn + 9 * tri, *nb = na + 3, *nc = na + 6;
-                double n[3], view[3] = {-D[0], -D[1], -D[2]};
-                for (int x = 0; x < 3; x++) n[x] = (1 - u - v) * na[x] + u * nb[x] + v * nc[x];
-                normalize3(n);
-                normalize3(view);
-                if (dot3(n, view) < 0)
-                    for (int x = 0; x < 3; x++) n[x] = -n[x];
-                shade[at] = (float)(AMBIENT + KEY * fmax(0, dot3(n, key)) + FILL * fmax(0, dot3(n, fill)));
-                for (int x = 0; fn && x < 3; x++) fn[3 * at + x] = (float)n[x];
-            }
+        box[4 * tri] = (int)fmax(0, ceil(b[0]));
+        box[4 * tri + 1] = (int)fmin(W2 - 1, floor(b[1]));
+        box[4 * tri + 2] = (int)fmax(0, ceil(b[2]));
+        box[4 * tri + 3] = (int)fmin(H2 - 1, floor(b[3]));
     }
     const size_t plane = (size_t)W * H;
-    for (int i = 0; i < H; i++)
-        for (int j = 0; j < W; j++) {
-            double lit = 0;
-            int miss = 0;
-            for (int a = 0; a < ss; a++)
-                for (int b = 0; b < ss; b++) {
-                    size_t at = (size_t)(i * ss + a) * W2 + j * ss + b;
-                    if (isinf(depth[at]))
-                        miss++;
-                    else
-                        lit += shade[at];
+    for (int top = 0; top < H; top += WS_SYNTH_BAND_ROWS) {
+        const int rows = H - top < WS_SYNTH_BAND_ROWS ? H - top : WS_SYNTH_BAND_ROWS, I0 = top * ss;
+        for (size_t k = 0; k < (size_t)rows * ss * W2; k++) depth[k] = INFINITY;
+        for (int tri = 0; tri < s->ntri; tri++) {
+            const double *A = cc + 9 * tri, *B = A + 3, *C = A + 6;
+            const int j0 = box[4 * tri], j1 = box[4 * tri + 1];
+            const int i0 = box[4 * tri + 2] > I0 ? box[4 * tri + 2] : I0;
+            const int i1 = box[4 * tri + 3] < I0 + rows * ss - 1 ? box[4 * tri + 3] : I0 + rows * ss - 1;
+            for (int I = i0; I <= i1; I++)
+                for (int J = j0; J <= j1; J++) {
+                    double D[3], u = 0, v = 0;
+                    ws_camera_pixel_ray(cam, (I + 0.5) / ss - 0.5, (J + 0.5) / ss - 0.5, D);
+                    double t = ray_triangle(D, A, B, C, &u, &v);
+                    size_t at = (size_t)(I - I0) * W2 + J;
+                    if (!(t < depth[at])) continue;
+                    depth[at] = t;
+                    const double *na = cn + 9 * tri, *nb = na + 3, *nc = na + 6;
+                    double n[3], view[3] = {-D[0], -D[1], -D[2]};
+                    for (int x = 0; x < 3; x++) n[x] = (1 - u - v) * na[x] + u * nb[x] + v * nc[x];
+                    normalize3(n);
+                    normalize3(view);
+                    if (dot3(n, view) < 0)
+                        for (int x = 0; x < 3; x++) n[x] = -n[x];
+                    shade[at] = (float)(AMBIENT + KEY * fmax(0, dot3(n, key)) + FILL * fmax(0, dot3(n, fill)));
+                    for (int x = 0; fn && x < 3; x++) fn[3 * at + x] = (float)n[x];
                 }
-            for (int c = 0; c < 3; c++)
-                img->data[c * plane + (size_t)i * W + j] =
-                    (float)((s->albedo[c] * lit + background->data[c * plane + (size_t)i * W + j] * miss) / (ss * ss));
-            if (g) /* the middle sample is the pixel's centre (ss odd) */
-                ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss),
-                                       depth[(size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2],
-                                       fn + 3 * ((size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2));
         }
+        for (int i = top; i < top + rows; i++)
+            for (int j = 0; j < W; j++) {
+                double lit = 0;
+                int miss = 0;
+                for (int a = 0; a < ss; a++)
+                    for (int b = 0; b < ss; b++) {
+                        size_t at = (size_t)((i - top) * ss + a) * W2 + j * ss + b;
+                        if (isinf(depth[at]))
+                            miss++;
+                        else
+                            lit += shade[at];
+                    }
+                for (int c = 0; c < 3; c++)
+                    img->data[c * plane + (size_t)i * W + j] = (float)((s->albedo[c] * lit +
+                                                                        background->data[c * plane + (size_t)i * W + j] * miss) /
+                                                                       (ss * ss));
+                if (g) { /* the middle sample is the pixel's centre (ss odd) */
+                    const size_t mid = (size_t)((i - top) * ss + ss / 2) * W2 + j * ss + ss / 2;
+                    ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss), depth[mid], fn + 3 * mid);
+                }
+            }
+    }
     free(depth);
     free(shade);
     free(cc);
     free(cn);
+    free(box);
     free(fn);
     return WS_OK;
 }

@@ -484,81 +484,108 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
      * at (W ss / 2 - 1/2, H ss / 2 - 1/2) and the focal is f ss. */
     const double f2 = cam->focal * ss, cx2 = cam->cx * ss - WS_PIXEL_CENTER,
                  cy2 = cam->cy * ss - WS_PIXEL_CENTER;
-    float *depth = ws_malloc(sizeof *depth * W2 * H2, "a depth buffer", st);
-    float *shade = depth ? ws_calloc((size_t)W2 * H2, sizeof *shade, "a shading buffer", st) : NULL;
+    /* the fine samples of WS_SYNTH_BAND_ROWS rows of pixels at a time */
+    const size_t fine = (size_t)W2 * ss * (H < WS_SYNTH_BAND_ROWS ? H : WS_SYNTH_BAND_ROWS);
+    float *depth = ws_malloc(sizeof *depth * fine, "a depth buffer", st);
+    float *shade = depth ? ws_malloc(sizeof *shade * fine, "a shading buffer", st) : NULL;
     double *cc =
         shade ? ws_malloc(sizeof *cc * 6 * obj->ncapsules, "camera-space capsules", st) : NULL;
+    double *axes = cc ? ws_malloc(sizeof *axes * 4 * obj->ncapsules, "capsule axes", st) : NULL;
+    int *box = axes ? ws_malloc(sizeof *box * 4 * obj->ncapsules, "capsule boxes", st) : NULL;
     /* with g: each fine sample's camera-space normal */
-    float *fn = cc && g ? ws_calloc((size_t)3 * W2 * H2, sizeof *fn, "a normal buffer", st) : NULL;
-    if (!cc || (g && !fn) || ws_image_alloc(img, W, H, 3, st)) {
+    float *fn = box && g ? ws_malloc(sizeof *fn * 3 * fine, "a normal buffer", st) : NULL;
+    if (!box || (g && !fn) || ws_image_alloc(img, W, H, 3, st)) {
         free(depth);
         free(shade);
         free(cc);
+        free(axes);
+        free(box);
         free(fn);
         return st->code;
     }
-    for (size_t k = 0; k < (size_t)W2 * H2; k++) depth[k] = INFINITY;
     for (int k = 0; k < 2 * obj->ncapsules; k++)
         ws_camera_to_cam(cam, obj->capsules + 3 * k, cc + 3 * k);
     const double light_world[3] = {0.3, -0.5, 0.8};
     double light[3]; /* unit, in camera space */
     for (int i = 0; i < 3; i++)
         light[i] = dot3(cam->R[i], light_world) / sqrt(dot3(light_world, light_world));
-
+    /* each capsule's unit axis and length (axes[4 k ..]), and the fine
+     * columns j0..j1 and rows i0..i1 it may cover (box[4 k ..]) */
     for (int k = 0; k < obj->ncapsules; k++) {
         const double *A = cc + 6 * k, *B = A + 3;
-        double axis[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, len = sqrt(dot3(axis, axis));
+        double *axis = axes + 4 * k;
+        for (int x = 0; x < 3; x++) axis[x] = B[x] - A[x];
+        const double len = sqrt(dot3(axis, axis));
         for (int x = 0; x < 3; x++) axis[x] = len > 0 ? axis[x] / len : 0;
-        double box[4] = {0, W2 - 1, 0, H2 - 1};
+        axis[3] = len;
+        double b[4] = {0, W2 - 1, 0, H2 - 1};
         if (-A[2] - r > 1e-6 && -B[2] - r > 1e-6) { /* wholly in front: a tight box */
-            box[0] = box[2] = INFINITY;
-            box[1] = box[3] = -INFINITY;
-            ball_screen_box(A, r, f2, cx2, cy2, box);
-            ball_screen_box(B, r, f2, cx2, cy2, box);
+            b[0] = b[2] = INFINITY;
+            b[1] = b[3] = -INFINITY;
+            ball_screen_box(A, r, f2, cx2, cy2, b);
+            ball_screen_box(B, r, f2, cx2, cy2, b);
         }
-        int j0 = (int)fmax(0, ceil(box[0])), j1 = (int)fmin(W2 - 1, floor(box[1]));
-        int i0 = (int)fmax(0, ceil(box[2])), i1 = (int)fmin(H2 - 1, floor(box[3]));
-        for (int I = i0; I <= i1; I++)
-            for (int J = j0; J <= j1; J++) {
-                double D[3] = {(J - cx2) / f2, -(I - cy2) / f2, -1.0}; /* depth along D is t */
-                double DD = dot3(D, D);
-                double t = ray_capsule(D, DD, A, axis, len, B, r);
-                size_t at = (size_t)I * W2 + J;
-                if (!(t < depth[at])) continue;
-                depth[at] = (float)t;
-                /* normal: from the nearest axis point to the hit point */
-                double P[3] = {t * D[0], t * D[1], t * D[2]}, y = 0, n[3];
-                for (int x = 0; x < 3; x++) y += (P[x] - A[x]) * axis[x];
-                y = fmin(fmax(y, 0), len);
-                for (int x = 0; x < 3; x++) n[x] = P[x] - (A[x] + y * axis[x]);
-                double nl = sqrt(dot3(n, n));
-                double lambert = nl > 0 ? fmax(0, dot3(n, light) / nl) : 0;
-                shade[at] = (float)(AMBIENT + (1 - AMBIENT) * lambert);
-                for (int x = 0; fn && nl > 0 && x < 3; x++) fn[3 * at + x] = (float)(n[x] / nl);
-            }
+        box[4 * k] = (int)fmax(0, ceil(b[0]));
+        box[4 * k + 1] = (int)fmin(W2 - 1, floor(b[1]));
+        box[4 * k + 2] = (int)fmax(0, ceil(b[2]));
+        box[4 * k + 3] = (int)fmin(H2 - 1, floor(b[3]));
     }
     const size_t plane = (size_t)W * H;
-    for (int i = 0; i < H; i++)
-        for (int j = 0; j < W; j++) {
-            double sum = 0;
-            int miss = 0;
-            for (int a = 0; a < ss; a++)
-                for (int b = 0; b < ss; b++) {
-                    size_t at = (size_t)(i * ss + a) * W2 + j * ss + b;
-                    sum += shade[at];
-                    miss += isinf(depth[at]);
+    for (int top = 0; top < H; top += WS_SYNTH_BAND_ROWS) {
+        const int rows = H - top < WS_SYNTH_BAND_ROWS ? H - top : WS_SYNTH_BAND_ROWS, I0 = top * ss;
+        const size_t band = (size_t)rows * ss * W2;
+        for (size_t k = 0; k < band; k++) depth[k] = INFINITY;
+        memset(shade, 0, sizeof *shade * band);
+        if (fn) memset(fn, 0, sizeof *fn * 3 * band);
+        for (int k = 0; k < obj->ncapsules; k++) {
+            const double *A = cc + 6 * k, *B = A + 3, *axis = axes + 4 * k, len = axis[3];
+            const int j0 = box[4 * k], j1 = box[4 * k + 1];
+            const int i0 = box[4 * k + 2] > I0 ? box[4 * k + 2] : I0;
+            const int i1 = box[4 * k + 3] < I0 + rows * ss - 1 ? box[4 * k + 3] : I0 + rows * ss - 1;
+            for (int I = i0; I <= i1; I++)
+                for (int J = j0; J <= j1; J++) {
+                    double D[3] = {(J - cx2) / f2, -(I - cy2) / f2, -1.0}; /* depth along D is t */
+                    double DD = dot3(D, D);
+                    double t = ray_capsule(D, DD, A, axis, len, B, r);
+                    size_t at = (size_t)(I - I0) * W2 + J;
+                    if (!(t < depth[at])) continue;
+                    depth[at] = (float)t;
+                    /* normal: from the nearest axis point to the hit point */
+                    double P[3] = {t * D[0], t * D[1], t * D[2]}, y = 0, n[3];
+                    for (int x = 0; x < 3; x++) y += (P[x] - A[x]) * axis[x];
+                    y = fmin(fmax(y, 0), len);
+                    for (int x = 0; x < 3; x++) n[x] = P[x] - (A[x] + y * axis[x]);
+                    double nl = sqrt(dot3(n, n));
+                    double lambert = nl > 0 ? fmax(0, dot3(n, light) / nl) : 0;
+                    shade[at] = (float)(AMBIENT + (1 - AMBIENT) * lambert);
+                    for (int x = 0; fn && nl > 0 && x < 3; x++) fn[3 * at + x] = (float)(n[x] / nl);
                 }
-            for (int c = 0; c < 3; c++)
-                img->data[c * plane + (size_t)i * W + j] =
-                    (float)((obj->colour[c] * sum + background->data[c * plane + (size_t)i * W + j] * miss) / (ss * ss));
-            if (g) /* the middle sample is the pixel's centre (ss odd) */
-                ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss),
-                                       depth[(size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2],
-                                       fn + 3 * ((size_t)(i * ss + ss / 2) * W2 + j * ss + ss / 2));
         }
+        for (int i = top; i < top + rows; i++)
+            for (int j = 0; j < W; j++) {
+                double sum = 0;
+                int miss = 0;
+                for (int a = 0; a < ss; a++)
+                    for (int b = 0; b < ss; b++) {
+                        size_t at = (size_t)((i - top) * ss + a) * W2 + j * ss + b;
+                        sum += shade[at];
+                        miss += isinf(depth[at]);
+                    }
+                for (int c = 0; c < 3; c++)
+                    img->data[c * plane + (size_t)i * W + j] = (float)((obj->colour[c] * sum +
+                                                                        background->data[c * plane + (size_t)i * W + j] * miss) /
+                                                                       (ss * ss));
+                if (g) { /* the middle sample is the pixel's centre (ss odd) */
+                    const size_t mid = (size_t)((i - top) * ss + ss / 2) * W2 + j * ss + ss / 2;
+                    ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss), depth[mid], fn + 3 * mid);
+                }
+            }
+    }
     free(depth);
     free(shade);
     free(cc);
+    free(axes);
+    free(box);
     free(fn);
     return WS_OK;
 }
