@@ -257,7 +257,7 @@ static void test_pngs(void) {
     CHECK(ANSWER(1, rc, "%s: truncated or corrupt PNG (unexpected end of file)", path), "cut PNG");
     path = broken_png("s_png_magic", "GIF89a\1\0\1\0", 10);
     rc = run("fit %s/s_png_magic --out %s " FIT, tmp, out);
-    CHECK(ANSWER(1, rc, "%s: not a PNG or JPEG file", path), "GIF as PNG");
+    CHECK(ANSWER(1, rc, "%s: a GIF image, not PNG or JPEG (convert it to JPEG or PNG)", path), "GIF as PNG");
     /* IHDR claiming 100000 x 100000 pixels (40 GB of samples), crc right */
     unsigned char *big = malloc(len);
     memcpy(big, png, len);

@@ -496,6 +496,47 @@ static void test_png_formats(void) {
     ws_image_free(&gray1);
 }
 
+/* A photo in another format is named by its first bytes (a phone's HEIC,
+ * a raw camera's TIFF, ...), with what to do; anything else is "not a PNG
+ * or JPEG file". */
+static void test_other_formats(void) {
+    static const struct {
+        const char *bytes;
+        size_t len;
+        const char *name;
+    } files[] = {{"GIF89a\1\0\1\0", 10, "a GIF"},
+                 {"\0\0\0\x18" "ftypheic\0\0\0\0", 16, "a HEIC"},
+                 {"\0\0\0\x1c" "ftypmif1\0\0\0\0", 16, "a HEIF"},
+                 {"\0\0\0\x1c" "ftypavif\0\0\0\0", 16, "an AVIF"},
+                 {"RIFF\x24\0\0\0" "WEBPVP8 ", 16, "a WebP"},
+                 {"II*\0\x08\0\0\0", 8, "a TIFF"},
+                 {"MM\0*\0\0\0\x08", 8, "a TIFF"},
+                 {"BM", 2, "a BMP"},
+                 {"\x76\x2f\x31\x01\x02\0\0\0", 8, "an OpenEXR"},
+                 {"\0\0\0\x0cjP  \r\n\x87\n", 12, "a JPEG 2000"},
+                 {"RIFF\x24\0\0\0" "WAVEfmt ", 16, NULL},
+                 {"hello, world", 12, NULL},
+                 {"", 0, NULL}};
+    char path[1024], want[1200];
+    path_in(path, tmp, "other.png");
+    const float black[3] = {0, 0, 0};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+        FILE *fp = fopen(path, "wb");
+        if (!fp) return;
+        fwrite(files[k].bytes, 1, files[k].len, fp);
+        fclose(fp);
+        if (files[k].name)
+            snprintf(want, sizeof want, "%s: %s image, not PNG or JPEG (convert it to JPEG or PNG)", path,
+                     files[k].name);
+        else
+            snprintf(want, sizeof want, "%s: not a PNG or JPEG file", path);
+        ws_image im;
+        ws_status st;
+        CHECK(ws_image_read(path, 0, 0, black, &im, &st) == WS_EINPUT && !strcmp(st.msg, want), "file %zu: %s",
+              k, st.msg);
+    }
+}
+
 /* A PNG decoded smaller (image.h ws_image_read_reduced) at 1, 2, 4 and 8:
  * each pixel the mean of its block of reduce x reduce composited colours
  * and its alpha the block's mean alpha, the last column and row of blocks
@@ -791,7 +832,7 @@ static void test_errors(void) {
     snprintf(png1, sizeof png1, "%s/rgb/train/r_1.png", dir);
     snprintf(png3, sizeof png3, "%s/rgb/train/r_3.png", dir);
     write_text(png3, "GIF89a, not a PNG at all");
-    snprintf(want, sizeof want, "%s: not a PNG or JPEG file", png3);
+    snprintf(want, sizeof want, "%s: a GIF image, not PNG or JPEG (convert it to JPEG or PNG)", png3);
     expect_error(dir, want, WS_EINPUT);
 
     FILE *fp = fopen(png1, "rb");
@@ -944,6 +985,7 @@ int main(int argc, char **argv) {
     tmp = test_tmpdir("scene");
     test_png_formats();
     test_png_reduced();
+    test_other_formats();
     test_resample();
     test_layouts();
     test_errors();

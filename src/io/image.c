@@ -296,6 +296,35 @@ int ws_image_read_alpha(const char *path, int width, int height, const float bac
     return rc;
 }
 
+/* The image format a file's first 12 bytes name, among those a capture's
+ * photos come in that are not read here (a phone's HEIC, a raw camera's
+ * TIFF-based files, a web export's WebP); NULL for none of them. */
+static const char *other_image_format(const unsigned char *head, size_t n) {
+    static const struct {
+        const char *name;
+        int at, len;
+        const char *magic;
+    } formats[] = {{"a GIF", 0, 4, "GIF8"},
+                   {"a HEIC", 4, 8, "ftypheic"},
+                   {"a HEIC", 4, 8, "ftypheix"},
+                   {"a HEIC", 4, 8, "ftyphevc"},
+                   {"a HEIF", 4, 8, "ftypmif1"},
+                   {"a HEIF", 4, 8, "ftypmsf1"},
+                   {"an AVIF", 4, 8, "ftypavif"},
+                   {"a WebP", 8, 4, "WEBP"}, /* after "RIFF" */
+                   {"a TIFF", 0, 4, "II*\0"},
+                   {"a TIFF", 0, 4, "MM\0*"},
+                   {"a BMP", 0, 2, "BM"},
+                   {"an OpenEXR", 0, 4, "\x76\x2f\x31\x01"},
+                   {"a JPEG 2000", 4, 4, "jP  "}};
+    for (size_t k = 0; k < sizeof formats / sizeof formats[0]; k++)
+        if ((size_t)(formats[k].at + formats[k].len) <= n &&
+            !memcmp(head + formats[k].at, formats[k].magic, (size_t)formats[k].len) &&
+            (formats[k].at != 8 || !memcmp(head, "RIFF", 4)))
+            return formats[k].name;
+    return NULL;
+}
+
 int ws_image_read_reduced(const char *path, int reduce, const float background[3], ws_image *out,
                           ws_image *alpha, int *reduced, int file_size[2], ws_status *st) {
     *out = (ws_image){0};
@@ -313,8 +342,16 @@ int ws_image_read_reduced(const char *path, int reduce, const float background[3
         rc = decode_png(fp, path, *reduced = reduce, background, out, alpha, file_size, st);
     } else if (got >= 3 && !memcmp(sig, jpeg_sig, 3) && fseek(fp, 0, SEEK_SET) == 0)
         rc = decode_jpeg(fp, path, *reduced = reduce, out, file_size, st);
-    else
-        rc = ws_fail(st, WS_EINPUT, "%s: not a PNG or JPEG file", path);
+    else {
+        unsigned char head[12];
+        memcpy(head, sig, got);
+        got += fread(head + got, 1, sizeof head - got, fp);
+        const char *format = other_image_format(head, got);
+        if (format)
+            rc = ws_fail(st, WS_EINPUT, "%s: %s image, not PNG or JPEG (convert it to JPEG or PNG)", path, format);
+        else
+            rc = ws_fail(st, WS_EINPUT, "%s: not a PNG or JPEG file", path);
+    }
     fclose(fp);
     if (rc) {
         ws_image_free(out);

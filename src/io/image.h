@@ -21,8 +21,11 @@ void ws_image_free(ws_image *img);
  * the result is 3 channels, resampled to width x height when the file has
  * another size (width = 0 keeps the file's size). Both formats have the
  * same size limit. Every failure names the file: "PATH: not a PNG or JPEG
- * file", "PATH: truncated or corrupt PNG (...)", "PATH: truncated or
- * corrupt JPEG (...)", "PATH: cannot open: ...". */
+ * file" ("PATH: a HEIC image, not PNG or JPEG (convert it to JPEG or
+ * PNG)" for the formats a photo often comes in otherwise: GIF, HEIC, HEIF,
+ * AVIF, WebP, TIFF, BMP, OpenEXR, JPEG 2000), "PATH: truncated or corrupt
+ * PNG (...)", "PATH: truncated or corrupt JPEG (...)", "PATH: cannot
+ * open: ...". */
 int ws_image_read(const char *path, int width, int height, const float background[3],
                   ws_image *out, ws_status *st);
 
