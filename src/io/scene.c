@@ -532,13 +532,14 @@ static int to_view_crop(const ws_view *v, const float *fill, int reduced, ws_ima
  * large photos"). */
 #define WS_DECODED_CROP_OVER_WORKING 4
 
-/* The factor a view's photo is decoded smaller by (image.h): the largest
- * of 2, 4 and 8 that leaves its crop WS_DECODED_CROP_OVER_WORKING times
- * the working size a side or more; 1 where none does, where the frame's
- * size is not known (a NeRF-synthetic scene) or where a mask or an edge
- * map must meet the photo at the file's size. */
+/* The factor a view's photo, and its mask, are decoded smaller by
+ * (image.h): the largest of 2, 4 and 8 that leaves its crop
+ * WS_DECODED_CROP_OVER_WORKING times the working size a side or more; 1
+ * where none does, where the frame's size is not known (a NeRF-synthetic
+ * scene) or where an edge map must meet the photo at the file's size (its
+ * 1-pixel lines would fade in the blocks' means). */
 static int photo_reduction(const ws_view *v, const ws_scene_options *opt) {
-    if (!v->file_width || v->mask_path[0] || v->edge_path[0]) return 1;
+    if (!v->file_width || v->edge_path[0]) return 1;
     const int w = v->crop[2] ? v->crop[2] : v->file_width, h = v->crop[2] ? v->crop[3] : v->file_height;
     const int kw = WS_DECODED_CROP_OVER_WORKING * opt->width, kh = WS_DECODED_CROP_OVER_WORKING * opt->height;
     int reduce = 1;
@@ -560,8 +561,9 @@ static int load_edge_map(ws_view *v, int w, int h, const ws_scene_options *opt, 
     return rc;
 }
 
-/* One view's photo and mask, at the working size: the image decoded (at
- * 1 / photo_reduction of its size, alpha composited), its mask (the mask_path image, else the alpha), the
+/* One view's photo and mask, at the working size: the image decoded at
+ * 1 / photo_reduction of its size (alpha composited), its mask (the
+ * mask_path image decoded at the same scale, else the alpha), the
  * background where a mask_path says so, then the crop (nerfstudio) and the
  * resampling to the working size. */
 static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
@@ -586,13 +588,14 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
         for (size_t p = 0; !rc && alpha.data && p < plane; p++) /* now onto bg, not black */
             for (int c = 0; c < 3; c++) full.data[c * plane + p] += (1 - alpha.data[p]) * bg[c];
     }
-    if (!rc && from_file) {
+    if (!rc && from_file) { /* at the photo's scale */
         ws_image_free(&alpha);
         ws_image rgb;
-        rc = ws_image_read(v->mask_path, 0, 0, black, &rgb, st);
-        if (!rc && (rgb.width != full.width || rgb.height != full.height)) {
-            rc = ws_fail(st, WS_EINPUT, "%s: mask is %d x %d but its image %s is %d x %d", v->mask_path, rgb.width,
-                         rgb.height, v->image_path, full.width, full.height);
+        int mask_reduced, mask_size[2];
+        rc = ws_image_read_reduced(v->mask_path, reduced, black, &rgb, NULL, &mask_reduced, mask_size, st);
+        if (!rc && (mask_size[0] != file_size[0] || mask_size[1] != file_size[1] || mask_reduced != reduced)) {
+            rc = ws_fail(st, WS_EINPUT, "%s: mask is %d x %d but its image %s is %d x %d", v->mask_path, mask_size[0],
+                         mask_size[1], v->image_path, file_size[0], file_size[1]);
             ws_image_free(&rgb);
         }
         if (!rc) { /* the first plane is the mask */
