@@ -29,6 +29,31 @@ void ws_geometry_buffer_free(ws_geometry_buffer *g) {
     g->coverage = g->depth = g->normal = NULL;
 }
 
+void ws_synth_resolve_rows(const double *depth, const float *shade, const float *normal, int ss, int top, int rows,
+                           const float colour[3], const ws_image *background, const ws_camera *cam, ws_image *img,
+                           ws_geometry_buffer *g) {
+    const int W = img->width, W2 = W * ss;
+    const size_t plane = (size_t)W * img->height;
+    for (int i = top; i < top + rows; i++)
+        for (int j = 0; j < W; j++) {
+            double lit = 0;
+            int miss = 0;
+            for (int a = 0; a < ss; a++)
+                for (int b = 0; b < ss; b++) {
+                    const size_t at = (size_t)((i - top) * ss + a) * W2 + j * ss + b;
+                    lit += shade[at];
+                    miss += isinf(depth[at]);
+                }
+            for (int c = 0; c < 3; c++)
+                img->data[c * plane + (size_t)i * W + j] =
+                    (float)((colour[c] * lit + background->data[c * plane + (size_t)i * W + j] * miss) / (ss * ss));
+            if (g) {
+                const size_t mid = (size_t)((i - top) * ss + ss / 2) * W2 + j * ss + ss / 2;
+                ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss), depth[mid], normal + 3 * mid);
+            }
+        }
+}
+
 void ws_geometry_buffer_set(ws_geometry_buffer *g, const ws_camera *cam, int i, int j, float coverage, double depth,
                             const float n[3]) {
     const size_t plane = (size_t)g->width * g->height, at = (size_t)i * g->width + j;

@@ -19,6 +19,7 @@
 #ifndef WS_LINE_DRAWING_H
 #define WS_LINE_DRAWING_H
 #include <stdint.h>
+#include "io/image.h"
 #include "render/camera.h"
 #include "nn/base/status.h"
 
@@ -48,6 +49,18 @@ int ws_geometry_buffer_alloc(ws_geometry_buffer *g, int width, int height, ws_st
 void ws_geometry_buffer_set(ws_geometry_buffer *g, const ws_camera *cam, int i, int j, float coverage, double depth,
                             const float n[3]);
 void ws_geometry_buffer_free(ws_geometry_buffer *g);
+
+/* Pixel rows [top, top + rows) of img (3 x H x W) and of g (or NULL) from
+ * a band of ss x ss rays a pixel (ss odd; ray row (i - top) ss + a and
+ * column j ss + b of W ss are pixel (i, j)'s): each ray's depth (INFINITY
+ * where it met nothing), shade (0 there) and, with g, camera-space normal
+ * (3 a ray). A pixel is colour times its rays' summed shade plus the
+ * background times the rays that met nothing, over ss^2; g gets the share
+ * of rays that met the object and the middle ray's depth and normal. Both
+ * renderers (solids.h, synth.h) end each band with it. */
+void ws_synth_resolve_rows(const double *depth, const float *shade, const float *normal, int ss, int top, int rows,
+                           const float colour[3], const ws_image *background, const ws_camera *cam, ws_image *img,
+                           ws_geometry_buffer *g);
 
 /* part: H x W ws_line_part values (io/ref_lines.h). Fails only when out of
  * memory. */

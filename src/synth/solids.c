@@ -392,10 +392,11 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
         box[4 * tri + 2] = (int)fmax(0, ceil(b[2]));
         box[4 * tri + 3] = (int)fmin(H2 - 1, floor(b[3]));
     }
-    const size_t plane = (size_t)W * H;
     for (int top = 0; top < H; top += WS_SYNTH_BAND_ROWS) {
         const int rows = H - top < WS_SYNTH_BAND_ROWS ? H - top : WS_SYNTH_BAND_ROWS, I0 = top * ss;
-        for (size_t k = 0; k < (size_t)rows * ss * W2; k++) depth[k] = INFINITY;
+        const size_t band = (size_t)rows * ss * W2;
+        for (size_t k = 0; k < band; k++) depth[k] = INFINITY;
+        memset(shade, 0, sizeof *shade * band);
         for (int tri = 0; tri < s->ntri; tri++) {
             const double *A = cc + 9 * tri, *B = A + 3, *C = A + 6;
             const int j0 = box[4 * tri], j1 = box[4 * tri + 1];
@@ -420,27 +421,7 @@ int ws_solid_render(const ws_solid *s, const ws_camera *cam, int supersample,
                     for (int x = 0; fn && x < 3; x++) fn[3 * at + x] = (float)n[x];
                 }
         }
-        for (int i = top; i < top + rows; i++)
-            for (int j = 0; j < W; j++) {
-                double lit = 0;
-                int miss = 0;
-                for (int a = 0; a < ss; a++)
-                    for (int b = 0; b < ss; b++) {
-                        size_t at = (size_t)((i - top) * ss + a) * W2 + j * ss + b;
-                        if (isinf(depth[at]))
-                            miss++;
-                        else
-                            lit += shade[at];
-                    }
-                for (int c = 0; c < 3; c++)
-                    img->data[c * plane + (size_t)i * W + j] = (float)((s->albedo[c] * lit +
-                                                                        background->data[c * plane + (size_t)i * W + j] * miss) /
-                                                                       (ss * ss));
-                if (g) { /* the middle sample is the pixel's centre (ss odd) */
-                    const size_t mid = (size_t)((i - top) * ss + ss / 2) * W2 + j * ss + ss / 2;
-                    ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss), depth[mid], fn + 3 * mid);
-                }
-            }
+        ws_synth_resolve_rows(depth, shade, fn, ss, top, rows, s->albedo, background, cam, img, g);
     }
     free(depth);
     free(shade);

@@ -486,7 +486,7 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
                  cy2 = cam->cy * ss - WS_PIXEL_CENTER;
     /* the fine samples of WS_SYNTH_BAND_ROWS rows of pixels at a time */
     const size_t fine = (size_t)W2 * ss * (H < WS_SYNTH_BAND_ROWS ? H : WS_SYNTH_BAND_ROWS);
-    float *depth = ws_malloc(sizeof *depth * fine, "a depth buffer", st);
+    double *depth = ws_malloc(sizeof *depth * fine, "a depth buffer", st); /* each a float's value */
     float *shade = depth ? ws_malloc(sizeof *shade * fine, "a shading buffer", st) : NULL;
     double *cc =
         shade ? ws_malloc(sizeof *cc * 6 * obj->ncapsules, "camera-space capsules", st) : NULL;
@@ -530,7 +530,6 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
         box[4 * k + 2] = (int)fmax(0, ceil(b[2]));
         box[4 * k + 3] = (int)fmin(H2 - 1, floor(b[3]));
     }
-    const size_t plane = (size_t)W * H;
     for (int top = 0; top < H; top += WS_SYNTH_BAND_ROWS) {
         const int rows = H - top < WS_SYNTH_BAND_ROWS ? H - top : WS_SYNTH_BAND_ROWS, I0 = top * ss;
         const size_t band = (size_t)rows * ss * W2;
@@ -561,25 +560,7 @@ int ws_synth_render(const ws_synth_object *obj, const ws_camera *cam, int supers
                     for (int x = 0; fn && nl > 0 && x < 3; x++) fn[3 * at + x] = (float)(n[x] / nl);
                 }
         }
-        for (int i = top; i < top + rows; i++)
-            for (int j = 0; j < W; j++) {
-                double sum = 0;
-                int miss = 0;
-                for (int a = 0; a < ss; a++)
-                    for (int b = 0; b < ss; b++) {
-                        size_t at = (size_t)((i - top) * ss + a) * W2 + j * ss + b;
-                        sum += shade[at];
-                        miss += isinf(depth[at]);
-                    }
-                for (int c = 0; c < 3; c++)
-                    img->data[c * plane + (size_t)i * W + j] = (float)((obj->colour[c] * sum +
-                                                                        background->data[c * plane + (size_t)i * W + j] * miss) /
-                                                                       (ss * ss));
-                if (g) { /* the middle sample is the pixel's centre (ss odd) */
-                    const size_t mid = (size_t)((i - top) * ss + ss / 2) * W2 + j * ss + ss / 2;
-                    ws_geometry_buffer_set(g, cam, i, j, (float)(ss * ss - miss) / (ss * ss), depth[mid], fn + 3 * mid);
-                }
-            }
+        ws_synth_resolve_rows(depth, shade, fn, ss, top, rows, obj->colour, background, cam, img, g);
     }
     free(depth);
     free(shade);
