@@ -303,24 +303,24 @@ static const char *other_image_format(const unsigned char *head, size_t n) {
     static const struct {
         const char *name;
         int at, len;
-        const char *magic;
-    } formats[] = {{"a GIF", 0, 4, "GIF8"},
-                   {"a HEIC", 4, 8, "ftypheic"},
-                   {"a HEIC", 4, 8, "ftypheix"},
-                   {"a HEIC", 4, 8, "ftyphevc"},
-                   {"a HEIF", 4, 8, "ftypmif1"},
-                   {"a HEIF", 4, 8, "ftypmsf1"},
-                   {"an AVIF", 4, 8, "ftypavif"},
-                   {"a WebP", 8, 4, "WEBP"}, /* after "RIFF" */
-                   {"a TIFF", 0, 4, "II*\0"},
-                   {"a TIFF", 0, 4, "MM\0*"},
-                   {"a BMP", 0, 2, "BM"},
-                   {"an OpenEXR", 0, 4, "\x76\x2f\x31\x01"},
-                   {"a JPEG 2000", 4, 4, "jP  "}};
+        const char *magic, *riff; /* riff: "RIFF" when the file must open with it, else NULL */
+    } formats[] = {{"a GIF", 0, 4, "GIF8", NULL},
+                   {"a HEIC", 4, 8, "ftypheic", NULL},
+                   {"a HEIC", 4, 8, "ftypheix", NULL},
+                   {"a HEIC", 4, 8, "ftyphevc", NULL},
+                   {"a HEIF", 4, 8, "ftypmif1", NULL},
+                   {"a HEIF", 4, 8, "ftypmsf1", NULL},
+                   {"an AVIF", 4, 8, "ftypavif", NULL},
+                   {"a WebP", 8, 4, "WEBP", "RIFF"},
+                   {"a TIFF", 0, 4, "II*\0", NULL},
+                   {"a TIFF", 0, 4, "MM\0*", NULL},
+                   {"a BMP", 0, 2, "BM", NULL},
+                   {"an OpenEXR", 0, 4, "\x76\x2f\x31\x01", NULL},
+                   {"a JPEG 2000", 4, 4, "jP  ", NULL}};
     for (size_t k = 0; k < sizeof formats / sizeof formats[0]; k++)
         if ((size_t)(formats[k].at + formats[k].len) <= n &&
             !memcmp(head + formats[k].at, formats[k].magic, (size_t)formats[k].len) &&
-            (formats[k].at != 8 || !memcmp(head, "RIFF", 4)))
+            (!formats[k].riff || !memcmp(head, formats[k].riff, 4)))
             return formats[k].name;
     return NULL;
 }

@@ -593,7 +593,7 @@ static int load_view(ws_view *v, const ws_scene_options *opt, ws_status *st) {
         ws_image rgb;
         int mask_reduced, mask_size[2];
         rc = ws_image_read_reduced(v->mask_path, reduced, black, &rgb, NULL, &mask_reduced, mask_size, st);
-        if (!rc && (mask_size[0] != file_size[0] || mask_size[1] != file_size[1] || mask_reduced != reduced)) {
+        if (!rc && (mask_size[0] != file_size[0] || mask_size[1] != file_size[1])) {
             rc = ws_fail(st, WS_EINPUT, "%s: mask is %d x %d but its image %s is %d x %d", v->mask_path, mask_size[0],
                          mask_size[1], v->image_path, file_size[0], file_size[1]);
             ws_image_free(&rgb);
