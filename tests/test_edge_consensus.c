@@ -19,6 +19,8 @@
  *     colour test against all the views would carve away), and carves
  *     the same cubes with 1 thread and with 2; it is a solid's, so its
  *     outline is made convex, and the silhouettes hold the masks' outline;
+ *   - the cube's COLMAP capture saved as PNG and as JPEG carves hulls that
+ *     both fit the masks;
  *   - no support plane is found under the cube (geometry/support_plane.h):
  *     the room's floor lies outside the region. */
 #define _XOPEN_SOURCE 700
@@ -105,6 +107,36 @@ static void bbox_messages(void) {
     CHECK(ws_roi_parse_bbox("0,0,0,1,-1,1", box, &st) == WS_EUSAGE &&
               !strcmp(st.msg, "--bbox 0,0,0,1,-1,1: the box is empty along y (0 >= -1)"),
           "an empty box: %s", st.msg);
+}
+
+/* The cube's COLMAP capture as PNG and as JPEG (quality 95: a grey level or
+ * two apart) carve hulls that both fit the masks: a pair's agreement cut at
+ * one colour distance flipped with that noise, and carved a wedge into the
+ * cube's faces from the JPEG's photos (photo_hull.h). */
+static void jpeg_hull(ws_synth_options *syn, const char *tmp, const ws_scene *png, const ws_scene *masked) {
+    char dir[300];
+    ws_status st;
+    ws_scene jpeg = {0};
+    ws_roi roi;
+    snprintf(dir, sizeof dir, "%s/jpeg", tmp);
+    syn->colmap = 2;
+    syn->jpeg = 1;
+    int rc = ws_synth_write("cube", dir, syn, &st);
+    syn->jpeg = 0;
+    if (!rc) rc = load_scene_at(&jpeg, dir, SIZE, &st);
+    if (!rc) rc = ws_roi_find(png, NULL, &roi, &st);
+    CHECK(rc == WS_OK, "the JPEG capture: %s", st.msg);
+    for (int k = 0; k < 2 && !rc; k++) {
+        ws_photo_hull h = {0};
+        rc = ws_photo_hull_make(k ? &jpeg : png, &roi, RESOLUTION, &h, &st);
+        double missed = 1, extra = 1, iou = rc ? 0 : hull_masks(&h, masked, WS_TRAIN, &missed, &extra);
+        printf("photo hull of the COLMAP capture as %s: IoU %.3f with the masks, %.3f of them missed, %.3f of it "
+               "outside\n", k ? "JPEG" : "PNG", iou, missed, extra);
+        CHECK(rc == WS_OK && iou >= 0.85 && missed <= 0.05, "the %s capture's hull: IoU %.3f, %.3f of the masks missed (%s)",
+              k ? "JPEG" : "PNG", iou, missed, st.msg);
+        ws_photo_hull_free(&h);
+    }
+    ws_scene_free(&jpeg);
 }
 
 int main(void) {
@@ -221,6 +253,7 @@ int main(void) {
           "the photo hull with 1 and 2 threads: %ld and %ld cubes kept (%s)", one.kept, two.kept, st.msg);
     ws_photo_hull_free(&one);
     ws_photo_hull_free(&two);
+    jpeg_hull(&syn, tmp, &sparse, &with_masks);
 
     const size_t hw = (size_t)SIZE * SIZE;
     float *mine = malloc(hw * sizeof *mine), *truth = malloc(hw * sizeof *truth), *raw = malloc(hw * sizeof *raw);

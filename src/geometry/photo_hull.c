@@ -126,20 +126,29 @@ typedef struct {
     int view, col, row, radius;
 } sighting;
 
-/* Whether the photo of sighting b holds, within its footprint, a pixel
- * within WS_PHOTO_HULL_TAU of colour c in every channel. */
-static int footprint_has(const carving *k, const sighting *b, const float c[3]) {
+/* How far the photo of sighting b comes, within its footprint, to colour
+ * c: the least over its pixels of the largest channel difference, stopping
+ * at the first within WS_PHOTO_HULL_TAU_FULL (which agrees fully anyway). */
+static float footprint_distance(const carving *k, const sighting *b, const float c[3]) {
     const ws_image *photo = &k->views[b->view]->photo;
     const int W = photo->width, H = photo->height, r = b->radius;
     const size_t hw = (size_t)W * H;
+    float nearest = INFINITY;
     for (int i = b->row - r < 0 ? 0 : b->row - r; i <= b->row + r && i < H; i++)
         for (int j = b->col - r < 0 ? 0 : b->col - r; j <= b->col + r && j < W; j++) {
             const float *q = photo->data + (size_t)i * W + j;
-            if (fabsf(q[0] - c[0]) <= WS_PHOTO_HULL_TAU && fabsf(q[hw] - c[1]) <= WS_PHOTO_HULL_TAU &&
-                fabsf(q[2 * hw] - c[2]) <= WS_PHOTO_HULL_TAU)
-                return 1;
+            const float d = fmaxf(fabsf(q[0] - c[0]), fmaxf(fabsf(q[hw] - c[1]), fabsf(q[2 * hw] - c[2])));
+            if (d < nearest) nearest = d;
+            if (nearest <= (float)WS_PHOTO_HULL_TAU_FULL) return nearest;
         }
-    return 0;
+    return nearest;
+}
+
+/* A pair's agreement (photo_hull.h): 1 up to WS_PHOTO_HULL_TAU_FULL, 0 from
+ * WS_PHOTO_HULL_TAU_NONE, linear between. */
+static double pair_agreement(const carving *k, const sighting *b, const float c[3]) {
+    const double d = footprint_distance(k, b, c);
+    return fmin(1, fmax(0, (WS_PHOTO_HULL_TAU_NONE - d) / (WS_PHOTO_HULL_TAU_NONE - WS_PHOTO_HULL_TAU_FULL)));
 }
 
 /* Whether the surface cube i agrees across the views that see it
@@ -159,7 +168,8 @@ static int cube_agrees(const ws_photo_hull *h, long i, const carving *k, sightin
         seen[nseen++] = (sighting){v, col, row, r < 1 ? 1 : r};
     }
     if (nseen < WS_PHOTO_HULL_MIN_VIEWS) return 1;
-    int agree = 0, pairs = 0;
+    double agree = 0;
+    int pairs = 0;
     for (int s = 0; s < nseen; s++) {
         const int v = seen[s].view, *order = k->order + (size_t)v * n;
         const ws_image *photo = &k->views[v]->photo;
@@ -177,8 +187,8 @@ static int cube_agrees(const ws_photo_hull *h, long i, const carving *k, sightin
             const double *b = k->towards + 3 * ((size_t)v * n + seen[t].view);
             if (fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) <= WS_PHOTO_HULL_CROSS) second = t;
         }
-        if (first >= 0) pairs++, agree += footprint_has(k, &seen[first], c);
-        if (second >= 0) pairs++, agree += footprint_has(k, &seen[second], c);
+        if (first >= 0) pairs++, agree += pair_agreement(k, &seen[first], c);
+        if (second >= 0) pairs++, agree += pair_agreement(k, &seen[second], c);
     }
     return pairs < WS_PHOTO_HULL_MIN_VIEWS || agree >= WS_PHOTO_HULL_AGREE * pairs;
 }

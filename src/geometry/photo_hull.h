@@ -33,14 +33,23 @@
  *              angle between them, on the sphere of views, at most
  *              WS_PHOTO_HULL_CROSS): a background of stripes looks the same
  *              along them and different across;
- *   a pair (v, w) agrees when w's photo, within max(1, round(SPLAT f h /
- *              d)) pixels of the cube's centre (its footprint: a cube on an
- *              edge sees both sides' colours), holds a pixel within
- *              WS_PHOTO_HULL_TAU of c_v in every channel;
+ *   d_vw     = how near w's photo comes to c_v within max(1, round(SPLAT f
+ *              h / d)) pixels of the cube's centre (its footprint: a cube
+ *              on an edge sees both sides' colours): the least, over those
+ *              pixels, of the largest channel difference;
+ *   a pair (v, w) agrees by 1 when d_vw <= WS_PHOTO_HULL_TAU_FULL, by 0
+ *              when d_vw >= WS_PHOTO_HULL_TAU_NONE, linearly between;
  *   carved   = every surface cube seen by at least WS_PHOTO_HULL_MIN_VIEWS
- *              views with at least as many pairs, of which fewer than
- *              WS_PHOTO_HULL_AGREE agree; all at once, then again with the
- *              new surface, until a pass carves nothing.
+ *              views with at least as many pairs, whose agreements sum to
+ *              less than WS_PHOTO_HULL_AGREE of the pairs; all at once,
+ *              then again with the new surface, until a pass carves
+ *              nothing.
+ * A graded agreement, not a cut at one distance: on a solid's faces under
+ * a light that moves with the camera d_vw lies near any such cut for many
+ * pairs, so a cut flips them with a grey level of noise (a JPEG of quality
+ * 95), and each cube carved there bares the next one behind it, which the
+ * same views see at nearly the same colours: a wedge carved deep into the
+ * solid (docs/RESULTS.md, "A graded colour agreement").
  * Nearby views, not all of them: the light on a surface changes with the
  * side it is seen from (shading, a flash, exposure), slowly, while the
  * background seen through empty space changes at once. Of what stays, the
@@ -62,7 +71,8 @@
 #define WS_PHOTO_HULL_DEPTH_TOL 2.0
 #define WS_PHOTO_HULL_PAIR_DEG 10.0
 #define WS_PHOTO_HULL_CROSS 0.7
-#define WS_PHOTO_HULL_TAU 0.08
+#define WS_PHOTO_HULL_TAU_FULL 0.06
+#define WS_PHOTO_HULL_TAU_NONE 0.10
 #define WS_PHOTO_HULL_AGREE 0.7
 #define WS_PHOTO_HULL_MIN_VIEWS 3
 #define WS_PHOTO_HULL_PART 0.05
