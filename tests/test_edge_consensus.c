@@ -111,7 +111,7 @@ static void bbox_messages(void) {
 
 /* The cube's COLMAP capture as PNG and as JPEG (quality 95: a grey level or
  * two apart) carve hulls that both fit the masks: a pair's agreement cut at
- * one colour distance flipped with that noise, and carved a wedge into the
+ * one colour distance would flip with that noise and carve a wedge into the
  * cube's faces from the JPEG's photos (photo_hull.h). */
 static void jpeg_hull(ws_synth_options *syn, const char *tmp, const ws_scene *png, const ws_scene *masked) {
     char dir[300];
