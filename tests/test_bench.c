@@ -129,10 +129,14 @@ static void test_bank_bias(const ws_scene *scene, const clip_model *m, const ws_
     ws_bench_bank_input in = {scene, m, c, 4};
     CHECK(ws_bench_bank(&in, rows, 3, &st) == WS_OK, "bank bench: %s", st.msg);
     for (int r = 0; r < 3; r++)
-        CHECK(isfinite(rows[r].difference) && rows[r].bias <= rows[r].difference && rows[r].difference_noise > 0 &&
+        CHECK(isfinite(rows[r].difference) && rows[r].bias <= rows[r].difference && rows[r].difference_noise >= 0 &&
                   rows[r].fresh_step_noise > 0 && rows[r].num_aug == 4 && rows[r].steps == 4,
               "bank row %d: difference %g, bias %g, noise %g, step noise %g", r, rows[r].difference, rows[r].bias,
               rows[r].difference_noise, rows[r].fresh_step_noise);
+    /* a bank of A transforms gives every step all A of them, so only the
+     * fresh transforms' steps vary: the noise of rows 1 and 2, banks
+     * against a bank, is rounding at most, 0 on some machines */
+    CHECK(rows[0].difference_noise > 0, "fresh transforms against a bank: no noise");
     CHECK(rows[0].difference > 0 && rows[1].difference > 0, "a bank equal to fresh transforms or to another bank");
     CHECK(rows[2].difference == 0 && rows[2].bias == 0 && rows[2].loss_difference == 0,
           "a bank against itself: %g", rows[2].difference);

@@ -398,11 +398,16 @@ int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, 
         !(rc = hull_mask(c, &v->cam, mask.data, st)))
         rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
     if (!rc) rc = ws_line_target(&v->photo, NULL, c->hull.occupied ? &sil : band, NULL, edge, st);
-    ws_image_free(&mask);
-    ws_silhouette_free(&sil);
+    /* a wire's hull: carving cannot cut a tube a few cubes across deeper
+     * than its outline, so the wire lies within M (edge_consensus.h) */
+    const int wire = c->hull.occupied && !c->solid && !c->support.found;
+    /* mask now holds the distance to M */
+    if (!rc && wire) rc = ws_distance_map(sil.in, v->cam.width, v->cam.height, mask.data, st);
     if (!rc)
         for (size_t p = 0; p < hw; p++)
-            if (!(near[p] <= WS_CONSENSUS_KEEP_PX)) edge[p] = 0;
+            if (!(near[p] <= WS_CONSENSUS_KEEP_PX) || (wire && mask.data[p] > WS_CONSENSUS_OUTSIDE_PX)) edge[p] = 0;
+    ws_image_free(&mask);
+    ws_silhouette_free(&sil);
     free(near);
     return rc;
 }
