@@ -388,26 +388,37 @@ int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, w
 
 int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *band,
                                   float *edge, ws_status *st) {
-    const size_t hw = (size_t)v->cam.width * v->cam.height;
-    float *near = ws_malloc(hw * sizeof *near, "edge consensus", st);
-    int rc = near ? WS_OK : st->code;
-    if (!rc) rc = ws_edge_consensus_near(c, &v->cam, near, st);
-    ws_image mask = {0};
-    ws_silhouette sil = {0};
-    if (!rc && c->hull.occupied && !(rc = ws_image_alloc(&mask, v->cam.width, v->cam.height, 1, st)) &&
-        !(rc = hull_mask(c, &v->cam, mask.data, st)))
-        rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
-    if (!rc) rc = ws_line_target(&v->photo, NULL, c->hull.occupied ? &sil : band, NULL, edge, st);
+    const int W = v->cam.width, H = v->cam.height;
+    const size_t hw = (size_t)W * H;
     /* a wire's hull: carving cannot cut a tube a few cubes across deeper
      * than its outline, so the wire lies within M (edge_consensus.h) */
     const int wire = c->hull.occupied && !c->solid && !c->support.found;
-    /* mask now holds the distance to M */
-    if (!rc && wire) rc = ws_distance_map(sil.in, v->cam.width, v->cam.height, mask.data, st);
+    float *near = ws_malloc(hw * sizeof *near, "edge consensus", st);
+    float *beyond = near && wire ? ws_malloc(hw * sizeof *beyond, "edge consensus", st) : NULL;
+    uint8_t *set = beyond ? ws_malloc(hw, "edge consensus", st) : NULL;
+    int rc = near && (!wire || set) ? WS_OK : st->code;
+    if (!rc) rc = ws_edge_consensus_near(c, &v->cam, near, st);
+    ws_image mask = {0};
+    ws_silhouette sil = {0};
+    if (!rc && c->hull.occupied && !(rc = ws_image_alloc(&mask, W, H, 1, st)))
+        rc = hull_mask(c, &v->cam, mask.data, st);
+    /* beyond: the distance to M; then M less its rim (edge_consensus.h) */
+    if (!rc && wire) {
+        for (size_t p = 0; p < hw; p++) set[p] = mask.data[p] > 0.5f;
+        rc = ws_distance_map(set, W, H, beyond, st);
+        for (size_t p = 0; !rc && p < hw; p++) set[p] = !set[p];
+        if (!rc) rc = ws_distance_map(set, W, H, mask.data, st);
+        for (size_t p = 0; !rc && p < hw; p++) mask.data[p] = mask.data[p] > WS_CONSENSUS_OUTSIDE_PX;
+    }
+    if (!rc && c->hull.occupied) rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
+    if (!rc) rc = ws_line_target(&v->photo, NULL, c->hull.occupied ? &sil : band, NULL, edge, st);
     if (!rc)
         for (size_t p = 0; p < hw; p++)
-            if (!(near[p] <= WS_CONSENSUS_KEEP_PX) || (wire && mask.data[p] > WS_CONSENSUS_OUTSIDE_PX)) edge[p] = 0;
+            if (!(near[p] <= WS_CONSENSUS_KEEP_PX) || (wire && beyond[p] > WS_CONSENSUS_OUTSIDE_PX)) edge[p] = 0;
     ws_image_free(&mask);
     ws_silhouette_free(&sil);
     free(near);
+    free(beyond);
+    free(set);
     return rc;
 }

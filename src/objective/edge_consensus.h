@@ -87,18 +87,22 @@
  *         hull beyond its frame (the kept points are all of the object);
  *   line target: ws_line_target of the photo with M as its silhouette
  *         (so a wire's tube is drawn by its axis, and a solid's faces,
- *         wide, by their photo edges) and no mask, kept where N <= WS_CONSENSUS_KEEP_PX
- *         and, for a wire (a hull neither a solid's nor over a support),
- *         M lies within WS_CONSENSUS_OUTSIDE_PX, 0 elsewhere. Not with the
- *         band as silhouette: its thin parts would draw the far side's
- *         edges, hidden behind the faces, by their axes. A wire's hull, a
- *         tube a few cubes across that carving cannot cut deeper than its
- *         outline, stands about a cube proud of the wire, so an edge further
- *         out is the room's, kept only because a stray kept point lies near
- *         it (a floor's grout beside a coil, which pulled strokes off the
- *         wire). A solid's hull is carved up to 10 cubes inside its shaded
- *         faces, and a foot on a support as far, so there the bound would
- *         cut the object's own edges.
+ *         wide, by their photo edges) and no mask, kept where N <= WS_CONSENSUS_KEEP_PX,
+ *         0 elsewhere. Not with the band as silhouette: its thin parts
+ *         would draw the far side's edges, hidden behind the faces, by
+ *         their axes. For a wire (a hull neither a solid's nor over a
+ *         support) the hull is a tube a few cubes across that carving
+ *         cannot cut deeper than its outline, and it stands about a cube
+ *         proud of the wire all round. So M's rim, its pixels within
+ *         WS_CONSENSUS_OUTSIDE_PX of its outline, is left out of the line
+ *         target's silhouette (else a thick tube, a knot's, is too wide
+ *         there to be a thin part, and both its outlines are drawn), and
+ *         the target is 0 more than WS_CONSENSUS_OUTSIDE_PX outside M: an
+ *         edge further out is the room's, kept only because a stray kept
+ *         point lies near it (a floor's grout beside a coil, which pulled
+ *         strokes off the wire). A solid's hull is carved up to 10 cubes
+ *         inside its shaded faces, and a foot on a support as far, so
+ *         there the bound would cut the object's own edges.
  * A background edge at any depth thus pulls no stroke: it is outside the
  * region, or the views do not agree on it. Deterministic: the vote of each
  * point is its own, gathered in grid order. The constants were chosen on
@@ -126,7 +130,7 @@
 #define WS_CONSENSUS_WEAK_REACH 2
 #define WS_CONSENSUS_SILHOUETTE_PX 1.5
 #define WS_CONSENSUS_KEEP_PX 3.0
-#define WS_CONSENSUS_OUTSIDE_PX 1.5 /* pixels outside a wire's M: the line target ends there */
+#define WS_CONSENSUS_OUTSIDE_PX 1.5 /* pixels: a wire's M stands this far proud of it (line target above) */
 #define WS_CONSENSUS_SOLID 4.0 /* photo hull cubes a kept point, at least: a solid (M above) */
 /* The share of --silhouette-weight a fit gives the silhouette term with
  * these silhouettes: a band cut by the photo hull bounds the object less
