@@ -142,6 +142,38 @@ static void jpeg_hull(ws_synth_options *syn, const char *tmp, const ws_scene *pn
     ws_scene_free(&jpeg);
 }
 
+/* Over train views 0 to SHARE_VIEWS - 1: the share of the consensus line
+ * target within 2 px of the masked scene's (*precision), the share of that
+ * within 2 px of it (*recall) and, when raw is not NULL, the share of the
+ * photo's own thin edges within 2 px of the masked target. */
+static int target_shares(const ws_edge_consensus *c, const ws_scene *scene, const ws_scene *masked,
+                         double *precision, double *recall, double *raw, ws_status *st) {
+    const size_t hw = (size_t)SIZE * SIZE;
+    float *mine = malloc(hw * sizeof *mine), *truth = malloc(hw * sizeof *truth);
+    float *edges = raw ? malloc(hw * sizeof *edges) : NULL;
+    int rc = mine && truth && (!raw || edges) ? WS_OK : ws_fail(st, WS_ENOMEM, "target shares: out of memory");
+    *precision = *recall = 0;
+    if (raw) *raw = 0;
+    for (int v = 0; v < SHARE_VIEWS && !rc; v++) {
+        ws_silhouette sil = {0}, msil = {0};
+        const ws_view *view = &scene->split[WS_TRAIN].views[v], *mv = &masked->split[WS_TRAIN].views[v];
+        rc = ws_edge_consensus_silhouette(c, view, &sil, st) || ws_edge_consensus_line_target(c, view, &sil, mine, st) ||
+             ws_view_silhouette(mv, &msil, st) || ws_line_target(&mv->photo, &mv->mask, &msil, NULL, truth, st) ||
+             (raw && ws_thin_edges(view->photo.data, SIZE, SIZE, edges, st));
+        if (!rc) {
+            *precision += near_share(mine, truth, SIZE, SIZE) / SHARE_VIEWS;
+            *recall += near_share(truth, mine, SIZE, SIZE) / SHARE_VIEWS;
+            if (raw) *raw += near_share(edges, truth, SIZE, SIZE) / SHARE_VIEWS;
+        }
+        ws_silhouette_free(&sil);
+        ws_silhouette_free(&msil);
+    }
+    free(mine);
+    free(truth);
+    free(edges);
+    return rc ? st->code : WS_OK;
+}
+
 /* A wire in the same room, its region from the cameras (a box far wider
  * than the wire, whose chance agreements with the floor leave stray kept
  * points beside it): its consensus line target lies along the masked
@@ -171,27 +203,13 @@ static void wire_target(ws_synth_options *syn, const char *tmp, const char *name
     if (!rc) rc = ws_edge_consensus_make(&scene, &roi, RESOLUTION, &c, &st);
     CHECK(rc == WS_OK && c.hull.occupied && !c.solid && !c.support.found, "the %s's consensus: %s (a hull %d, "
           "solid %d, a support %d)", name, st.msg, c.hull.occupied != NULL, c.solid, c.support.found);
-    const size_t hw = (size_t)SIZE * SIZE;
-    float *mine = malloc(hw * sizeof *mine), *truth = malloc(hw * sizeof *truth);
     double precision = 0, recall = 0;
-    for (int v = 0; v < SHARE_VIEWS && !rc; v++) {
-        ws_silhouette sil = {0}, msil = {0};
-        const ws_view *view = &scene.split[WS_TRAIN].views[v], *mv = &with_masks.split[WS_TRAIN].views[v];
-        rc = ws_edge_consensus_silhouette(&c, view, &sil, &st) ||
-             ws_edge_consensus_line_target(&c, view, &sil, mine, &st) || ws_view_silhouette(mv, &msil, &st) ||
-             ws_line_target(&mv->photo, &mv->mask, &msil, NULL, truth, &st);
-        CHECK(rc == WS_OK, "the %s's view %d: %s", name, v, st.msg);
-        precision += near_share(mine, truth, SIZE, SIZE) / SHARE_VIEWS;
-        recall += near_share(truth, mine, SIZE, SIZE) / SHARE_VIEWS;
-        ws_silhouette_free(&sil);
-        ws_silhouette_free(&msil);
-    }
+    if (!rc) rc = target_shares(&c, &scene, &with_masks, &precision, &recall, NULL, &st);
+    CHECK(rc == WS_OK, "the %s's line targets: %s", name, st.msg);
     printf("the %s, train views 0-%d: consensus target %.3f near the masked target, which is %.3f near it\n", name,
            SHARE_VIEWS - 1, precision, recall);
     CHECK(precision >= 0.8 && recall >= 0.85, "the %s's consensus target: %.3f near the masked one, which is "
           "%.3f near it", name, precision, recall);
-    free(mine);
-    free(truth);
     ws_edge_consensus_free(&c);
     ws_scene_free(&scene);
     ws_scene_free(&with_masks);
@@ -315,24 +333,9 @@ int main(void) {
     wire_target(&syn, tmp, "spring");
     wire_target(&syn, tmp, "trefoil");
 
-    const size_t hw = (size_t)SIZE * SIZE;
-    float *mine = malloc(hw * sizeof *mine), *truth = malloc(hw * sizeof *truth), *raw = malloc(hw * sizeof *raw);
     double precision = 0, recall = 0, raw_precision = 0;
-    const ws_split *views = &scene.split[WS_TRAIN];
-    for (int v = 0; v < SHARE_VIEWS && !rc; v++) {
-        ws_silhouette sil = {0}, msil = {0};
-        const ws_view *mv = &with_masks.split[WS_TRAIN].views[v];
-        rc = ws_edge_consensus_silhouette(&c, &views->views[v], &sil, &st) ||
-             ws_edge_consensus_line_target(&c, &views->views[v], &sil, mine, &st) ||
-             ws_view_silhouette(mv, &msil, &st) || ws_line_target(&mv->photo, &mv->mask, &msil, NULL, truth, &st) ||
-             ws_thin_edges(views->views[v].photo.data, SIZE, SIZE, raw, &st);
-        CHECK(rc == WS_OK, "test view %d: %s", v, st.msg);
-        precision += near_share(mine, truth, SIZE, SIZE) / SHARE_VIEWS;
-        recall += near_share(truth, mine, SIZE, SIZE) / SHARE_VIEWS;
-        raw_precision += near_share(raw, truth, SIZE, SIZE) / SHARE_VIEWS;
-        ws_silhouette_free(&sil);
-        ws_silhouette_free(&msil);
-    }
+    if (!rc) rc = target_shares(&c, &scene, &with_masks, &precision, &recall, &raw_precision, &st);
+    CHECK(rc == WS_OK, "the cube's line targets: %s", st.msg);
     printf("train views 0-%d: consensus target %.3f near the masked target, which is %.3f near it; the photo's edges "
            "%.3f\n", SHARE_VIEWS - 1, precision, recall, raw_precision);
     /* the region comes from the cameras, a box far wider than the cube,
@@ -376,9 +379,6 @@ int main(void) {
         ws_view_targets_free(t);
     }
 
-    free(mine);
-    free(truth);
-    free(raw);
     ws_edge_consensus_free(&c);
     ws_curves_free(&gt);
     ws_scene_free(&scene);
