@@ -340,9 +340,12 @@ int main(void) {
            "%.3f\n", SHARE_VIEWS - 1, precision, recall, raw_precision);
     /* the region comes from the cameras, a box far wider than the cube,
      * whose corner holds a blob of the room's chance agreements, and a weak
-     * point's reach (WS_CONSENSUS_WEAK_REACH) grows it too; the fits on
-     * such scenes draw none of it (docs/RESULTS.md, "Soft photos") */
-    CHECK(precision >= 0.65, "only %.3f of the consensus target is near the object's edges", precision);
+     * point's reach (WS_CONSENSUS_WEAK_REACH) grows it too; the target keeps
+     * none of it (0.98 near the masked target), because it keeps a photo
+     * edge only within M's reach and along the edge the views agree on:
+     * with the distance to the kept points alone 0.67, the wall's stripes
+     * and the floor's grout meeting the cube's outline */
+    CHECK(precision >= 0.9, "only %.3f of the consensus target is near the object's edges", precision);
     CHECK(recall >= 0.95, "only %.3f of the object's edges are near the consensus target", recall);
     CHECK(raw_precision < 0.3, "%.3f of the photo's edges are the object's: the room is not busy", raw_precision);
 

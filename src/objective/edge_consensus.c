@@ -16,24 +16,31 @@
  * luminance gradient (3 x 3 Sobel, borders repeated) at the nearest pixel
  * of edge within WS_CONSENSUS_ORIENT_REACH pixels (first in row order
  * among equals); NAN where there is none. */
-static void edge_angles(const float *photo, const float *edge, int W, int H, float *grad, float *angle) {
+/* The direction in [0, pi) of the photo's (3 x H x W) luminance gradient
+ * at pixel (i, j): 3 x 3 Sobel, borders repeated. */
+static float gradient_angle(const float *photo, int W, int H, int i, int j) {
     const size_t hw = (size_t)W * H;
-    for (int i = 0; i < H; i++)
-        for (int j = 0; j < W; j++) {
-            size_t p = (size_t)i * W + j;
-            if (!(edge[p] >= 0.5f)) continue;
-            double y[3][3];
-            for (int a = -1; a <= 1; a++)
-                for (int b = -1; b <= 1; b++) {
-                    int ii = i + a < 0 ? 0 : i + a >= H ? H - 1 : i + a, jj = j + b < 0 ? 0 : j + b >= W ? W - 1 : j + b;
-                    size_t q = (size_t)ii * W + jj;
-                    y[a + 1][b + 1] = 0.299 * photo[q] + 0.587 * photo[hw + q] + 0.114 * photo[2 * hw + q];
-                }
-            double gx = y[0][2] + 2 * y[1][2] + y[2][2] - y[0][0] - 2 * y[1][0] - y[2][0];
-            double gy = y[2][0] + 2 * y[2][1] + y[2][2] - y[0][0] - 2 * y[0][1] - y[0][2];
-            double t = atan2(gy, gx);
-            grad[p] = (float)(t < 0 ? t + M_PI : t >= M_PI ? t - M_PI : t);
+    double y[3][3];
+    for (int a = -1; a <= 1; a++)
+        for (int b = -1; b <= 1; b++) {
+            int ii = i + a < 0 ? 0 : i + a >= H ? H - 1 : i + a, jj = j + b < 0 ? 0 : j + b >= W ? W - 1 : j + b;
+            size_t q = (size_t)ii * W + jj;
+            y[a + 1][b + 1] = 0.299 * photo[q] + 0.587 * photo[hw + q] + 0.114 * photo[2 * hw + q];
         }
+    double gx = y[0][2] + 2 * y[1][2] + y[2][2] - y[0][0] - 2 * y[1][0] - y[2][0];
+    double gy = y[2][0] + 2 * y[2][1] + y[2][2] - y[0][0] - 2 * y[0][1] - y[0][2];
+    double t = atan2(gy, gx);
+    return (float)(t < 0 ? t + M_PI : t >= M_PI ? t - M_PI : t);
+}
+
+/* angle (H x W): at each pixel, the direction in [0, pi) of the photo's
+ * luminance gradient (gradient_angle) at the nearest pixel of edge within
+ * WS_CONSENSUS_ORIENT_REACH pixels (first in row order among equals); NAN
+ * where there is none. */
+static void edge_angles(const float *photo, const float *edge, int W, int H, float *grad, float *angle) {
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++)
+            if (edge[(size_t)i * W + j] >= 0.5f) grad[(size_t)i * W + j] = gradient_angle(photo, W, H, i, j);
     const int R = WS_CONSENSUS_ORIENT_REACH;
     for (int i = 0; i < H; i++)
         for (int j = 0; j < W; j++) {
@@ -313,12 +320,16 @@ int ws_edge_consensus_make(const ws_scene *scene, const ws_roi *roi, int resolut
     free(depth);
     if (!rc) {
         c->p = ws_malloc(sizeof *c->p * 3 * (size_t)(c->n ? c->n : 1), "edge consensus", st);
-        if (!c->p) rc = st->code;
+        c->t = c->p ? ws_malloc(sizeof *c->t * 3 * (size_t)(c->n ? c->n : 1), "edge consensus", st) : NULL;
+        if (!c->t) rc = st->code;
     }
     if (!rc) {
         int m = 0;
         for (long k = 0; k < c->tested; k++) {
             if (!keep[k]) continue;
+            double len = sqrt((double)dir[3 * k] * dir[3 * k] + (double)dir[3 * k + 1] * dir[3 * k + 1] +
+                              (double)dir[3 * k + 2] * dir[3 * k + 2]);
+            for (int a = 0; a < 3; a++) c->t[3 * m + a] = len > 0 ? dir[3 * k + a] / len : 0;
             grid_point(roi, c->voxel, n, k, c->p + 3 * m++);
         }
     }
@@ -335,7 +346,8 @@ void ws_edge_consensus_free(ws_edge_consensus *c) {
     ws_photo_hull_free(&c->hull);
     ws_support_plane_free(&c->support);
     free(c->p);
-    c->p = NULL;
+    free(c->t);
+    c->p = c->t = NULL;
     c->n = 0;
 }
 
@@ -386,26 +398,85 @@ int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, w
     return rc;
 }
 
+/* Sets to 0 each pixel of edge (H x W) whose photo edge runs across every
+ * kept point within WS_CONSENSUS_KEEP_PX of it: the line through the pixel
+ * (perpendicular to the luminance gradient there) lies more than
+ * WS_CONSENSUS_ORIENT_DEG from each such point's t as projected into the
+ * view. A point whose t runs along the ray (a cube's step along it projects
+ * shorter than WS_CONSENSUS_ALONG_RAY_PX) agrees with any. */
+static int orientation_filter(const ws_edge_consensus *c, const ws_view *v, float *edge, ws_status *st) {
+    const ws_camera *cam = &v->cam;
+    const int W = cam->width, H = cam->height;
+    const size_t hw = (size_t)W * H;
+    int *head = ws_malloc(hw * sizeof *head, "edge consensus", st);
+    int *next = head ? ws_malloc(sizeof *next * (size_t)(c->n ? c->n : 1), "edge consensus", st) : NULL;
+    float *along = next ? ws_malloc(sizeof *along * (size_t)(c->n ? c->n : 1), "edge consensus", st) : NULL;
+    if (!along) {
+        free(head);
+        free(next);
+        return st->code;
+    }
+    for (size_t p = 0; p < hw; p++) head[p] = -1;
+    for (int k = 0; k < c->n; k++) {
+        double q[3], e[3], b[3], u, w, ue, we;
+        for (int a = 0; a < 3; a++) e[a] = c->p[3 * k + a] + c->voxel * c->t[3 * k + a];
+        ws_camera_to_cam(cam, c->p + 3 * (size_t)k, q);
+        ws_camera_to_cam(cam, e, b);
+        if (!(ws_camera_project(cam, q, &u, &w) > 0) || !(u >= 0 && u < W && w >= 0 && w < H)) continue;
+        along[k] = NAN;
+        if (ws_camera_project(cam, b, &ue, &we) > 0 && hypot(ue - u, we - w) >= WS_CONSENSUS_ALONG_RAY_PX) {
+            double a = atan2(we - w, ue - u);
+            along[k] = (float)(a < 0 ? a + M_PI : a >= M_PI ? a - M_PI : a);
+        }
+        size_t at = (size_t)w * W + (size_t)u;
+        next[k] = head[at];
+        head[at] = k;
+    }
+    const int R = (int)WS_CONSENSUS_KEEP_PX;
+    const double tolerance = sin(WS_CONSENSUS_ORIENT_DEG * M_PI / 180);
+    for (int i = 0; i < H; i++)
+        for (int j = 0; j < W; j++) {
+            size_t p = (size_t)i * W + j;
+            if (!(edge[p] > 0)) continue;
+            double line = gradient_angle(v->photo.data, W, H, i, j) + M_PI / 2;
+            int agree = 0;
+            for (int a = -R; a <= R && !agree; a++)
+                for (int b = -R; b <= R && !agree; b++) {
+                    int ii = i + a, jj = j + b;
+                    if (ii < 0 || ii >= H || jj < 0 || jj >= W || a * a + b * b > R * R) continue;
+                    for (int k = head[(size_t)ii * W + jj]; k >= 0 && !agree; k = next[k])
+                        agree = isnan(along[k]) || fabs(sin(line - along[k])) <= tolerance;
+                }
+            if (!agree) edge[p] = 0;
+        }
+    free(head);
+    free(next);
+    free(along);
+    return WS_OK;
+}
+
 int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, const ws_silhouette *band,
                                   float *edge, ws_status *st) {
     const int W = v->cam.width, H = v->cam.height;
     const size_t hw = (size_t)W * H;
-    /* a wire's hull: carving cannot cut a tube a few cubes across deeper
-     * than its outline, so the wire lies within M (edge_consensus.h) */
+    /* a wire's hull: a tube a few cubes across that stands a cube proud of
+     * the wire all round, so its rim is left out (edge_consensus.h) */
     const int wire = c->hull.occupied && !c->solid && !c->support.found;
     float *near = ws_malloc(hw * sizeof *near, "edge consensus", st);
-    float *beyond = near && wire ? ws_malloc(hw * sizeof *beyond, "edge consensus", st) : NULL;
+    float *beyond = near && c->hull.occupied ? ws_malloc(hw * sizeof *beyond, "edge consensus", st) : NULL;
     uint8_t *set = beyond ? ws_malloc(hw, "edge consensus", st) : NULL;
-    int rc = near && (!wire || set) ? WS_OK : st->code;
+    int rc = near && (!c->hull.occupied || set) ? WS_OK : st->code;
     if (!rc) rc = ws_edge_consensus_near(c, &v->cam, near, st);
     ws_image mask = {0};
     ws_silhouette sil = {0};
     if (!rc && c->hull.occupied && !(rc = ws_image_alloc(&mask, W, H, 1, st)))
         rc = hull_mask(c, &v->cam, mask.data, st);
-    /* beyond: the distance to M; then M less its rim (edge_consensus.h) */
-    if (!rc && wire) {
+    /* beyond: the distance to M; then a wire's M less its rim */
+    if (!rc && beyond) {
         for (size_t p = 0; p < hw; p++) set[p] = mask.data[p] > 0.5f;
         rc = ws_distance_map(set, W, H, beyond, st);
+    }
+    if (!rc && wire) {
         for (size_t p = 0; !rc && p < hw; p++) set[p] = !set[p];
         if (!rc) rc = ws_distance_map(set, W, H, mask.data, st);
         for (size_t p = 0; !rc && p < hw; p++) mask.data[p] = mask.data[p] > WS_CONSENSUS_OUTSIDE_PX;
@@ -414,7 +485,8 @@ int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, 
     if (!rc) rc = ws_line_target(&v->photo, NULL, c->hull.occupied ? &sil : band, NULL, edge, st);
     if (!rc)
         for (size_t p = 0; p < hw; p++)
-            if (!(near[p] <= WS_CONSENSUS_KEEP_PX) || (wire && beyond[p] > WS_CONSENSUS_OUTSIDE_PX)) edge[p] = 0;
+            if (!(near[p] <= WS_CONSENSUS_KEEP_PX) || (beyond && beyond[p] > WS_CONSENSUS_OUTSIDE_PX)) edge[p] = 0;
+    if (!rc) rc = orientation_filter(c, v, edge, st);
     ws_image_free(&mask);
     ws_silhouette_free(&sil);
     free(near);

@@ -87,22 +87,24 @@
  *         hull beyond its frame (the kept points are all of the object);
  *   line target: ws_line_target of the photo with M as its silhouette
  *         (so a wire's tube is drawn by its axis, and a solid's faces,
- *         wide, by their photo edges) and no mask, kept where N <= WS_CONSENSUS_KEEP_PX,
- *         0 elsewhere. Not with the band as silhouette: its thin parts
- *         would draw the far side's edges, hidden behind the faces, by
- *         their axes. For a wire (a hull neither a solid's nor over a
- *         support) the hull is a tube a few cubes across that carving
- *         cannot cut deeper than its outline, and it stands about a cube
- *         proud of the wire all round. So M's rim, its pixels within
+ *         wide, by their photo edges) and no mask, kept where
+ *         N <= WS_CONSENSUS_KEEP_PX and no more than WS_CONSENSUS_OUTSIDE_PX
+ *         outside M, where the photo's edge runs as the edge the views
+ *         agree on does: within WS_CONSENSUS_ORIENT_DEG of the direction t
+ *         of one of those kept points, projected into the view. A kept
+ *         point on the object's outline lies beside the background's
+ *         edges that meet it there (a wall's stripes, a floor's grout),
+ *         which N alone keeps: across the outline they run across t, and
+ *         beyond M they are the room's (M stands about a cube proud of the
+ *         object). Not with the band as silhouette: its thin parts would
+ *         draw the far side's edges, hidden behind the faces, by their
+ *         axes. For a wire (a hull neither a solid's nor over a support)
+ *         the hull is a tube a few cubes across, which carving cannot cut
+ *         deeper than its outline, and it stands about a cube proud of the
+ *         wire all round: so M's rim, its pixels within
  *         WS_CONSENSUS_OUTSIDE_PX of its outline, is left out of the line
  *         target's silhouette (else a thick tube, a knot's, is too wide
- *         there to be a thin part, and both its outlines are drawn), and
- *         the target is 0 more than WS_CONSENSUS_OUTSIDE_PX outside M: an
- *         edge further out is the room's, kept only because a stray kept
- *         point lies near it (a floor's grout beside a coil, which pulled
- *         strokes off the wire). A solid's hull is carved up to 10 cubes
- *         inside its shaded faces, and a foot on a support as far, so
- *         there the bound would cut the object's own edges.
+ *         there to be a thin part, and both its outlines are drawn).
  * A background edge at any depth thus pulls no stroke: it is outside the
  * region, or the views do not agree on it. Deterministic: the vote of each
  * point is its own, gathered in grid order. The constants were chosen on
@@ -130,6 +132,7 @@
 #define WS_CONSENSUS_WEAK_REACH 2
 #define WS_CONSENSUS_SILHOUETTE_PX 1.5
 #define WS_CONSENSUS_KEEP_PX 3.0
+#define WS_CONSENSUS_ALONG_RAY_PX 0.3 /* a cube's step along t projected shorter: t runs along the ray */
 #define WS_CONSENSUS_OUTSIDE_PX 1.5 /* pixels: a wire's M stands this far proud of it (line target above) */
 #define WS_CONSENSUS_SOLID 4.0 /* photo hull cubes a kept point, at least: a solid (M above) */
 /* The share of --silhouette-weight a fit gives the silhouette term with
@@ -147,6 +150,7 @@ typedef struct {
     long tested;    /* grid points */
     int n;          /* kept points */
     double *p;      /* n x 3 */
+    double *t;      /* n x 3: the unit direction of the edge through each kept point (t(p) above) */
     ws_photo_hull hull; /* the region carved by the photos' colours: who sees a point, and the
                            silhouettes' bound */
     int solid;          /* the hull is a solid's: its outline is made convex (M above) */
