@@ -201,8 +201,10 @@ static void wire_target(ws_synth_options *syn, const char *tmp, const char *name
     if (!rc) rc = load_scene_at(&with_masks, masked, SIZE, &st);
     if (!rc) rc = ws_roi_find(&scene, NULL, &roi, &st);
     if (!rc) rc = ws_edge_consensus_make(&scene, &roi, RESOLUTION, &c, &st);
-    CHECK(rc == WS_OK && c.hull.occupied && !c.solid && !c.support.found, "the %s's consensus: %s (a hull %d, "
-          "solid %d, a support %d)", name, st.msg, c.hull.occupied != NULL, c.solid, c.support.found);
+    CHECK(rc == WS_OK && c.hull.occupied && !c.solid && !c.support.found &&
+              ws_edge_consensus_band_px(&c) == WS_CONSENSUS_SILHOUETTE_PX,
+          "the %s's consensus: %s (a hull %d, solid %d, a support %d, a band of %.1f px)", name, st.msg,
+          c.hull.occupied != NULL, c.solid, c.support.found, ws_edge_consensus_band_px(&c));
     double precision = 0, recall = 0;
     if (!rc) rc = target_shares(&c, &scene, &with_masks, &precision, &recall, NULL, &st);
     CHECK(rc == WS_OK, "the %s's line targets: %s", name, st.msg);
@@ -290,7 +292,7 @@ int main(void) {
     printf("the hull holds %.1f cubes a kept point: %s\n", (double)c.hull.kept / fmax(1, c.n),
            c.solid ? "a solid's" : "not a solid's");
     CHECK(c.solid, "the cube's hull is not taken for a solid's: %ld cubes, %d kept points", c.hull.kept, c.n);
-    double held = 0, held_raw = 0, outline = 0;
+    double held = 0, held_raw = 0, outline = 0, edge_samples = 0, edge_held = 0, edge_held_narrow = 0;
     for (int v = 0; v < scene.split[WS_TRAIN].n && !rc; v++) {
         const ws_view *view = &scene.split[WS_TRAIN].views[v], *masked = &with_masks.split[WS_TRAIN].views[v];
         const int W = view->cam.width, H = view->cam.height;
@@ -306,7 +308,19 @@ int main(void) {
                 const size_t q = (size_t)i * W + j;
                 outline++;
                 held += sil.in[q];
-                held_raw += near[q] <= WS_CONSENSUS_SILHOUETTE_PX && raw[q] > 0.5f;
+                held_raw += near[q] <= ws_edge_consensus_band_px(&c) && raw[q] > 0.5f;
+            }
+        /* the cube's true edges, hidden ones too (the band holds them) */
+        for (int k = 0; k < gt.n && !rc; k++)
+            for (int t = 0; t <= 100; t++) {
+                double p[3], q[3], u, w;
+                ws_curve_point(&gt, k, t / 100.0, p);
+                ws_camera_to_cam(&view->cam, p, q);
+                if (!(ws_camera_project(&view->cam, q, &u, &w) > 0) || !(u >= 0 && u < W && w >= 0 && w < H)) continue;
+                const size_t at = (size_t)w * W + (size_t)u;
+                edge_samples++;
+                edge_held += sil.in[at];
+                edge_held_narrow += sil.in[at] && near[at] <= WS_CONSENSUS_SILHOUETTE_PX;
             }
         ws_silhouette_free(&sil);
         free(near);
@@ -317,6 +331,12 @@ int main(void) {
     CHECK(rc == WS_OK && held >= 0.95 * outline && held >= held_raw,
           "the silhouettes hold %.3f of the masks' outline (%.3f cut by the hull's own outline): %s",
           held / fmax(1, outline), held_raw / fmax(1, outline), st.msg);
+    printf("the cube's edges in the silhouettes: %.3f (%.3f in a band of %.1f px)\n", edge_held / fmax(1, edge_samples),
+           edge_held_narrow / fmax(1, edge_samples), WS_CONSENSUS_SILHOUETTE_PX);
+    /* a solid's band is the wider one (a wire's: wire_target) */
+    CHECK(ws_edge_consensus_band_px(&c) == WS_CONSENSUS_SOLID_BAND_PX && edge_held >= 0.95 * edge_samples,
+          "the cube's band is %.1f px and holds %.3f of its edges", ws_edge_consensus_band_px(&c),
+          edge_held / fmax(1, edge_samples));
     ws_photo_hull one = {0}, two = {0};
     const int threads = omp_get_max_threads();
     omp_set_num_threads(1);

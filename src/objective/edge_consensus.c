@@ -373,6 +373,15 @@ static int hull_mask(const ws_edge_consensus *c, const ws_camera *cam, float *ma
     return c->solid ? ws_convex_fill(mask, cam->width, cam->height, st) : WS_OK;
 }
 
+/* A wire's hull: neither a solid's nor over a support (edge_consensus.h). */
+static int wire_hull(const ws_edge_consensus *c) {
+    return c->hull.occupied && !c->solid && !c->support.found;
+}
+
+double ws_edge_consensus_band_px(const ws_edge_consensus *c) {
+    return c->hull.occupied && !wire_hull(c) ? WS_CONSENSUS_SOLID_BAND_PX : WS_CONSENSUS_SILHOUETTE_PX;
+}
+
 int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st) {
     const ws_camera *cam = &v->cam;
     const size_t hw = (size_t)cam->width * cam->height;
@@ -384,9 +393,10 @@ int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, w
     }
     int rc = ws_edge_consensus_near(c, cam, mask.data, st);
     if (!rc && c->hull.occupied) rc = hull_mask(c, cam, hull, st);
+    const double band = ws_edge_consensus_band_px(c);
     if (!rc) {
         for (size_t p = 0; p < hw; p++)
-            mask.data[p] = mask.data[p] <= WS_CONSENSUS_SILHOUETTE_PX && (!c->hull.occupied || hull[p] > 0.5f);
+            mask.data[p] = mask.data[p] <= band && (!c->hull.occupied || hull[p] > 0.5f);
         rc = ws_silhouette_make(&v->photo, &mask, s, st);
         /* the kept points are all there is of the object: a view says
          * what lies beyond its frame too (a band cut by the frame's edge
@@ -461,7 +471,7 @@ int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, 
     const size_t hw = (size_t)W * H;
     /* a wire's hull: a tube a few cubes across that stands a cube proud of
      * the wire all round, so its rim is left out (edge_consensus.h) */
-    const int wire = c->hull.occupied && !c->solid && !c->support.found;
+    const int wire = wire_hull(c);
     float *near = ws_malloc(hw * sizeof *near, "edge consensus", st);
     float *beyond = near && c->hull.occupied ? ws_malloc(hw * sizeof *beyond, "edge consensus", st) : NULL;
     uint8_t *set = beyond ? ws_malloc(hw, "edge consensus", st) : NULL;

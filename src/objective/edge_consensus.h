@@ -77,7 +77,13 @@
  *         has no dents, and the band below still bounds a concave solid.
  *         Not over a support: the hull holds the support's slab too;
  *   silhouette: N <= WS_CONSENSUS_SILHOUETTE_PX where M covers the
- *         pixel: a band along the object's edges (hidden ones too),
+ *         pixel, WS_CONSENSUS_SOLID_BAND_PX where the hull is a solid's or
+ *         over a support (ws_edge_consensus_band_px): a solid's weak edges
+ *         (its lower edges, a faint crease) hold few kept points, up to a
+ *         cube beside the photo's edge, and a narrow band there keeps the
+ *         strokes off the edge; a wire's band, as wide as its tube, lets
+ *         them off the axis when it is wider. A band along the object's
+ *         edges (hidden ones too),
  *         cut to M's outline (so a wire's band, as wide as the tube's
  *         outlines and the background between them, keeps the tube),
  *         which the visual hull, the silhouette term, the initial curves
@@ -131,6 +137,7 @@
 #define WS_CONSENSUS_ALONG 0.7
 #define WS_CONSENSUS_WEAK_REACH 2
 #define WS_CONSENSUS_SILHOUETTE_PX 1.5
+#define WS_CONSENSUS_SOLID_BAND_PX 2.5 /* the silhouette's band where the hull is not a wire's */
 #define WS_CONSENSUS_KEEP_PX 3.0
 #define WS_CONSENSUS_ALONG_RAY_PX 0.3 /* a cube's step along t projected shorter: t runs along the ray */
 #define WS_CONSENSUS_OUTSIDE_PX 1.5 /* pixels: a wire's M stands this far proud of it (line target above) */
@@ -166,6 +173,9 @@ void ws_edge_consensus_free(ws_edge_consensus *c);
 
 /* near (cam->height x cam->width): N above. */
 int ws_edge_consensus_near(const ws_edge_consensus *c, const ws_camera *cam, float *near, ws_status *st);
+
+/* The width of the silhouette's band, pixels (silhouette above). */
+double ws_edge_consensus_band_px(const ws_edge_consensus *c);
 
 /* The silhouette of view v (its camera and photo) as above. */
 int ws_edge_consensus_silhouette(const ws_edge_consensus *c, const ws_view *v, ws_silhouette *s, ws_status *st);
