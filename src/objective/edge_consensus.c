@@ -12,10 +12,6 @@
 #include "render/distance.h"
 #include "render/thin_edges.h"
 
-/* angle (H x W): at each pixel, the direction in [0, pi) of the photo's
- * luminance gradient (3 x 3 Sobel, borders repeated) at the nearest pixel
- * of edge within WS_CONSENSUS_ORIENT_REACH pixels (first in row order
- * among equals); NAN where there is none. */
 /* The direction in [0, pi) of the photo's (3 x H x W) luminance gradient
  * at pixel (i, j): 3 x 3 Sobel, borders repeated. */
 static float gradient_angle(const float *photo, int W, int H, int i, int j) {
