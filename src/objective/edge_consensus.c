@@ -483,8 +483,8 @@ int ws_edge_consensus_line_target(const ws_edge_consensus *c, const ws_view *v, 
         rc = ws_distance_map(set, W, H, beyond, st);
     }
     if (!rc && wire) {
-        for (size_t p = 0; !rc && p < hw; p++) set[p] = !set[p];
-        if (!rc) rc = ws_distance_map(set, W, H, mask.data, st);
+        for (size_t p = 0; p < hw; p++) set[p] = !set[p];
+        rc = ws_distance_map(set, W, H, mask.data, st);
         for (size_t p = 0; !rc && p < hw; p++) mask.data[p] = mask.data[p] > WS_CONSENSUS_OUTSIDE_PX;
     }
     if (!rc && c->hull.occupied) rc = ws_silhouette_make(&v->photo, &mask, &sil, st);
