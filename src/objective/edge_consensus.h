@@ -140,7 +140,7 @@
 #define WS_CONSENSUS_SOLID_BAND_PX 2.5 /* the silhouette's band where the hull is not a wire's */
 #define WS_CONSENSUS_KEEP_PX 3.0
 #define WS_CONSENSUS_ALONG_RAY_PX 0.3 /* a cube's step along t projected shorter: t runs along the ray */
-#define WS_CONSENSUS_OUTSIDE_PX 1.5 /* pixels: a wire's M stands this far proud of it (line target above) */
+#define WS_CONSENSUS_OUTSIDE_PX 1.5 /* pixels: how far outside M a line target reaches, and a wire's rim (line target above) */
 #define WS_CONSENSUS_SOLID 4.0 /* photo hull cubes a kept point, at least: a solid (M above) */
 /* The share of --silhouette-weight a fit gives the silhouette term with
  * these silhouettes: a band cut by the photo hull bounds the object less
